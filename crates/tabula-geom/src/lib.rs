@@ -1,0 +1,16 @@
+//! Geometry types shared by every tabula crate.
+//!
+//! One set of math types crosses every crate boundary: the glam-based types that
+//! parry3d-f64 and rapier3d-f64 use since 2026 (re-exported here under parry's names),
+//! so no crate converts between two vector libraries. nalgebra stays inside solvers.
+//!
+//! Poses are named after the frames they map between: `world_from_gripper` maps
+//! gripper-frame coordinates to world coordinates, so
+//! `world_from_base * base_from_gripper == world_from_gripper`.
+
+pub use parry3d_f64 as parry;
+pub use parry3d_f64::glamx::{DMat3 as Mat3, DMat4 as Mat4, DPose3 as Pose, DQuat as Quat};
+pub use parry3d_f64::glamx::{DVec2 as Vec2, DVec3 as Vec3};
+
+mod angles;
+pub use angles::*;

@@ -1,0 +1,16 @@
+//! Robot models, kinematic chains, forward kinematics and inverse kinematics.
+//!
+//! * [`RobotModel`] loads any URDF; [`Chain`] is the serial chain between two links.
+//! * [`ik::NumericIk`] solves any chain (damped least squares with restarts);
+//!   [`ik::Golem3Ik`] is the closed-form solver of seed 001 (SPEC §2.2), all branches.
+//! * [`robots`] gives the built-in robots of `robots/` by name.
+
+pub mod chain;
+mod error;
+pub mod ik;
+pub mod model;
+pub mod robots;
+
+pub use chain::Chain;
+pub use error::RobotError;
+pub use model::RobotModel;

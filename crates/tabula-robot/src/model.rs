@@ -1,0 +1,510 @@
+//! Robot models loaded from URDF: links, joints, collision shapes, limits.
+//!
+//! The URDF is parsed with `urdf-rs` and then checked here, because urdf-rs accepts
+//! files that are not trees (cycles, two parents, dangling links) and numbers that are
+//! not numbers (NaN limits); every such file gets one typed [`RobotError`].
+
+use crate::RobotError;
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+use tabula_geom::{Pose, Vec3, pose_from_xyz_rpy};
+
+/// How a joint moves.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum JointKind {
+    /// Rotation about `axis` within limits.
+    Revolute,
+    /// Rotation about `axis` without limits.
+    Continuous,
+    /// Translation along `axis` within limits.
+    Prismatic,
+    /// No motion.
+    Fixed,
+    /// URDF floating, planar or spherical joints: several axes, so never part of a chain.
+    MultiAxis(&'static str),
+}
+
+impl JointKind {
+    /// True for joints that carry one joint value.
+    pub fn is_single_axis(self) -> bool {
+        matches!(self, Self::Revolute | Self::Continuous | Self::Prismatic)
+    }
+}
+
+/// Position, velocity and effort limits of one joint (SI units).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct JointLimits {
+    pub lower: f64,
+    pub upper: f64,
+    pub velocity: f64,
+    pub effort: f64,
+}
+
+/// A joint that copies another: `value = multiplier * master + offset`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Mimic {
+    pub master: usize,
+    pub multiplier: f64,
+    pub offset: f64,
+}
+
+/// One URDF joint, with indices into [`RobotModel::links`].
+#[derive(Debug, Clone)]
+pub struct Joint {
+    pub name: String,
+    pub kind: JointKind,
+    pub parent: usize,
+    pub child: usize,
+    /// Pose of the joint frame (and of the child link at zero motion) in the parent link frame.
+    pub parent_from_joint: Pose,
+    /// Unit axis in the joint frame.
+    pub axis: Vec3,
+    /// Continuous joints have infinite position limits.
+    pub limits: JointLimits,
+    pub mimic: Option<Mimic>,
+}
+
+impl Joint {
+    /// Pose of the child link in the parent link frame at joint value `q`.
+    pub fn parent_from_child(&self, q: f64) -> Pose {
+        self.parent_from_joint * joint_motion(self.kind, self.axis, q)
+    }
+}
+
+/// The motion of a single-axis joint at value `q` (identity for other kinds).
+pub fn joint_motion(kind: JointKind, axis: Vec3, q: f64) -> Pose {
+    match kind {
+        JointKind::Revolute | JointKind::Continuous => {
+            Pose::from_rotation(tabula_geom::Quat::from_axis_angle(axis, q))
+        }
+        JointKind::Prismatic => Pose::from_translation(axis * q),
+        _ => Pose::IDENTITY,
+    }
+}
+
+/// Shape of a visual or collision element.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Geometry {
+    Box { half_extents: Vec3 },
+    /// Along the z axis of the shape frame.
+    Cylinder { radius: f64, length: f64 },
+    /// Along the z axis of the shape frame; `length` excludes the caps.
+    Capsule { radius: f64, length: f64 },
+    Sphere { radius: f64 },
+    /// A mesh file, `package://` already resolved to a path.
+    Mesh { path: PathBuf, scale: Vec3 },
+}
+
+/// A placed shape on a link.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Shape {
+    pub link_from_shape: Pose,
+    pub geometry: Geometry,
+}
+
+/// One URDF link.
+#[derive(Debug, Clone)]
+pub struct Link {
+    pub name: String,
+    pub parent_joint: Option<usize>,
+    pub child_joints: Vec<usize>,
+    pub collision: Vec<Shape>,
+    pub visual: Vec<Shape>,
+    pub mass: f64,
+}
+
+/// A robot: a forest of links joined by joints (a URDF is normally one tree).
+#[derive(Debug, Clone)]
+pub struct RobotModel {
+    pub name: String,
+    pub links: Vec<Link>,
+    pub joints: Vec<Joint>,
+    /// Links without a parent joint (one for a well-formed URDF).
+    pub roots: Vec<usize>,
+    link_index: HashMap<String, usize>,
+    joint_index: HashMap<String, usize>,
+}
+
+impl RobotModel {
+    /// Loads a URDF file; `package://pkg/...` mesh paths resolve relative to the file.
+    pub fn from_urdf_file(path: impl AsRef<Path>) -> Result<Self, RobotError> {
+        let path = path.as_ref();
+        let text = std::fs::read_to_string(path).map_err(|source| RobotError::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        Self::parse(&text, path.parent(), Some(path))
+    }
+
+    /// Loads a URDF from text; relative mesh paths resolve against `base_dir` if given.
+    pub fn from_urdf_str(text: &str, base_dir: Option<&Path>) -> Result<Self, RobotError> {
+        Self::parse(text, base_dir, None)
+    }
+
+    fn parse(text: &str, base_dir: Option<&Path>, file: Option<&Path>) -> Result<Self, RobotError> {
+        let parse_err = |message: String| RobotError::Parse {
+            path: file.map(Path::to_path_buf),
+            message,
+        };
+        // urdf-rs panics on a few malformed inputs (found by the proptest over mutated
+        // files); a panic is a parse error to our caller, never a crash.
+        let parsed = std::panic::catch_unwind(|| urdf_rs::read_from_string(text))
+            .map_err(|_| parse_err("the XML could not be read as URDF".into()))?
+            .map_err(|e| parse_err(e.to_string()))?;
+        Self::from_urdf_robot(&parsed, base_dir)
+    }
+
+    /// Builds and validates a model from an already parsed URDF.
+    pub fn from_urdf_robot(robot: &urdf_rs::Robot, base_dir: Option<&Path>) -> Result<Self, RobotError> {
+        if robot.links.is_empty() {
+            return Err(RobotError::NoLinks);
+        }
+        let mut links = Vec::with_capacity(robot.links.len());
+        let mut link_index = HashMap::new();
+        for l in &robot.links {
+            if link_index.insert(l.name.clone(), links.len()).is_some() {
+                return Err(RobotError::DuplicateLink(l.name.clone()));
+            }
+            let shapes = |items: Vec<(&urdf_rs::Pose, &urdf_rs::Geometry)>| -> Result<Vec<Shape>, RobotError> {
+                items
+                    .into_iter()
+                    .map(|(o, g)| {
+                        Ok(Shape {
+                            link_from_shape: checked_pose(&l.name, o)?,
+                            geometry: convert_geometry(&l.name, g, base_dir)?,
+                        })
+                    })
+                    .collect()
+            };
+            links.push(Link {
+                name: l.name.clone(),
+                parent_joint: None,
+                child_joints: Vec::new(),
+                collision: shapes(l.collision.iter().map(|c| (&c.origin, &c.geometry)).collect())?,
+                visual: shapes(l.visual.iter().map(|v| (&v.origin, &v.geometry)).collect())?,
+                mass: if l.inertial.mass.value.is_finite() { l.inertial.mass.value.max(0.0) } else { 0.0 },
+            });
+        }
+        let mut joints: Vec<Joint> = Vec::with_capacity(robot.joints.len());
+        let mut joint_index = HashMap::new();
+        for j in &robot.joints {
+            if joint_index.insert(j.name.clone(), joints.len()).is_some() {
+                return Err(RobotError::DuplicateJoint(j.name.clone()));
+            }
+            let find = |link: &str| {
+                link_index.get(link).copied().ok_or_else(|| RobotError::JointMissingLink {
+                    joint: j.name.clone(),
+                    link: link.to_string(),
+                })
+            };
+            let parent = find(&j.parent.link)?;
+            let child = find(&j.child.link)?;
+            if parent == child {
+                return Err(RobotError::SelfLoop(j.name.clone()));
+            }
+            let kind = match j.joint_type {
+                urdf_rs::JointType::Revolute => JointKind::Revolute,
+                urdf_rs::JointType::Continuous => JointKind::Continuous,
+                urdf_rs::JointType::Prismatic => JointKind::Prismatic,
+                urdf_rs::JointType::Fixed => JointKind::Fixed,
+                urdf_rs::JointType::Floating => JointKind::MultiAxis("floating"),
+                urdf_rs::JointType::Planar => JointKind::MultiAxis("planar"),
+                urdf_rs::JointType::Spherical => JointKind::MultiAxis("spherical"),
+            };
+            let axis = Vec3::from_array(j.axis.xyz.0);
+            let non_finite = |field, value| RobotError::NonFinite {
+                joint: j.name.clone(),
+                field,
+                value,
+            };
+            if let Some(bad) = j.axis.xyz.0.iter().find(|v| !v.is_finite()) {
+                return Err(non_finite("axis", *bad));
+            }
+            let axis = if kind.is_single_axis() {
+                if axis.length() < 1e-12 {
+                    return Err(RobotError::ZeroAxis { joint: j.name.clone() });
+                }
+                axis.normalize()
+            } else {
+                axis.try_normalize().unwrap_or(Vec3::X)
+            };
+            let (lower, upper) = match kind {
+                JointKind::Continuous => (f64::NEG_INFINITY, f64::INFINITY),
+                JointKind::Revolute | JointKind::Prismatic => {
+                    let (lo, hi) = (j.limit.lower, j.limit.upper);
+                    if lo.is_nan() {
+                        return Err(non_finite("lower limit", lo));
+                    }
+                    if hi.is_nan() {
+                        return Err(non_finite("upper limit", hi));
+                    }
+                    if lo > hi {
+                        return Err(RobotError::InvertedLimits {
+                            joint: j.name.clone(),
+                            lower: lo,
+                            upper: hi,
+                        });
+                    }
+                    (lo, hi)
+                }
+                _ => (0.0, 0.0),
+            };
+            let velocity = if j.limit.velocity.is_finite() && j.limit.velocity > 0.0 {
+                j.limit.velocity
+            } else {
+                f64::INFINITY
+            };
+            let effort = if j.limit.effort.is_finite() { j.limit.effort.abs() } else { f64::INFINITY };
+            joints.push(Joint {
+                name: j.name.clone(),
+                kind,
+                parent,
+                child,
+                parent_from_joint: checked_pose(&j.name, &j.origin)?,
+                axis,
+                limits: JointLimits {
+                    lower,
+                    upper,
+                    velocity,
+                    effort,
+                },
+                mimic: None,
+            });
+        }
+        for (ji, j) in robot.joints.iter().enumerate() {
+            if let Some(m) = &j.mimic {
+                let problem = match joint_index.get(&m.joint) {
+                    None => Some("not in the URDF"),
+                    Some(&mi) if mi == ji => Some("itself"),
+                    Some(&mi) if !joints[mi].kind.is_single_axis() => Some("not a single-axis joint"),
+                    Some(&mi) if joints[mi].mimic.is_some() => Some("itself a mimic joint"),
+                    Some(_) => None,
+                };
+                if let Some(problem) = problem {
+                    return Err(RobotError::BadMimic {
+                        joint: j.name.clone(),
+                        master: m.joint.clone(),
+                        problem,
+                    });
+                }
+                let multiplier = m.multiplier.unwrap_or(1.0);
+                let offset = m.offset.unwrap_or(0.0);
+                if !multiplier.is_finite() || !offset.is_finite() {
+                    return Err(RobotError::NonFinite {
+                        joint: j.name.clone(),
+                        field: "mimic multiplier or offset",
+                        value: if multiplier.is_finite() { offset } else { multiplier },
+                    });
+                }
+                joints[ji].mimic = Some(Mimic {
+                    master: joint_index[&m.joint],
+                    multiplier,
+                    offset,
+                });
+            }
+        }
+        for (ji, j) in joints.iter().enumerate() {
+            if let Some(first) = links[j.child].parent_joint {
+                return Err(RobotError::MultipleParents {
+                    link: links[j.child].name.clone(),
+                    first: joints[first].name.clone(),
+                    second: j.name.clone(),
+                });
+            }
+            links[j.child].parent_joint = Some(ji);
+            links[j.parent].child_joints.push(ji);
+        }
+        let roots: Vec<usize> = (0..links.len()).filter(|&l| links[l].parent_joint.is_none()).collect();
+        // Every link must be reachable from a root; what is not sits on a cycle.
+        let mut seen = vec![false; links.len()];
+        let mut stack = roots.clone();
+        while let Some(l) = stack.pop() {
+            seen[l] = true;
+            stack.extend(links[l].child_joints.iter().map(|&j| joints[j].child));
+        }
+        if let Some(l) = seen.iter().position(|s| !s) {
+            return Err(RobotError::Cycle(links[l].name.clone()));
+        }
+        Ok(Self {
+            name: robot.name.clone(),
+            links,
+            joints,
+            roots,
+            link_index,
+            joint_index,
+        })
+    }
+
+    /// Index of a link by name, with a clear error listing the links if unknown.
+    pub fn link(&self, name: &str) -> Result<usize, RobotError> {
+        self.link_index.get(name).copied().ok_or_else(|| {
+            let mut known: Vec<&str> = self.links.iter().map(|l| l.name.as_str()).collect();
+            known.sort_unstable();
+            RobotError::UnknownLink {
+                name: name.to_string(),
+                robot: self.name.clone(),
+                known: known.join(", "),
+            }
+        })
+    }
+
+    /// Index of a joint by name.
+    pub fn joint(&self, name: &str) -> Option<usize> {
+        self.joint_index.get(name).copied()
+    }
+
+    /// Joints that carry their own value (single-axis, not mimic), in URDF order.
+    pub fn active_joints(&self) -> Vec<usize> {
+        (0..self.joints.len())
+            .filter(|&j| self.joints[j].kind.is_single_axis() && self.joints[j].mimic.is_none())
+            .collect()
+    }
+
+    /// A full joint-value vector (indexed like [`Self::joints`]) at the middle of every
+    /// limited joint and 0 for continuous ones.
+    pub fn mid_configuration(&self) -> Vec<f64> {
+        self.joints
+            .iter()
+            .map(|j| {
+                if j.limits.lower.is_finite() && j.limits.upper.is_finite() {
+                    0.5 * (j.limits.lower + j.limits.upper)
+                } else {
+                    0.0
+                }
+            })
+            .collect()
+    }
+
+    /// The value of joint `j` given the values of all joints (mimic joints follow their master).
+    pub fn joint_value(&self, values: &[f64], j: usize) -> f64 {
+        match &self.joints[j].mimic {
+            Some(m) => m.multiplier * values.get(m.master).copied().unwrap_or(0.0) + m.offset,
+            None => values.get(j).copied().unwrap_or(0.0),
+        }
+    }
+
+    /// Pose of every link in the frame of its tree's root, given one value per joint
+    /// (indexed like [`Self::joints`]; values of fixed joints are ignored).
+    pub fn forward_kinematics(&self, values: &[f64]) -> Result<Vec<Pose>, RobotError> {
+        if values.len() != self.joints.len() {
+            return Err(RobotError::WrongJointCount {
+                expected: self.joints.len(),
+                got: values.len(),
+            });
+        }
+        let mut root_from_link = vec![Pose::IDENTITY; self.links.len()];
+        let mut stack = self.roots.clone();
+        while let Some(l) = stack.pop() {
+            for &j in &self.links[l].child_joints {
+                let joint = &self.joints[j];
+                root_from_link[joint.child] = root_from_link[l] * joint.parent_from_child(self.joint_value(values, j));
+                stack.push(joint.child);
+            }
+        }
+        Ok(root_from_link)
+    }
+
+    /// The leaf link farthest (in moving joints) from the first root: a default tool link.
+    pub fn deepest_leaf(&self) -> usize {
+        let mut best = (0usize, self.roots.first().copied().unwrap_or(0));
+        let mut stack = vec![(best.1, 0usize)];
+        while let Some((l, depth)) = stack.pop() {
+            if self.links[l].child_joints.is_empty() && (depth > best.0 || (depth == best.0 && self.links[l].name < self.links[best.1].name)) {
+                best = (depth, l);
+            }
+            for &j in &self.links[l].child_joints {
+                let moving = self.joints[j].kind.is_single_axis() as usize;
+                stack.push((self.joints[j].child, depth + moving));
+            }
+        }
+        best.1
+    }
+}
+
+fn checked_pose(owner: &str, p: &urdf_rs::Pose) -> Result<Pose, RobotError> {
+    for (field, v) in [("origin xyz", &p.xyz.0), ("origin rpy", &p.rpy.0)] {
+        if let Some(bad) = v.iter().find(|x| !x.is_finite()) {
+            return Err(RobotError::NonFinite {
+                joint: owner.to_string(),
+                field,
+                value: *bad,
+            });
+        }
+    }
+    Ok(pose_from_xyz_rpy(p.xyz.0, p.rpy.0))
+}
+
+fn convert_geometry(owner: &str, g: &urdf_rs::Geometry, base_dir: Option<&Path>) -> Result<Geometry, RobotError> {
+    let check = |field: &'static str, v: f64| {
+        if v.is_finite() && v >= 0.0 {
+            Ok(v)
+        } else {
+            Err(RobotError::NonFinite {
+                joint: owner.to_string(),
+                field,
+                value: v,
+            })
+        }
+    };
+    Ok(match g {
+        urdf_rs::Geometry::Box { size } => Geometry::Box {
+            half_extents: Vec3::new(check("box size", size.0[0])?, check("box size", size.0[1])?, check("box size", size.0[2])?) * 0.5,
+        },
+        urdf_rs::Geometry::Cylinder { radius, length } => Geometry::Cylinder {
+            radius: check("cylinder radius", *radius)?,
+            length: check("cylinder length", *length)?,
+        },
+        urdf_rs::Geometry::Capsule { radius, length } => Geometry::Capsule {
+            radius: check("capsule radius", *radius)?,
+            length: check("capsule length", *length)?,
+        },
+        urdf_rs::Geometry::Sphere { radius } => Geometry::Sphere {
+            radius: check("sphere radius", *radius)?,
+        },
+        urdf_rs::Geometry::Mesh { filename, scale } => {
+            let s = scale.as_ref().map(|s| s.0).unwrap_or([1.0; 3]);
+            for v in s {
+                if !v.is_finite() {
+                    return Err(RobotError::NonFinite {
+                        joint: owner.to_string(),
+                        field: "mesh scale",
+                        value: v,
+                    });
+                }
+            }
+            Geometry::Mesh {
+                path: resolve_mesh_path(filename, base_dir),
+                scale: Vec3::from_array(s),
+            }
+        }
+    })
+}
+
+/// Resolves a URDF mesh reference without ROS: `package://pkg/rest` is looked for in
+/// the URDF's folder and its ancestors (as `<dir>/pkg/rest`, or `<dir>/rest` when the
+/// folder is the package itself); `file://` and relative paths as usual.
+pub fn resolve_mesh_path(filename: &str, base_dir: Option<&Path>) -> PathBuf {
+    if let Some(rest) = filename.strip_prefix("package://") {
+        let (pkg, inner) = rest.split_once('/').unwrap_or((rest, ""));
+        if let Some(dir) = base_dir {
+            for ancestor in dir.ancestors() {
+                let in_pkg = ancestor.join(pkg).join(inner);
+                if in_pkg.exists() {
+                    return in_pkg;
+                }
+                if ancestor.file_name().is_some_and(|n| n == pkg) && ancestor.join(inner).exists() {
+                    return ancestor.join(inner);
+                }
+            }
+            return dir.join(inner);
+        }
+        return PathBuf::from(inner);
+    }
+    if let Some(abs) = filename.strip_prefix("file://") {
+        return PathBuf::from(abs);
+    }
+    match base_dir {
+        Some(dir) if Path::new(filename).is_relative() => dir.join(filename),
+        _ => PathBuf::from(filename),
+    }
+}
