@@ -1,1 +1,37 @@
-fn main() {}
+//! `tabula`: the command-line face of the tabula manipulation stack.
+
+mod demo;
+mod ik;
+
+use clap::{Parser, Subcommand};
+
+/// tabula — perceive, model, place and clear with one Rust workspace.
+#[derive(Parser)]
+#[command(name = "tabula", version, about, propagate_version = true)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// The main job: runs every capability that has landed, with a short report.
+    Demo,
+    /// Inverse and forward kinematics: solve, benchmark, inspect robots.
+    Ik {
+        #[command(subcommand)]
+        command: ik::IkCommand,
+    },
+}
+
+fn main() {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Demo => demo::run(),
+        Command::Ik { command } => ik::run(command),
+    };
+    if let Err(e) = result {
+        eprintln!("error: {e:#}");
+        std::process::exit(1);
+    }
+}

@@ -6,8 +6,8 @@
 //! normalised into [`Element`]s "fixed pose, then motion about one axis", so FK is one
 //! pose product per moving joint whatever the URDF looks like.
 
-use crate::model::{JointKind, RobotModel};
 use crate::RobotError;
+use crate::model::{JointKind, RobotModel};
 use rand::{Rng, RngExt};
 use tabula_geom::{Pose, Quat, Vec3};
 
@@ -70,11 +70,20 @@ impl Chain {
         let ancestor = from_base[common];
         let climb: Vec<usize> = from_base[..common]
             .iter()
-            .map(|&l| model.links[l].parent_joint.expect("below the common ancestor"))
+            .map(|&l| {
+                model.links[l]
+                    .parent_joint
+                    .expect("below the common ancestor")
+            })
             .collect();
-        let mut descend: Vec<usize> = from_tip[..from_tip.iter().position(|&l| l == ancestor).unwrap_or(0)]
+        let mut descend: Vec<usize> = from_tip
+            [..from_tip.iter().position(|&l| l == ancestor).unwrap_or(0)]
             .iter()
-            .map(|&l| model.links[l].parent_joint.expect("below the common ancestor"))
+            .map(|&l| {
+                model.links[l]
+                    .parent_joint
+                    .expect("below the common ancestor")
+            })
             .collect();
         descend.reverse();
 
@@ -91,7 +100,10 @@ impl Chain {
             tip_offset: Pose::IDENTITY,
         };
         let mut pending = Pose::IDENTITY;
-        let steps = climb.iter().map(|&j| (j, true)).chain(descend.iter().map(|&j| (j, false)));
+        let steps = climb
+            .iter()
+            .map(|&j| (j, true))
+            .chain(descend.iter().map(|&j| (j, false)));
         for (j, climbing) in steps {
             let joint = &model.joints[j];
             if let JointKind::MultiAxis(kind) = joint.kind {
@@ -103,11 +115,14 @@ impl Chain {
                 });
             }
             if !climbing {
-                pending = pending * joint.parent_from_joint;
+                pending *= joint.parent_from_joint;
             }
             if joint.kind.is_single_axis() {
                 let master = joint.mimic.as_ref().map_or(j, |m| m.master);
-                let (multiplier, offset) = joint.mimic.as_ref().map_or((1.0, 0.0), |m| (m.multiplier, m.offset));
+                let (multiplier, offset) = joint
+                    .mimic
+                    .as_ref()
+                    .map_or((1.0, 0.0), |m| (m.multiplier, m.offset));
                 let var = match chain.joint_indices.iter().position(|&k| k == master) {
                     Some(v) => Some(v),
                     // A mimic joint whose master is outside the chain stays at its offset.
@@ -136,11 +151,13 @@ impl Chain {
                         });
                         pending = Pose::IDENTITY;
                     }
-                    None => pending = pending * crate::model::joint_motion(joint.kind, joint.axis * sign, offset),
+                    None => {
+                        pending *= crate::model::joint_motion(joint.kind, joint.axis * sign, offset)
+                    }
                 }
             }
             if climbing {
-                pending = pending * joint.parent_from_joint.inverse();
+                pending *= joint.parent_from_joint.inverse();
             }
         }
         chain.tip_offset = pending;
@@ -194,14 +211,25 @@ impl Chain {
         columns.clear();
         columns.resize(self.dof(), [0.0; 6]);
         // Joint frames first, then the tip, then one pass for the columns.
-        let mut frames: [(Vec3, Vec3, bool, usize, f64); 16] = [(Vec3::ZERO, Vec3::ZERO, false, 0, 0.0); 16];
+        let mut frames: [(Vec3, Vec3, bool, usize, f64); 16] =
+            [(Vec3::ZERO, Vec3::ZERO, false, 0, 0.0); 16];
         let mut heap = Vec::new();
         let mut t = Pose::IDENTITY;
         for (i, e) in self.elements.iter().enumerate() {
-            t = t * e.pre;
-            let item = (t.translation, t.rotation * e.axis, e.prismatic, e.var, e.multiplier);
-            if i < 16 { frames[i] = item } else { heap.push(item) }
-            t = t * Self::motion(e, q);
+            t *= e.pre;
+            let item = (
+                t.translation,
+                t.rotation * e.axis,
+                e.prismatic,
+                e.var,
+                e.multiplier,
+            );
+            if i < 16 {
+                frames[i] = item
+            } else {
+                heap.push(item)
+            }
+            t *= Self::motion(e, q);
         }
         let tip = t * self.tip_offset;
         let n = self.elements.len();
@@ -263,7 +291,11 @@ impl Chain {
         (0..self.dof())
             .map(|i| {
                 let (lo, hi) = self.sample_range(i);
-                if hi > lo { rng.random_range(lo..=hi) } else { lo }
+                if hi > lo {
+                    rng.random_range(lo..=hi)
+                } else {
+                    lo
+                }
             })
             .collect()
     }
@@ -281,7 +313,9 @@ impl Chain {
     /// Where the first joint sits in the base frame: every tip position is within
     /// [`Self::reach_bound`] of it.
     pub fn reach_center(&self) -> Vec3 {
-        self.elements.first().map_or(self.tip_offset.translation, |e| e.pre.translation)
+        self.elements
+            .first()
+            .map_or(self.tip_offset.translation, |e| e.pre.translation)
     }
 
     /// An upper bound on the distance from [`Self::reach_center`] to the tip over all

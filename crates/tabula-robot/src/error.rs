@@ -61,7 +61,9 @@ pub enum RobotError {
     },
     #[error("no chain from `{base}` to `{tip}`: they are in different trees of the URDF")]
     Disconnected { base: String, tip: String },
-    #[error("chain from `{base}` to `{tip}` crosses {kind} joint `{joint}`, which has no single axis")]
+    #[error(
+        "chain from `{base}` to `{tip}` crosses {kind} joint `{joint}`, which has no single axis"
+    )]
     UnsupportedJoint {
         base: String,
         tip: String,

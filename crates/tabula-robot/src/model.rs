@@ -85,14 +85,27 @@ pub fn joint_motion(kind: JointKind, axis: Vec3, q: f64) -> Pose {
 /// Shape of a visual or collision element.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Geometry {
-    Box { half_extents: Vec3 },
+    Box {
+        half_extents: Vec3,
+    },
     /// Along the z axis of the shape frame.
-    Cylinder { radius: f64, length: f64 },
+    Cylinder {
+        radius: f64,
+        length: f64,
+    },
     /// Along the z axis of the shape frame; `length` excludes the caps.
-    Capsule { radius: f64, length: f64 },
-    Sphere { radius: f64 },
+    Capsule {
+        radius: f64,
+        length: f64,
+    },
+    Sphere {
+        radius: f64,
+    },
     /// A mesh file, `package://` already resolved to a path.
-    Mesh { path: PathBuf, scale: Vec3 },
+    Mesh {
+        path: PathBuf,
+        scale: Vec3,
+    },
 }
 
 /// A placed shape on a link.
@@ -155,7 +168,10 @@ impl RobotModel {
     }
 
     /// Builds and validates a model from an already parsed URDF.
-    pub fn from_urdf_robot(robot: &urdf_rs::Robot, base_dir: Option<&Path>) -> Result<Self, RobotError> {
+    pub fn from_urdf_robot(
+        robot: &urdf_rs::Robot,
+        base_dir: Option<&Path>,
+    ) -> Result<Self, RobotError> {
         if robot.links.is_empty() {
             return Err(RobotError::NoLinks);
         }
@@ -180,9 +196,18 @@ impl RobotModel {
                 name: l.name.clone(),
                 parent_joint: None,
                 child_joints: Vec::new(),
-                collision: shapes(l.collision.iter().map(|c| (&c.origin, &c.geometry)).collect())?,
+                collision: shapes(
+                    l.collision
+                        .iter()
+                        .map(|c| (&c.origin, &c.geometry))
+                        .collect(),
+                )?,
                 visual: shapes(l.visual.iter().map(|v| (&v.origin, &v.geometry)).collect())?,
-                mass: if l.inertial.mass.value.is_finite() { l.inertial.mass.value.max(0.0) } else { 0.0 },
+                mass: if l.inertial.mass.value.is_finite() {
+                    l.inertial.mass.value.max(0.0)
+                } else {
+                    0.0
+                },
             });
         }
         let mut joints: Vec<Joint> = Vec::with_capacity(robot.joints.len());
@@ -192,10 +217,13 @@ impl RobotModel {
                 return Err(RobotError::DuplicateJoint(j.name.clone()));
             }
             let find = |link: &str| {
-                link_index.get(link).copied().ok_or_else(|| RobotError::JointMissingLink {
-                    joint: j.name.clone(),
-                    link: link.to_string(),
-                })
+                link_index
+                    .get(link)
+                    .copied()
+                    .ok_or_else(|| RobotError::JointMissingLink {
+                        joint: j.name.clone(),
+                        link: link.to_string(),
+                    })
             };
             let parent = find(&j.parent.link)?;
             let child = find(&j.child.link)?;
@@ -222,7 +250,9 @@ impl RobotModel {
             }
             let axis = if kind.is_single_axis() {
                 if axis.length() < 1e-12 {
-                    return Err(RobotError::ZeroAxis { joint: j.name.clone() });
+                    return Err(RobotError::ZeroAxis {
+                        joint: j.name.clone(),
+                    });
                 }
                 axis.normalize()
             } else {
@@ -254,7 +284,11 @@ impl RobotModel {
             } else {
                 f64::INFINITY
             };
-            let effort = if j.limit.effort.is_finite() { j.limit.effort.abs() } else { f64::INFINITY };
+            let effort = if j.limit.effort.is_finite() {
+                j.limit.effort.abs()
+            } else {
+                f64::INFINITY
+            };
             joints.push(Joint {
                 name: j.name.clone(),
                 kind,
@@ -276,7 +310,9 @@ impl RobotModel {
                 let problem = match joint_index.get(&m.joint) {
                     None => Some("not in the URDF"),
                     Some(&mi) if mi == ji => Some("itself"),
-                    Some(&mi) if !joints[mi].kind.is_single_axis() => Some("not a single-axis joint"),
+                    Some(&mi) if !joints[mi].kind.is_single_axis() => {
+                        Some("not a single-axis joint")
+                    }
                     Some(&mi) if joints[mi].mimic.is_some() => Some("itself a mimic joint"),
                     Some(_) => None,
                 };
@@ -293,7 +329,11 @@ impl RobotModel {
                     return Err(RobotError::NonFinite {
                         joint: j.name.clone(),
                         field: "mimic multiplier or offset",
-                        value: if multiplier.is_finite() { offset } else { multiplier },
+                        value: if multiplier.is_finite() {
+                            offset
+                        } else {
+                            multiplier
+                        },
                     });
                 }
                 joints[ji].mimic = Some(Mimic {
@@ -314,7 +354,9 @@ impl RobotModel {
             links[j.child].parent_joint = Some(ji);
             links[j.parent].child_joints.push(ji);
         }
-        let roots: Vec<usize> = (0..links.len()).filter(|&l| links[l].parent_joint.is_none()).collect();
+        let roots: Vec<usize> = (0..links.len())
+            .filter(|&l| links[l].parent_joint.is_none())
+            .collect();
         // Every link must be reachable from a root; what is not sits on a cycle.
         let mut seen = vec![false; links.len()];
         let mut stack = roots.clone();
@@ -397,7 +439,8 @@ impl RobotModel {
         while let Some(l) = stack.pop() {
             for &j in &self.links[l].child_joints {
                 let joint = &self.joints[j];
-                root_from_link[joint.child] = root_from_link[l] * joint.parent_from_child(self.joint_value(values, j));
+                root_from_link[joint.child] =
+                    root_from_link[l] * joint.parent_from_child(self.joint_value(values, j));
                 stack.push(joint.child);
             }
         }
@@ -409,7 +452,10 @@ impl RobotModel {
         let mut best = (0usize, self.roots.first().copied().unwrap_or(0));
         let mut stack = vec![(best.1, 0usize)];
         while let Some((l, depth)) = stack.pop() {
-            if self.links[l].child_joints.is_empty() && (depth > best.0 || (depth == best.0 && self.links[l].name < self.links[best.1].name)) {
+            if self.links[l].child_joints.is_empty()
+                && (depth > best.0
+                    || (depth == best.0 && self.links[l].name < self.links[best.1].name))
+            {
                 best = (depth, l);
             }
             for &j in &self.links[l].child_joints {
@@ -434,7 +480,11 @@ fn checked_pose(owner: &str, p: &urdf_rs::Pose) -> Result<Pose, RobotError> {
     Ok(pose_from_xyz_rpy(p.xyz.0, p.rpy.0))
 }
 
-fn convert_geometry(owner: &str, g: &urdf_rs::Geometry, base_dir: Option<&Path>) -> Result<Geometry, RobotError> {
+fn convert_geometry(
+    owner: &str,
+    g: &urdf_rs::Geometry,
+    base_dir: Option<&Path>,
+) -> Result<Geometry, RobotError> {
     let check = |field: &'static str, v: f64| {
         if v.is_finite() && v >= 0.0 {
             Ok(v)
@@ -448,7 +498,11 @@ fn convert_geometry(owner: &str, g: &urdf_rs::Geometry, base_dir: Option<&Path>)
     };
     Ok(match g {
         urdf_rs::Geometry::Box { size } => Geometry::Box {
-            half_extents: Vec3::new(check("box size", size.0[0])?, check("box size", size.0[1])?, check("box size", size.0[2])?) * 0.5,
+            half_extents: Vec3::new(
+                check("box size", size.0[0])?,
+                check("box size", size.0[1])?,
+                check("box size", size.0[2])?,
+            ) * 0.5,
         },
         urdf_rs::Geometry::Cylinder { radius, length } => Geometry::Cylinder {
             radius: check("cylinder radius", *radius)?,

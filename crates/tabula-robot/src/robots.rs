@@ -35,7 +35,11 @@ pub fn load(name_or_path: &str) -> Result<NamedRobot, RobotError> {
         "golem3" => builtin(GOLEM3_URDF, "torso_lift_link", "right_tool_link"),
         "wam" => builtin(WAM_URDF, "base_link", "wam_tool"),
         "pr2" => builtin(PR2_URDF, "torso_lift_link", "r_gripper_tool_frame"),
-        path if Path::new(path).extension().is_some_and(|e| e.eq_ignore_ascii_case("urdf")) || Path::new(path).exists() => {
+        path if Path::new(path)
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("urdf"))
+            || Path::new(path).exists() =>
+        {
             let model = RobotModel::from_urdf_file(path)?;
             let root = model.roots.first().copied().unwrap_or(0);
             let leaf = model.deepest_leaf();

@@ -20,12 +20,13 @@ fn dh_product(q: &[f64; 6]) -> Mat4 {
         (q[5] - h90, 0.4, 0.0, h90),
         (h90, 0.0, 0.0, 0.0),
     ];
-    rows.iter().fold(Mat4::IDENTITY, |t, &(theta, d, a, alpha)| {
-        t * Mat4::from_rotation_z(theta)
-            * Mat4::from_translation(Vec3::new(0.0, 0.0, d))
-            * Mat4::from_translation(Vec3::new(a, 0.0, 0.0))
-            * Mat4::from_rotation_x(alpha)
-    })
+    rows.iter()
+        .fold(Mat4::IDENTITY, |t, &(theta, d, a, alpha)| {
+            t * Mat4::from_rotation_z(theta)
+                * Mat4::from_translation(Vec3::new(0.0, 0.0, d))
+                * Mat4::from_translation(Vec3::new(a, 0.0, 0.0))
+                * Mat4::from_rotation_x(alpha)
+        })
 }
 
 fn golem() -> RobotModel {
@@ -54,13 +55,27 @@ fn urdf_fk_equals_dh_product_on_10000_configurations() {
         let mut full = vec![0.0];
         full.extend_from_slice(&q);
         let urdf = right.fk(&full).unwrap().to_mat4();
-        worst = worst.max((urdf - dh_product(&q)).abs().to_cols_array().iter().cloned().fold(0.0, f64::max));
+        worst = worst.max(
+            (urdf - dh_product(&q))
+                .abs()
+                .to_cols_array()
+                .iter()
+                .cloned()
+                .fold(0.0, f64::max),
+        );
         // Left arm: the mirror image of the right arm with the torso angle negated.
         let urdf_left = left.fk(&full).unwrap().to_mat4();
         let mut qm = q;
         qm[0] = -qm[0];
         let dh_left = mirror * dh_product(&qm) * mirror;
-        worst = worst.max((urdf_left - dh_left).abs().to_cols_array().iter().cloned().fold(0.0, f64::max));
+        worst = worst.max(
+            (urdf_left - dh_left)
+                .abs()
+                .to_cols_array()
+                .iter()
+                .cloned()
+                .fold(0.0, f64::max),
+        );
     }
     assert!(worst < 1e-12, "largest element difference {worst}");
 }
@@ -90,19 +105,32 @@ fn analytic_solves_every_fk_target_and_finds_the_generating_branch() {
         for _ in 0..3000 {
             let q = random_q(&chain, &mut rng);
             let target = chain.fk(&q).unwrap();
-            let sols = ik.solve(&target, IkMode::Full, &seed).unwrap_or_else(|e| panic!("{side:?} {q:?}: {e}"));
+            let sols = ik
+                .solve(&target, IkMode::Full, &seed)
+                .unwrap_or_else(|e| panic!("{side:?} {q:?}: {e}"));
             assert!(sols.len() <= 8);
             for s in &sols {
                 let reached = chain.fk(&s.joints).unwrap();
                 assert!((reached.translation - target.translation).length() < 1e-6);
-                assert!(tabula_geom::rotation_angle_between(reached.rotation, target.rotation) < 1e-6);
+                assert!(
+                    tabula_geom::rotation_angle_between(reached.rotation, target.rotation) < 1e-6
+                );
                 assert!(chain.within_limits(&s.joints, 1e-9));
             }
             let nearest_to_truth = sols
                 .iter()
-                .map(|s| s.joints.iter().zip(&q).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max))
+                .map(|s| {
+                    s.joints
+                        .iter()
+                        .zip(&q)
+                        .map(|(a, b)| (a - b).abs())
+                        .fold(0.0, f64::max)
+                })
                 .fold(f64::INFINITY, f64::min);
-            assert!(nearest_to_truth < 1e-6, "{side:?}: the generating configuration {q:?} is not among {sols:?}");
+            assert!(
+                nearest_to_truth < 1e-6,
+                "{side:?}: the generating configuration {q:?} is not among {sols:?}"
+            );
         }
     }
 }
@@ -136,9 +164,14 @@ fn singular_targets_keep_their_solutions() {
         [0.2, 0.0, -0.3, -rho, 1.0, -1.0],
     ] {
         let target = chain.fk(&q).unwrap();
-        let sols = ik.solve(&target, IkMode::Full, &q).unwrap_or_else(|e| panic!("{q:?}: {e}"));
+        let sols = ik
+            .solve(&target, IkMode::Full, &q)
+            .unwrap_or_else(|e| panic!("{q:?}: {e}"));
         let best = &sols[0];
-        assert!(best.position_error < 1e-6 && best.rotation_error < 1e-6, "{q:?}");
+        assert!(
+            best.position_error < 1e-6 && best.rotation_error < 1e-6,
+            "{q:?}"
+        );
     }
 }
 
@@ -147,12 +180,24 @@ fn analytic_no_solution_and_bad_input() {
     let ik = solver(ArmSide::Right);
     let seed = vec![0.0; 6];
     let far = Pose::from_translation(Vec3::new(3.0, 0.0, 1.0));
-    assert_eq!(ik.solve(&far, IkMode::Full, &seed), Err(IkError::NoSolution));
+    assert_eq!(
+        ik.solve(&far, IkMode::Full, &seed),
+        Err(IkError::NoSolution)
+    );
     let nan = Pose::from_translation(Vec3::new(f64::NAN, 0.0, 1.0));
-    assert_eq!(ik.solve(&nan, IkMode::Full, &seed), Err(IkError::NonFiniteTarget));
+    assert_eq!(
+        ik.solve(&nan, IkMode::Full, &seed),
+        Err(IkError::NonFiniteTarget)
+    );
     let ok = ik.chain().fk(&seed).unwrap();
-    assert!(matches!(ik.solve(&ok, IkMode::Full, &[0.0; 3]), Err(IkError::WrongSeedLength { .. })));
-    assert_eq!(ik.solve(&ok, IkMode::Full, &[f64::INFINITY; 6]), Err(IkError::NonFiniteSeed));
+    assert!(matches!(
+        ik.solve(&ok, IkMode::Full, &[0.0; 3]),
+        Err(IkError::WrongSeedLength { .. })
+    ));
+    assert_eq!(
+        ik.solve(&ok, IkMode::Full, &[f64::INFINITY; 6]),
+        Err(IkError::NonFiniteSeed)
+    );
 }
 
 #[test]

@@ -107,7 +107,11 @@ impl Golem3Ik {
     /// Builds the solver for `side` of a Golem-III model, taking the joint limits from
     /// the URDF, and checks the model's FK against the DH table so a different robot
     /// is refused rather than solved wrongly.
-    pub fn new(model: &RobotModel, side: ArmSide, params: Golem3Params) -> Result<Self, RobotError> {
+    pub fn new(
+        model: &RobotModel,
+        side: ArmSide,
+        params: Golem3Params,
+    ) -> Result<Self, RobotError> {
         let tip = format!("{}_tool_link", side.prefix());
         let chain = Chain::new(model, "torso_lift_link", &tip)?;
         let not_golem = |why: &str| RobotError::Parse {
@@ -132,13 +136,17 @@ impl Golem3Ik {
             upper,
         };
         for k in 0..8 {
-            let q: Vec<f64> = (0..6).map(|i| 0.3 * ((i * 7 + k * 3) % 11) as f64 / 11.0 - 0.1).collect();
+            let q: Vec<f64> = (0..6)
+                .map(|i| 0.3 * ((i * 7 + k * 3) % 11) as f64 / 11.0 - 0.1)
+                .collect();
             let urdf = solver.chain.fk_unchecked(&q);
             let dh = solver.fk(&q);
             if (urdf.translation - dh.translation).length() > 1e-9
                 || tabula_geom::rotation_angle_between(urdf.rotation, dh.rotation) > 1e-9
             {
-                return Err(not_golem("its forward kinematics differ from the DH table of SPEC 2.1"));
+                return Err(not_golem(
+                    "its forward kinematics differ from the DH table of SPEC 2.1",
+                ));
             }
         }
         Ok(solver)
@@ -157,7 +165,11 @@ impl Golem3Ik {
         }
         let (p, r) = self.fk_right(&q6);
         let pose = Pose::from_parts(p, Quat::from_mat3(&r));
-        if self.side == ArmSide::Left { mirror(&pose) } else { pose }
+        if self.side == ArmSide::Left {
+            mirror(&pose)
+        } else {
+            pose
+        }
     }
 
     fn fk_right(&self, q: &[f64; 6]) -> (Vec3, Mat3) {
@@ -171,7 +183,8 @@ impl Golem3Ik {
         let x = p.l1 * q[0].sin() + p.l2 * (q[0] + q[1]).sin() + l3 * cg;
         let y = -p.l1 * q[0].cos() - p.l2 * (q[0] + q[1]).cos() + l3 * sg;
         let z = p.h + p.torso_lift - p.l4 * ca - p.l5 * cs + p.l6 * ss;
-        let r = Mat3::from_rotation_z(gamma) * Mat3::from_rotation_y(-s) * Mat3::from_rotation_x(q[5]);
+        let r =
+            Mat3::from_rotation_z(gamma) * Mat3::from_rotation_y(-s) * Mat3::from_rotation_x(q[5]);
         (Vec3::new(x, y, z), r)
     }
 
@@ -195,7 +208,9 @@ impl Golem3Ik {
             let s = -phi;
             let (ss, cs) = s.sin_cos();
             let c4 = -(p.z - prm.h - prm.torso_lift - prm.l6 * ss + prm.l5 * cs) / prm.l4;
-            let Some(acos4) = robust_acos(c4) else { continue };
+            let Some(acos4) = robust_acos(c4) else {
+                continue;
+            };
             for alpha in branches(acos4) {
                 let theta4 = wrap_angle(alpha - prm.rho);
                 let theta5 = wrap_angle(s - theta4);
@@ -206,13 +221,22 @@ impl Golem3Ik {
     }
 
     /// θ1, θ2, θ3 for roll γ and horizontal reach l3, both elbow signs.
-    fn planar(&self, p: Vec3, gamma: f64, l3: f64, wrist: [f64; 3], out: &mut Vec<[f64; 6]>) -> bool {
+    fn planar(
+        &self,
+        p: Vec3,
+        gamma: f64,
+        l3: f64,
+        wrist: [f64; 3],
+        out: &mut Vec<[f64; 6]>,
+    ) -> bool {
         let prm = &self.params;
         let (sg, cg) = gamma.sin_cos();
         let u = p.x - l3 * cg;
         let v = -(p.y - l3 * sg);
         let c2 = (u * u + v * v - prm.l1 * prm.l1 - prm.l2 * prm.l2) / (2.0 * prm.l1 * prm.l2);
-        let Some(acos2) = robust_acos(c2) else { return false };
+        let Some(acos2) = robust_acos(c2) else {
+            return false;
+        };
         let mut found = false;
         for theta2 in branches(acos2) {
             let theta1 = u.atan2(v) - (prm.l2 * theta2.sin()).atan2(prm.l1 + prm.l2 * theta2.cos());
@@ -245,14 +269,20 @@ impl Golem3Ik {
         let steps = ((s_max - s_min) / step).ceil() as i64 + 1;
         for k in 0..2 * steps {
             // s0, s0+Δ, s0−Δ, s0+2Δ, …
-            let offset = if k % 2 == 1 { (k / 2 + 1) as f64 } else { -((k / 2) as f64) };
+            let offset = if k % 2 == 1 {
+                (k / 2 + 1) as f64
+            } else {
+                -((k / 2) as f64)
+            };
             let s = s0 + offset * step;
             if s < s_min - ROUNDING || s > s_max + ROUNDING {
                 continue;
             }
             let (ss, cs) = s.sin_cos();
             let c4 = -(p.z - prm.h - prm.torso_lift - prm.l6 * ss + prm.l5 * cs) / prm.l4;
-            let Some(acos4) = robust_acos(c4) else { continue };
+            let Some(acos4) = robust_acos(c4) else {
+                continue;
+            };
             for alpha in branches(acos4) {
                 let theta4 = wrap_angle(alpha - prm.rho);
                 let theta5 = wrap_angle(s - theta4);
@@ -274,7 +304,11 @@ impl Golem3Ik {
     }
 
     fn to_right(&self, target: &Pose) -> Pose {
-        if self.side == ArmSide::Left { mirror(target) } else { *target }
+        if self.side == ArmSide::Left {
+            mirror(target)
+        } else {
+            *target
+        }
     }
 
     fn seed_right(&self, seed: &[f64]) -> [f64; 6] {
@@ -286,7 +320,13 @@ impl Golem3Ik {
         s
     }
 
-    fn finish(&self, raw: Vec<[f64; 6]>, target: &Pose, mode: IkMode, seed: &[f64]) -> Result<Vec<IkSolution>, IkError> {
+    fn finish(
+        &self,
+        raw: Vec<[f64; 6]>,
+        target: &Pose,
+        mode: IkMode,
+        seed: &[f64],
+    ) -> Result<Vec<IkSolution>, IkError> {
         let tol = self.params.verify_tolerance;
         let mut sols = Vec::with_capacity(raw.len());
         for mut q in raw {
@@ -324,7 +364,11 @@ impl IkSolver for Golem3Ik {
         let mut raw = Vec::with_capacity(8);
         match mode {
             IkMode::Full => {
-                self.solve_full_right(right.translation, &Mat3::from_quat(right.rotation), &mut raw);
+                self.solve_full_right(
+                    right.translation,
+                    &Mat3::from_quat(right.rotation),
+                    &mut raw,
+                );
             }
             IkMode::PositionOnly => {
                 let seed_r = self.seed_right(seed);
@@ -335,7 +379,11 @@ impl IkSolver for Golem3Ik {
                     self.solve_position_right(right.translation, &seed_r, step / 16.0, &mut raw);
                 }
             }
-            IkMode::PositionAxis { .. } => return Err(IkError::UnsupportedMode("position+axis (use the numeric solver)")),
+            IkMode::PositionAxis { .. } => {
+                return Err(IkError::UnsupportedMode(
+                    "position+axis (use the numeric solver)",
+                ));
+            }
         }
         self.finish(raw, &target, mode, seed)
     }
@@ -408,5 +456,8 @@ fn roll_candidates(w: f64, phi_w: f64, l3: f64, r_min: f64, r_max: f64, gamma0: 
 fn mirror(t: &Pose) -> Pose {
     let m = Mat3::from_diagonal(Vec3::new(1.0, -1.0, 1.0));
     let r = m * Mat3::from_quat(t.rotation) * m;
-    Pose::from_parts(Vec3::new(t.translation.x, -t.translation.y, t.translation.z), Quat::from_mat3(&r))
+    Pose::from_parts(
+        Vec3::new(t.translation.x, -t.translation.y, t.translation.z),
+        Quat::from_mat3(&r),
+    )
 }

@@ -1,6 +1,7 @@
 //! Inverse kinematics: one [`IkSolver`] trait, a numeric solver for any chain and the
 //! closed-form Golem-III solver of seed 001.
 
+pub mod bench;
 mod golem3;
 mod numeric;
 
@@ -64,11 +65,21 @@ pub trait IkSolver {
 
     /// Solutions for `base_from_tip` target in `mode`, sorted by distance to `seed`
     /// (nearest first). Never empty: no solution is [`IkError::NoSolution`].
-    fn solve(&self, base_from_tip: &Pose, mode: IkMode, seed: &[f64]) -> Result<Vec<IkSolution>, IkError>;
+    fn solve(
+        &self,
+        base_from_tip: &Pose,
+        mode: IkMode,
+        seed: &[f64],
+    ) -> Result<Vec<IkSolution>, IkError>;
 }
 
 /// Checks target and seed: the shared front door of every solver.
-pub(crate) fn validate_request(chain: &Chain, target: &Pose, mode: IkMode, seed: &[f64]) -> Result<(), IkError> {
+pub(crate) fn validate_request(
+    chain: &Chain,
+    target: &Pose,
+    mode: IkMode,
+    seed: &[f64],
+) -> Result<(), IkError> {
     if !pose_is_finite(target) || target.rotation.length() < 1e-6 {
         return Err(IkError::NonFiniteTarget);
     }
@@ -113,7 +124,11 @@ pub fn joint_distance(chain: &Chain, a: &[f64], b: &[f64]) -> f64 {
         .enumerate()
         .map(|(i, (x, y))| {
             let d = x - y;
-            let d = if chain.lower[i].is_finite() || chain.var_prismatic[i] { d } else { wrap_angle(d) };
+            let d = if chain.lower[i].is_finite() || chain.var_prismatic[i] {
+                d
+            } else {
+                wrap_angle(d)
+            };
             d * d
         })
         .sum::<f64>()
@@ -121,11 +136,20 @@ pub fn joint_distance(chain: &Chain, a: &[f64], b: &[f64]) -> f64 {
 }
 
 /// Sorts by distance to `seed`, nearest first, and drops near-duplicates.
-pub(crate) fn sort_and_dedup(chain: &Chain, mut sols: Vec<IkSolution>, seed: &[f64]) -> Vec<IkSolution> {
-    sols.sort_by(|a, b| joint_distance(chain, &a.joints, seed).total_cmp(&joint_distance(chain, &b.joints, seed)));
+pub(crate) fn sort_and_dedup(
+    chain: &Chain,
+    mut sols: Vec<IkSolution>,
+    seed: &[f64],
+) -> Vec<IkSolution> {
+    sols.sort_by(|a, b| {
+        joint_distance(chain, &a.joints, seed).total_cmp(&joint_distance(chain, &b.joints, seed))
+    });
     let mut out: Vec<IkSolution> = Vec::with_capacity(sols.len());
     for s in sols {
-        if !out.iter().any(|o| joint_distance(chain, &o.joints, &s.joints) < 1e-9) {
+        if !out
+            .iter()
+            .any(|o| joint_distance(chain, &o.joints, &s.joints) < 1e-9)
+        {
             out.push(s);
         }
     }

@@ -100,11 +100,16 @@ impl NumericIk {
         let target = Pose::from_parts(target.translation, target.rotation.normalize());
         let mut stats = SolveStats::default();
         // Farther from the first joint than any configuration reaches: say so at once.
-        if (target.translation - self.reach_center).length() > self.reach_bound + self.params.position_tolerance {
+        if (target.translation - self.reach_center).length()
+            > self.reach_bound + self.params.position_tolerance
+        {
             return Err(IkError::NoSolution);
         }
         let start = Instant::now();
-        let deadline = self.params.timeout_s.map(|s| start + Duration::from_secs_f64(s.max(0.0)));
+        let deadline = self
+            .params
+            .timeout_s
+            .map(|s| start + Duration::from_secs_f64(s.max(0.0)));
         let mut rng = ChaCha8Rng::seed_from_u64(self.params.random_seed);
         let mut solutions = Vec::new();
         let mut ws = Workspace::default();
@@ -119,7 +124,9 @@ impl NumericIk {
             }
             stats.attempts += 1;
             let converged = match mode {
-                IkMode::PositionOnly => self.attempt::<3>(&target, mode, &mut q, &mut ws, &mut stats, deadline),
+                IkMode::PositionOnly => {
+                    self.attempt::<3>(&target, mode, &mut q, &mut ws, &mut stats, deadline)
+                }
                 _ => self.attempt::<6>(&target, mode, &mut q, &mut ws, &mut stats, deadline),
             };
             if converged {
@@ -216,7 +223,7 @@ impl NumericIk {
         &self,
         target: &Pose,
         mode: IkMode,
-        q: &mut Vec<f64>,
+        q: &mut [f64],
         ws: &mut Workspace,
         stats: &mut SolveStats,
         deadline: Option<Instant>,
@@ -269,7 +276,8 @@ impl NumericIk {
                 // Large steps leave the region where the linearisation means anything.
                 let scale = if max_step > 1.0 { 1.0 / max_step } else { 1.0 };
                 for i in 0..n {
-                    trial[i] = (q[i] + scale * trial[i]).clamp(self.chain.lower[i], self.chain.upper[i]);
+                    trial[i] =
+                        (q[i] + scale * trial[i]).clamp(self.chain.lower[i], self.chain.upper[i]);
                 }
                 std::mem::swap(&mut ws.columns, &mut trial_cols);
                 let e_new = self.error_and_jacobian::<K>(target, mode, &trial, ws);

@@ -1,0 +1,368 @@
+//! `tabula ik …`: solve, benchmark and inspect kinematic chains.
+
+use anyhow::{Context, Result, bail};
+use clap::{Args, Subcommand, ValueEnum};
+use std::path::PathBuf;
+use tabula_geom::{Pose, Vec3, pose_from_xyz_rpy, rpy_from_quat};
+use tabula_robot::Chain;
+use tabula_robot::ik::{
+    ArmSide, Golem3Ik, Golem3Params, IkMode, IkSolver, NumericIk, NumericIkParams, bench,
+};
+use tabula_robot::robots::{self, NamedRobot};
+
+#[derive(Subcommand)]
+pub enum IkCommand {
+    /// Print every IK solution for one target pose, nearest to the seed first.
+    Solve(SolveArgs),
+    /// Run seed 001's benchmark protocol (SPEC §2.4) on a chain.
+    Bench(BenchArgs),
+    /// Forward kinematics of a chain at given joint values.
+    Fk(FkArgs),
+    /// List a robot's links, joints and limits.
+    Info(RobotArgs),
+}
+
+#[derive(Args, Clone)]
+pub struct RobotArgs {
+    /// golem3, wam, pr2, or a path to a .urdf file.
+    #[arg(long, default_value = "golem3")]
+    pub robot: String,
+    /// First link of the chain (default: the robot's usual arm base).
+    #[arg(long)]
+    pub base: Option<String>,
+    /// Last link of the chain (default: the robot's usual tool frame).
+    #[arg(long)]
+    pub tip: Option<String>,
+    /// TOML file with [numeric_ik] and/or [golem3_ik] parameter tables.
+    #[arg(long)]
+    pub config: Option<PathBuf>,
+}
+
+#[derive(Copy, Clone, PartialEq, Eq, ValueEnum)]
+pub enum SolverKind {
+    /// Closed form where the chain has one (Golem-III), numeric otherwise.
+    Auto,
+    /// Closed-form Golem-III solver (all branches).
+    Analytic,
+    /// Levenberg–Marquardt with restarts, any chain.
+    Numeric,
+}
+
+#[derive(Args)]
+pub struct SolveArgs {
+    #[command(flatten)]
+    robot: RobotArgs,
+    /// Target tip pose in the base frame: x y z (m) roll pitch yaw (rad, URDF convention).
+    #[arg(long, num_args = 6, allow_negative_numbers = true, value_names = ["X", "Y", "Z", "ROLL", "PITCH", "YAW"])]
+    pose: Vec<f64>,
+    /// Seed configuration (one value per chain joint); default mid-range.
+    #[arg(long, num_args = 1.., allow_negative_numbers = true)]
+    seed_joints: Option<Vec<f64>>,
+    /// Reach the position only; orientation is free.
+    #[arg(long)]
+    position_only: bool,
+    #[arg(long, value_enum, default_value = "auto")]
+    solver: SolverKind,
+    /// Print JSON instead of a table.
+    #[arg(long)]
+    json: bool,
+}
+
+#[derive(Args)]
+pub struct BenchArgs {
+    #[command(flatten)]
+    robot: RobotArgs,
+    #[arg(long, value_enum, default_value = "auto")]
+    solver: SolverKind,
+    /// Number of random reachable targets (and as many unreachable ones).
+    #[arg(long, default_value_t = 10_000)]
+    poses: usize,
+    /// Seed of the target generator.
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    #[arg(long)]
+    position_only: bool,
+    /// Print one JSON object instead of a table.
+    #[arg(long)]
+    json: bool,
+}
+
+#[derive(Args)]
+pub struct FkArgs {
+    #[command(flatten)]
+    robot: RobotArgs,
+    /// Joint values in chain order (default: all zero).
+    #[arg(long, num_args = 1.., allow_negative_numbers = true)]
+    joints: Option<Vec<f64>>,
+}
+
+#[derive(serde::Deserialize, Default)]
+#[serde(default, deny_unknown_fields)]
+struct Config {
+    numeric_ik: NumericIkParams,
+    golem3_ik: Golem3Params,
+}
+
+fn load_config(path: &Option<PathBuf>) -> Result<Config> {
+    match path {
+        None => Ok(Config::default()),
+        Some(p) => {
+            let text = std::fs::read_to_string(p)
+                .with_context(|| format!("cannot read {}", p.display()))?;
+            toml::from_str(&text).with_context(|| format!("bad parameter file {}", p.display()))
+        }
+    }
+}
+
+/// The robot, its chain and the solver the arguments ask for.
+pub struct Setup {
+    pub robot: NamedRobot,
+    pub chain: Chain,
+    pub solver: Box<dyn IkSolver>,
+    pub solver_name: &'static str,
+    numeric_params: NumericIkParams,
+}
+
+pub fn setup(args: &RobotArgs, kind: SolverKind) -> Result<Setup> {
+    let config = load_config(&args.config)?;
+    let robot = robots::load(&args.robot)?;
+    let base = args
+        .base
+        .clone()
+        .unwrap_or_else(|| robot.default_base.clone());
+    let tip = args
+        .tip
+        .clone()
+        .unwrap_or_else(|| robot.default_tip.clone());
+    let chain = Chain::new(&robot.model, &base, &tip)?;
+    if chain.dof() == 0 {
+        bail!("the chain from `{base}` to `{tip}` has no moving joint");
+    }
+    let golem_side = match (base.as_str(), tip.as_str()) {
+        ("torso_lift_link", "right_tool_link") => Some(ArmSide::Right),
+        ("torso_lift_link", "left_tool_link") => Some(ArmSide::Left),
+        _ => None,
+    };
+    let analytic = golem_side
+        .and_then(|side| Golem3Ik::new(&robot.model, side, config.golem3_ik.clone()).ok());
+    let (solver, solver_name): (Box<dyn IkSolver>, &'static str) = match (kind, analytic) {
+        (SolverKind::Analytic | SolverKind::Auto, Some(a)) => (Box::new(a), "analytic-golem3"),
+        (SolverKind::Analytic, None) => bail!(
+            "no analytic solver for `{base}` → `{tip}` of {}: the closed form covers the Golem-III arms \
+             (torso_lift_link → right_tool_link / left_tool_link); use --solver numeric",
+            robot.label
+        ),
+        _ => (
+            Box::new(NumericIk::new(chain.clone(), config.numeric_ik.clone())),
+            "numeric-lm",
+        ),
+    };
+    Ok(Setup {
+        robot,
+        chain,
+        solver,
+        solver_name,
+        numeric_params: config.numeric_ik,
+    })
+}
+
+pub fn run(cmd: IkCommand) -> Result<()> {
+    match cmd {
+        IkCommand::Solve(a) => solve(a),
+        IkCommand::Bench(a) => run_bench(a),
+        IkCommand::Fk(a) => fk(a),
+        IkCommand::Info(a) => info(a),
+    }
+}
+
+fn solve(a: SolveArgs) -> Result<()> {
+    let s = setup(&a.robot, a.solver)?;
+    let p = &a.pose;
+    let target = pose_from_xyz_rpy([p[0], p[1], p[2]], [p[3], p[4], p[5]]);
+    let seed = a
+        .seed_joints
+        .clone()
+        .unwrap_or_else(|| s.chain.mid_configuration());
+    let mode = if a.position_only {
+        IkMode::PositionOnly
+    } else {
+        IkMode::Full
+    };
+    let sols = s.solver.solve(&target, mode, &seed);
+    if a.json {
+        let value = match &sols {
+            Ok(sols) => serde_json::json!({
+                "solver": s.solver_name, "joint_names": s.chain.joint_names,
+                "solutions": sols.iter().map(|x| serde_json::json!({
+                    "joints": x.joints, "position_error_m": x.position_error, "rotation_error_rad": x.rotation_error,
+                })).collect::<Vec<_>>(),
+            }),
+            Err(e) => {
+                serde_json::json!({"solver": s.solver_name, "solutions": [], "error": e.to_string()})
+            }
+        };
+        println!("{}", serde_json::to_string_pretty(&value)?);
+        return Ok(());
+    }
+    println!(
+        "{} ({}): {} → {}, {} joints, solver {}",
+        s.robot.label,
+        s.robot.model.name,
+        s.chain.base_link,
+        s.chain.tip_link,
+        s.chain.dof(),
+        s.solver_name
+    );
+    let sols = sols?;
+    print_solutions(&s.chain, &sols);
+    Ok(())
+}
+
+pub fn print_solutions(chain: &Chain, sols: &[tabula_robot::ik::IkSolution]) {
+    println!("  joints: {}", chain.joint_names.join(", "));
+    let names: Vec<String> = (1..=chain.dof())
+        .map(|i| format!("{:>10}", format!("q{i}")))
+        .collect();
+    println!("  #  {}   pos err (m)  rot err (rad)", names.join(" "));
+    for (i, s) in sols.iter().enumerate() {
+        let vals: Vec<String> = s.joints.iter().map(|v| format!("{v:>10.5}")).collect();
+        println!(
+            "{:>3}  {}   {:.2e}     {:.2e}",
+            i + 1,
+            vals.join(" "),
+            s.position_error,
+            s.rotation_error
+        );
+    }
+    println!("  {} solution(s), nearest to the seed first", sols.len());
+}
+
+fn run_bench(a: BenchArgs) -> Result<()> {
+    let s = setup(&a.robot, a.solver)?;
+    if a.poses == 0 {
+        bail!("--poses must be at least 1");
+    }
+    let mode = if a.position_only {
+        IkMode::PositionOnly
+    } else {
+        IkMode::Full
+    };
+    let single = NumericIk::new(
+        s.chain.clone(),
+        NumericIkParams {
+            max_attempts: 1,
+            timeout_s: None,
+            ..s.numeric_params.clone()
+        },
+    );
+    let one_attempt: Option<&dyn IkSolver> =
+        (s.solver_name == "numeric-lm").then_some(&single as &dyn IkSolver);
+    let report = bench::run(
+        s.solver.as_ref(),
+        one_attempt,
+        s.solver_name,
+        mode,
+        a.poses,
+        a.seed,
+    );
+    if a.json {
+        println!("{}", serde_json::to_string(&report)?);
+        return Ok(());
+    }
+    let r = &report;
+    println!(
+        "IK benchmark (seed 001 protocol, SPEC §2.4) — {} {} → {} ({} DOF)",
+        s.robot.label, r.base, r.tip, r.dof
+    );
+    println!(
+        "solver {}, mode {}, {} reachable + {} unreachable targets, seed {}",
+        r.solver, r.mode, r.poses, r.poses, r.seed
+    );
+    println!("  success rate            {:.3} %", 100.0 * r.success_rate);
+    if let Some(one) = r.one_attempt_success_rate {
+        println!("  one-attempt success     {:.3} %", 100.0 * one);
+    }
+    println!(
+        "  time to a solution      median {:.2} µs   p95 {:.2} µs   max {:.1} µs",
+        r.solve_us.median, r.solve_us.p95, r.solve_us.max
+    );
+    println!("  CPU per solve (mean)    {:.2} µs", r.cpu_us_per_solve);
+    println!(
+        "  time to 'no solution'   median {:.2} µs   p95 {:.2} µs   ({:.1} % of unreachable targets rejected)",
+        r.fail_us.median,
+        r.fail_us.p95,
+        100.0 * r.unreachable_rejected_rate
+    );
+    println!(
+        "  solutions per pose      mean {:.2}   median {}   max {}",
+        r.mean_solutions_per_pose, r.solutions_per_pose.median, r.solutions_per_pose.max
+    );
+    println!("  error           median        p95          max");
+    let e = &r.errors;
+    for (name, sp) in [
+        ("x (m)", e.x),
+        ("y (m)", e.y),
+        ("z (m)", e.z),
+        ("roll (rad)", e.roll),
+        ("pitch (rad)", e.pitch),
+        ("yaw (rad)", e.yaw),
+    ] {
+        println!(
+            "  {name:<12} {:>10.2e}  {:>10.2e}  {:>10.2e}",
+            sp.median, sp.p95, sp.max
+        );
+    }
+    Ok(())
+}
+
+fn fk(a: FkArgs) -> Result<()> {
+    let robot = robots::load(&a.robot.robot)?;
+    let base = a
+        .robot
+        .base
+        .clone()
+        .unwrap_or_else(|| robot.default_base.clone());
+    let tip = a
+        .robot
+        .tip
+        .clone()
+        .unwrap_or_else(|| robot.default_tip.clone());
+    let chain = Chain::new(&robot.model, &base, &tip)?;
+    let q = a.joints.unwrap_or_else(|| vec![0.0; chain.dof()]);
+    let pose: Pose = chain.fk(&q)?;
+    let [r, p, y] = rpy_from_quat(pose.rotation);
+    let t: Vec3 = pose.translation;
+    println!(
+        "{base} → {tip}: xyz {:.6} {:.6} {:.6}  rpy {:.6} {:.6} {:.6}",
+        t.x, t.y, t.z, r, p, y
+    );
+    Ok(())
+}
+
+fn info(a: RobotArgs) -> Result<()> {
+    let robot = robots::load(&a.robot)?;
+    let m = &robot.model;
+    println!(
+        "{} ({}): {} links, {} joints; default chain {} → {}",
+        robot.label,
+        m.name,
+        m.links.len(),
+        m.joints.len(),
+        robot.default_base,
+        robot.default_tip
+    );
+    for j in &m.joints {
+        let l = j.limits;
+        println!(
+            "  {:<32} {:<12} {} → {}  [{:.4}, {:.4}]  v≤{:.3}",
+            j.name,
+            format!("{:?}", j.kind).to_lowercase(),
+            m.links[j.parent].name,
+            m.links[j.child].name,
+            l.lower,
+            l.upper,
+            l.velocity
+        );
+    }
+    Ok(())
+}

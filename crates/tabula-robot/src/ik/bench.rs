@@ -1,0 +1,228 @@
+//! The IK benchmark protocol of seed 001 (SPEC §2.4), for any solver and chain.
+//!
+//! Targets are FK of uniformly random joint values within limits (so every target is
+//! reachable); each is solved from the mid-range seed and checked with the chain's own
+//! FK — not the solver's — for position and rotation error and joint limits. A second
+//! set of targets, the same positions pushed beyond the chain's reach bound (see
+//! [`Chain::reach_bound`]), times how fast "no solution" comes back.
+
+use super::{IkError, IkMode, IkSolver};
+use crate::Chain;
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+use std::time::Instant;
+use tabula_geom::{Mat3, Pose, Vec3, rpy_from_mat3};
+
+/// Success threshold of the protocol: the analytic acceptance of issue 2 (1e-6 m, 1e-6 rad).
+pub const SUCCESS_POSITION_M: f64 = 1e-6;
+pub const SUCCESS_ROTATION_RAD: f64 = 1e-6;
+
+/// Median, 95th percentile and maximum of a sample.
+#[derive(Debug, Clone, Copy, Default, serde::Serialize)]
+pub struct Spread {
+    pub median: f64,
+    pub p95: f64,
+    pub max: f64,
+}
+
+impl Spread {
+    pub fn of(values: &[f64]) -> Self {
+        if values.is_empty() {
+            return Self::default();
+        }
+        let mut v = values.to_vec();
+        v.sort_by(f64::total_cmp);
+        let at = |q: f64| v[((v.len() - 1) as f64 * q).round() as usize];
+        Self {
+            median: at(0.5),
+            p95: at(0.95),
+            max: v[v.len() - 1],
+        }
+    }
+}
+
+/// Per-axis absolute errors of the best solution against its target.
+#[derive(Debug, Clone, Default, serde::Serialize)]
+pub struct AxisErrors {
+    pub x: Spread,
+    pub y: Spread,
+    pub z: Spread,
+    pub roll: Spread,
+    pub pitch: Spread,
+    pub yaw: Spread,
+}
+
+/// Everything the protocol measures.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct IkBenchReport {
+    pub solver: String,
+    pub base: String,
+    pub tip: String,
+    pub dof: usize,
+    pub mode: String,
+    pub poses: usize,
+    pub seed: u64,
+    pub success_rate: f64,
+    /// Fraction of reachable targets solved with a single attempt from the seed
+    /// (numeric solvers only).
+    pub one_attempt_success_rate: Option<f64>,
+    /// Wall time per solve of reachable targets (µs).
+    pub solve_us: Spread,
+    /// Wall time per "no solution" answer on unreachable targets (µs).
+    pub fail_us: Spread,
+    /// Fraction of unreachable targets answered "no solution".
+    pub unreachable_rejected_rate: f64,
+    /// Thread CPU time over all reachable solves divided by their count (µs).
+    pub cpu_us_per_solve: f64,
+    pub max_pos_err_m: f64,
+    pub max_rot_err_rad: f64,
+    pub errors: AxisErrors,
+    pub solutions_per_pose: Spread,
+    pub mean_solutions_per_pose: f64,
+}
+
+fn thread_cpu_seconds() -> f64 {
+    let mut ts = libc::timespec {
+        tv_sec: 0,
+        tv_nsec: 0,
+    };
+    // SAFETY: clock_gettime writes into the timespec we own; the clock id is valid on Linux.
+    let rc = unsafe { libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &mut ts) };
+    if rc != 0 {
+        return 0.0;
+    }
+    ts.tv_sec as f64 + ts.tv_nsec as f64 * 1e-9
+}
+
+/// The protocol's targets: FK of random configurations (seeded).
+pub fn reachable_targets(chain: &Chain, count: usize, seed: u64) -> Vec<Pose> {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    (0..count)
+        .map(|_| chain.fk_unchecked(&chain.random_configuration(&mut rng)))
+        .collect()
+}
+
+/// Reachable targets pushed radially beyond the chain's reach bound.
+pub fn unreachable_targets(chain: &Chain, reachable: &[Pose]) -> Vec<Pose> {
+    let center = chain.reach_center();
+    let radius = chain.reach_bound() * 1.1 + 0.1;
+    reachable
+        .iter()
+        .map(|t| {
+            let dir = (t.translation - center).try_normalize().unwrap_or(Vec3::X);
+            Pose::from_parts(center + dir * radius, t.rotation)
+        })
+        .collect()
+}
+
+/// Runs the protocol. `one_attempt`, if given, is the same solver limited to a single
+/// attempt, run on the same targets for the one-attempt rate.
+pub fn run(
+    solver: &dyn IkSolver,
+    one_attempt: Option<&dyn IkSolver>,
+    solver_name: &str,
+    mode: IkMode,
+    poses: usize,
+    seed: u64,
+) -> IkBenchReport {
+    let chain = solver.chain();
+    let targets = reachable_targets(chain, poses, seed);
+    let start_q = chain.mid_configuration();
+    let mut solve_us = Vec::with_capacity(poses);
+    let mut counts = Vec::with_capacity(poses);
+    let mut axis: [Vec<f64>; 6] = Default::default();
+    let (mut solved, mut max_pos, mut max_rot) = (0usize, 0.0f64, 0.0f64);
+    let cpu0 = thread_cpu_seconds();
+    let mut results = Vec::with_capacity(poses);
+    for target in &targets {
+        let t0 = Instant::now();
+        let r = solver.solve(target, mode, &start_q);
+        solve_us.push(t0.elapsed().as_secs_f64() * 1e6);
+        results.push(r);
+    }
+    let cpu_us_per_solve = (thread_cpu_seconds() - cpu0) * 1e6 / poses.max(1) as f64;
+    for (target, r) in targets.iter().zip(&results) {
+        let Ok(sols) = r else {
+            counts.push(0.0);
+            continue;
+        };
+        counts.push(sols.len() as f64);
+        let best = &sols[0];
+        let reached = chain.fk_unchecked(&best.joints);
+        let d = reached.translation - target.translation;
+        let rot_err = Mat3::from_quat(target.rotation.inverse() * reached.rotation);
+        let [roll, pitch, yaw] = rpy_from_mat3(&rot_err);
+        let (pos, rot) = super::pose_error(&reached, target, mode);
+        let positional = [d.x.abs(), d.y.abs(), d.z.abs()];
+        let angular = if mode == IkMode::Full {
+            [roll.abs(), pitch.abs(), yaw.abs()]
+        } else {
+            [0.0; 3]
+        };
+        for (k, v) in positional.iter().chain(&angular).enumerate() {
+            axis[k].push(*v);
+        }
+        max_pos = max_pos.max(pos);
+        max_rot = max_rot.max(rot);
+        if pos < SUCCESS_POSITION_M
+            && rot < SUCCESS_ROTATION_RAD
+            && chain.within_limits(&best.joints, 1e-9)
+        {
+            solved += 1;
+        }
+    }
+    let one_attempt_success_rate = one_attempt.map(|s| {
+        let ok = targets
+            .iter()
+            .filter(|t| {
+                s.solve(t, mode, &start_q).is_ok_and(|sols| {
+                    let (p, r) = super::pose_error(&chain.fk_unchecked(&sols[0].joints), t, mode);
+                    p < SUCCESS_POSITION_M && r < SUCCESS_ROTATION_RAD
+                })
+            })
+            .count();
+        ok as f64 / poses.max(1) as f64
+    });
+    let far = unreachable_targets(chain, &targets);
+    let mut fail_us = Vec::with_capacity(far.len());
+    let mut rejected = 0usize;
+    for target in &far {
+        let t0 = Instant::now();
+        let r = solver.solve(target, mode, &start_q);
+        fail_us.push(t0.elapsed().as_secs_f64() * 1e6);
+        if matches!(r, Err(IkError::NoSolution)) {
+            rejected += 1;
+        }
+    }
+    IkBenchReport {
+        solver: solver_name.to_string(),
+        base: chain.base_link.clone(),
+        tip: chain.tip_link.clone(),
+        dof: chain.dof(),
+        mode: match mode {
+            IkMode::Full => "full".into(),
+            IkMode::PositionOnly => "position-only".into(),
+            IkMode::PositionAxis { .. } => "position+axis".into(),
+        },
+        poses,
+        seed,
+        success_rate: solved as f64 / poses.max(1) as f64,
+        one_attempt_success_rate,
+        solve_us: Spread::of(&solve_us),
+        fail_us: Spread::of(&fail_us),
+        unreachable_rejected_rate: rejected as f64 / far.len().max(1) as f64,
+        cpu_us_per_solve,
+        max_pos_err_m: max_pos,
+        max_rot_err_rad: max_rot,
+        errors: AxisErrors {
+            x: Spread::of(&axis[0]),
+            y: Spread::of(&axis[1]),
+            z: Spread::of(&axis[2]),
+            roll: Spread::of(&axis[3]),
+            pitch: Spread::of(&axis[4]),
+            yaw: Spread::of(&axis[5]),
+        },
+        mean_solutions_per_pose: counts.iter().sum::<f64>() / counts.len().max(1) as f64,
+        solutions_per_pose: Spread::of(&counts),
+    }
+}
