@@ -2,8 +2,8 @@
 //!
 //! Convention (the DH table is the robot): standard DH
 //! `A_i = Rot_z(θ_i + offset_i) · Trans_z(d_i) · Trans_x(a_i) · Rot_x(α_i)` with the
-//! rows of SPEC §2.1, frame 0 = `torso_lift_link` (the robot base at lift 0), tool frame
-//! per row 6′. In closed form, with γ = θ1+θ2+θ3 (the seed's "roll"), φ = −θ4−θ5
+//! rows of SPEC §2.1, frame 0 = `torso_lift_link` (the robot base at lift 0; targets
+//! are given in it, so it rides with the torso lift), tool frame per row 6′. In closed form, with γ = θ1+θ2+θ3 (the seed's "roll"), φ = −θ4−θ5
 //! ("pitch"), ψ = θ6 (the seed's "yaw", a rotation about x) and
 //! `l3 = l4 sin(θ4+ρ) + l5 sin(θ4+θ5) + l6 cos(θ4+θ5)`:
 //!
@@ -64,8 +64,6 @@ pub struct Golem3Params {
     pub l6: f64,
     /// ρ (rad): 13.43°, SPEC §2.1 rows 4–5.
     pub rho: f64,
-    /// Torso lift added to h (m); the URDF's `torso_lift_joint` value.
-    pub torso_lift: f64,
     /// A branch is kept only if FK(solution) is this close to the target (m and rad).
     pub verify_tolerance: f64,
     /// Step of the pitch search of position-only IK (rad).
@@ -82,7 +80,6 @@ impl Default for Golem3Params {
             l5: 0.034,
             l6: 0.4,
             rho: 13.43f64.to_radians(),
-            torso_lift: 0.0,
             verify_tolerance: 1e-6,
             position_pitch_step: 0.01,
         }
@@ -98,6 +95,8 @@ pub struct Golem3Ik {
     /// Limits in the right-arm convention (θ1 mirrored for the left arm).
     lower: [f64; 6],
     upper: [f64; 6],
+    reach_center: Vec3,
+    reach_bound: f64,
 }
 
 /// Slack on acos arguments and joint limits that is rounding, not geometry.
@@ -131,6 +130,8 @@ impl Golem3Ik {
         let solver = Self {
             side,
             params,
+            reach_center: chain.reach_center(),
+            reach_bound: chain.reach_bound() + ROUNDING,
             chain,
             lower,
             upper,
@@ -182,7 +183,7 @@ impl Golem3Ik {
         let (sg, cg) = gamma.sin_cos();
         let x = p.l1 * q[0].sin() + p.l2 * (q[0] + q[1]).sin() + l3 * cg;
         let y = -p.l1 * q[0].cos() - p.l2 * (q[0] + q[1]).cos() + l3 * sg;
-        let z = p.h + p.torso_lift - p.l4 * ca - p.l5 * cs + p.l6 * ss;
+        let z = p.h - p.l4 * ca - p.l5 * cs + p.l6 * ss;
         let r =
             Mat3::from_rotation_z(gamma) * Mat3::from_rotation_y(-s) * Mat3::from_rotation_x(q[5]);
         (Vec3::new(x, y, z), r)
@@ -207,7 +208,7 @@ impl Golem3Ik {
             }
             let s = -phi;
             let (ss, cs) = s.sin_cos();
-            let c4 = -(p.z - prm.h - prm.torso_lift - prm.l6 * ss + prm.l5 * cs) / prm.l4;
+            let c4 = -(p.z - prm.h - prm.l6 * ss + prm.l5 * cs) / prm.l4;
             let Some(acos4) = robust_acos(c4) else {
                 continue;
             };
@@ -279,7 +280,7 @@ impl Golem3Ik {
                 continue;
             }
             let (ss, cs) = s.sin_cos();
-            let c4 = -(p.z - prm.h - prm.torso_lift - prm.l6 * ss + prm.l5 * cs) / prm.l4;
+            let c4 = -(p.z - prm.h - prm.l6 * ss + prm.l5 * cs) / prm.l4;
             let Some(acos4) = robust_acos(c4) else {
                 continue;
             };
@@ -360,6 +361,11 @@ impl IkSolver for Golem3Ik {
     fn solve(&self, target: &Pose, mode: IkMode, seed: &[f64]) -> Result<Vec<IkSolution>, IkError> {
         validate_request(&self.chain, target, mode, seed)?;
         let target = Pose::from_parts(target.translation, target.rotation.normalize());
+        // Beyond every configuration's reach: no branch can exist, and position-only
+        // would otherwise sweep its whole pitch range to say so.
+        if (target.translation - self.reach_center).length() > self.reach_bound {
+            return Err(IkError::NoSolution);
+        }
         let right = self.to_right(&target);
         let mut raw = Vec::with_capacity(8);
         match mode {

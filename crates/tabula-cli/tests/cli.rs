@@ -1,0 +1,145 @@
+//! The `tabula` binary as a user runs it.
+
+use std::process::Command;
+
+fn tabula(args: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_tabula"))
+        .args(args)
+        .output()
+        .expect("runs")
+}
+
+#[test]
+fn bench_json_has_the_protocol_fields() {
+    let out = tabula(&[
+        "ik", "bench", "--robot", "golem3", "--solver", "analytic", "--poses", "200", "--seed",
+        "3", "--json",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("one JSON object");
+    for key in ["success_rate", "max_pos_err_m", "max_rot_err_rad"] {
+        assert!(v[key].is_number(), "{key}");
+    }
+    for key in ["solve_us", "fail_us"] {
+        assert!(
+            v[key]["median"].is_number() && v[key]["p95"].is_number(),
+            "{key}"
+        );
+    }
+    assert_eq!(v["success_rate"].as_f64(), Some(1.0));
+}
+
+#[test]
+fn bench_works_on_a_urdf_file_with_base_and_tip() {
+    let urdf = concat!(env!("CARGO_MANIFEST_DIR"), "/../../robots/pr2.urdf");
+    let out = tabula(&[
+        "ik",
+        "bench",
+        "--robot",
+        urdf,
+        "--base",
+        "torso_lift_link",
+        "--tip",
+        "l_gripper_tool_frame",
+        "--solver",
+        "numeric",
+        "--poses",
+        "50",
+        "--json",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["dof"].as_u64(), Some(7));
+    assert!(v["success_rate"].as_f64().unwrap() > 0.9);
+}
+
+#[test]
+fn solve_is_deterministic_and_prints_every_branch() {
+    let args = [
+        "ik", "solve", "--robot", "golem3", "--pose", "0.62", "-0.43", "1.04", "0", "0", "-0.2",
+        "--json",
+    ];
+    let a = tabula(&args);
+    let b = tabula(&args);
+    assert!(a.status.success());
+    assert_eq!(a.stdout, b.stdout);
+    let v: serde_json::Value = serde_json::from_slice(&a.stdout).unwrap();
+    assert_eq!(v["solutions"].as_array().unwrap().len(), 2);
+    let numeric = [
+        "ik", "solve", "--robot", "wam", "--pose", "0.4", "0.2", "0.5", "3.14", "0", "0",
+        "--solver", "numeric", "--json",
+    ];
+    assert_eq!(tabula(&numeric).stdout, tabula(&numeric).stdout);
+}
+
+#[test]
+fn bad_input_is_one_clear_line() {
+    let cases: [(&[&str], &str); 4] = [
+        (
+            &[
+                "ik", "solve", "--robot", "r2d2", "--pose", "0", "0", "0", "0", "0", "0",
+            ],
+            "unknown robot",
+        ),
+        (
+            &[
+                "ik", "solve", "--robot", "wam", "--tip", "hand", "--pose", "0", "0", "0", "0",
+                "0", "0",
+            ],
+            "not in robot",
+        ),
+        (
+            &[
+                "ik", "bench", "--robot", "wam", "--solver", "analytic", "--poses", "10",
+            ],
+            "no analytic solver",
+        ),
+        (
+            &[
+                "ik",
+                "solve",
+                "--robot",
+                "/no/such.urdf",
+                "--pose",
+                "0",
+                "0",
+                "0",
+                "0",
+                "0",
+                "0",
+            ],
+            "cannot read URDF",
+        ),
+    ];
+    for (args, expected) in cases {
+        let out = tabula(args);
+        assert!(!out.status.success());
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(err.contains(expected), "{args:?}: {err}");
+        assert!(!err.contains("panicked"));
+    }
+    let nan = tabula(&[
+        "ik", "solve", "--robot", "golem3", "--pose", "NaN", "0", "1", "0", "0", "0",
+    ]);
+    assert!(!nan.status.success());
+    assert!(String::from_utf8_lossy(&nan.stderr).contains("not finite"));
+}
+
+#[test]
+fn demo_runs() {
+    let out = tabula(&["demo"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(String::from_utf8_lossy(&out.stdout).contains("Kinematics"));
+}
