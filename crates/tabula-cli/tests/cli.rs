@@ -143,3 +143,24 @@ fn demo_runs() {
     );
     assert!(String::from_utf8_lossy(&out.stdout).contains("Kinematics"));
 }
+
+#[test]
+fn bench_results_repeat_with_the_same_seed() {
+    let args = [
+        "ik", "bench", "--robot", "wam", "--solver", "numeric", "--poses", "100", "--seed", "9",
+        "--json",
+    ];
+    let parse =
+        |o: std::process::Output| serde_json::from_slice::<serde_json::Value>(&o.stdout).unwrap();
+    let (a, b) = (parse(tabula(&args)), parse(tabula(&args)));
+    for key in [
+        "success_rate",
+        "max_pos_err_m",
+        "max_rot_err_rad",
+        "mean_solutions_per_pose",
+        "one_attempt_success_rate",
+    ] {
+        assert_eq!(a[key], b[key], "{key}");
+    }
+    assert_eq!(a["errors"], b["errors"]);
+}
