@@ -335,3 +335,56 @@ impl Chain {
         bound
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::robots;
+    use rand::SeedableRng;
+
+    /// Every Jacobian column matches central finite differences of FK, linear and angular.
+    #[test]
+    fn jacobian_matches_finite_differences() {
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(1);
+        for (name, base, tip) in [
+            ("wam", "base_link", "wam_tool"),
+            ("pr2", "base_link", "l_gripper_tool_frame"),
+        ] {
+            let robot = robots::load(name).unwrap();
+            let chain = Chain::new(&robot.model, base, tip).unwrap();
+            for _ in 0..20 {
+                let q = chain.random_configuration(&mut rng);
+                let jac = chain.jacobian(&q).unwrap();
+                for i in 0..chain.dof() {
+                    let h = 1e-6;
+                    let (mut qp, mut qm) = (q.clone(), q.clone());
+                    qp[i] += h;
+                    qm[i] -= h;
+                    let (tp, tm) = (chain.fk(&qp).unwrap(), chain.fk(&qm).unwrap());
+                    let v = (tp.translation - tm.translation) / (2.0 * h);
+                    let w = tabula_geom::rotation_vector(tp.rotation * tm.rotation.inverse())
+                        / (2.0 * h);
+                    for r in 0..3 {
+                        assert!((jac[(r, i)] - v[r]).abs() < 1e-6, "{name} v col {i}");
+                        assert!((jac[(r + 3, i)] - w[r]).abs() < 1e-6, "{name} w col {i}");
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn reach_bound_is_never_exceeded() {
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(2);
+        for name in ["golem3", "wam", "pr2"] {
+            let robot = robots::load(name).unwrap();
+            let chain = Chain::new(&robot.model, &robot.default_base, &robot.default_tip).unwrap();
+            for _ in 0..2000 {
+                let t = chain.fk(&chain.random_configuration(&mut rng)).unwrap();
+                assert!(
+                    (t.translation - chain.reach_center()).length() <= chain.reach_bound() + 1e-12
+                );
+            }
+        }
+    }
+}

@@ -275,7 +275,13 @@ impl RobotModel {
                             upper: hi,
                         });
                     }
-                    (lo, hi)
+                    if kind == JointKind::Revolute && lo == 0.0 && hi == 0.0 {
+                        // Limits left out (urdf-rs reads them as 0, 0): URDF 1.2 says
+                        // "no limit", and a revolute joint locked at 0 would be a fixed one.
+                        (f64::NEG_INFINITY, f64::INFINITY)
+                    } else {
+                        (lo, hi)
+                    }
                 }
                 _ => (0.0, 0.0),
             };

@@ -92,6 +92,18 @@ fn every_bad_input_has_its_own_error() {
 }
 
 #[test]
+fn revolute_without_limits_is_unbounded() {
+    let text = GOOD.replace(
+        r#"<limit lower="-1" upper="1" effort="1" velocity="1"/>"#,
+        "",
+    );
+    let m = load(&text).unwrap();
+    let c = Chain::new(&m, "base", "tool").unwrap();
+    assert!(c.lower[0].is_infinite() && c.upper[0].is_infinite());
+    assert!(c.velocity[0].is_infinite());
+}
+
+#[test]
 fn missing_file_unknown_link_and_disconnected_chain() {
     let e = RobotModel::from_urdf_file("/definitely/not/here.urdf").unwrap_err();
     assert!(
