@@ -1,0 +1,679 @@
+//! Domain and problem parsing with validation against the domain.
+
+use crate::sexpr::{Sexpr, parse_all};
+use crate::*;
+
+const SUPPORTED: &[&str] = &[
+    ":strips",
+    ":typing",
+    ":negative-preconditions",
+    ":disjunctive-preconditions",
+    ":equality",
+    ":existential-preconditions",
+    ":universal-preconditions",
+    ":quantified-preconditions",
+    ":conditional-effects",
+    ":adl",
+    ":action-costs",
+];
+
+type R<T> = Result<T, PddlError>;
+
+fn err<T>(loc: Loc, kind: ErrorKind) -> R<T> {
+    Err(PddlError::at(loc, kind))
+}
+
+fn expected<T>(node: &Sexpr, what: &str) -> R<T> {
+    let found = match node {
+        Sexpr::Atom(a, _) => format!("`{a}`"),
+        Sexpr::List(items, _) => match items.first().and_then(Sexpr::atom) {
+            Some(head) => format!("a `({head} …)` list"),
+            None => "a list".into(),
+        },
+    };
+    err(
+        node.loc(),
+        ErrorKind::Expected {
+            expected: what.into(),
+            found,
+        },
+    )
+}
+
+fn list<'a>(node: &'a Sexpr, what: &str) -> R<&'a [Sexpr]> {
+    node.list().map_or_else(|| expected(node, what), Ok)
+}
+
+fn atom<'a>(node: &'a Sexpr, what: &str) -> R<&'a str> {
+    node.atom().map_or_else(|| expected(node, what), Ok)
+}
+
+/// The single `(define …)` of a file and its sections.
+fn define<'a>(text: &'a str, top: &'a [Sexpr], kind: &str) -> R<(&'a str, &'a [Sexpr], Loc)> {
+    let _ = text;
+    let Some(first) = top.first() else {
+        return err(
+            Loc { line: 1, column: 1 },
+            ErrorKind::Syntax(format!("empty input: expected (define ({kind} NAME) …)")),
+        );
+    };
+    if let Some(extra) = top.get(1) {
+        return expected(extra, "the end of the file after (define …)");
+    }
+    let items = list(first, "(define …)")?;
+    if items.first().and_then(Sexpr::atom) != Some("define") {
+        return expected(first, "(define …)");
+    }
+    let Some(header) = items.get(1) else {
+        return expected(first, &format!("({kind} NAME) after define"));
+    };
+    let h = list(header, &format!("({kind} NAME)"))?;
+    if h.len() != 2 || h[0].atom() != Some(kind) {
+        return expected(header, &format!("({kind} NAME)"));
+    }
+    Ok((atom(&h[1], "a name")?, &items[2..], first.loc()))
+}
+
+/// `a b - t c - u d` → typed names (untyped ones are `object`).
+fn typed_list(items: &[Sexpr], variables: bool) -> R<Vec<(TypedName, Loc)>> {
+    let mut out = Vec::new();
+    let mut pending: Vec<(String, Loc)> = Vec::new();
+    let mut i = 0;
+    while i < items.len() {
+        let a = atom(&items[i], if variables { "a variable" } else { "a name" })?;
+        if a == "-" {
+            let Some(t) = items.get(i + 1) else {
+                return expected(&items[i], "a type after `-`");
+            };
+            if let Sexpr::List(l, _) = t
+                && l.first().and_then(Sexpr::atom) == Some("either")
+            {
+                return err(
+                    t.loc(),
+                    ErrorKind::Syntax("`(either …)` types are not supported".into()),
+                );
+            }
+            let t = atom(t, "a type name")?;
+            if pending.is_empty() {
+                return expected(&items[i], "names before `-`");
+            }
+            out.extend(pending.drain(..).map(|(name, loc)| {
+                (
+                    TypedName {
+                        name,
+                        type_name: t.to_string(),
+                    },
+                    loc,
+                )
+            }));
+            i += 2;
+            continue;
+        }
+        let name = if variables {
+            match a.strip_prefix('?') {
+                Some(v) if !v.is_empty() => v.to_string(),
+                _ => return expected(&items[i], "a variable `?name`"),
+            }
+        } else {
+            if a.starts_with('?') {
+                return expected(&items[i], "a name (not a variable)");
+            }
+            a.to_string()
+        };
+        pending.push((name, items[i].loc()));
+        i += 1;
+    }
+    out.extend(pending.into_iter().map(|(name, loc)| {
+        (
+            TypedName {
+                name,
+                type_name: "object".into(),
+            },
+            loc,
+        )
+    }));
+    Ok(out)
+}
+
+/// Parses and checks a domain.
+pub fn parse_domain(text: &str) -> R<Domain> {
+    let top = parse_all(text)?;
+    let (name, sections, _) = define(text, &top, "domain")?;
+    let mut d = Domain {
+        name: name.to_string(),
+        requirements: vec![":strips".into()],
+        types: vec![("object".into(), None)],
+        constants: Vec::new(),
+        predicates: Vec::new(),
+        functions: Vec::new(),
+        actions: Vec::new(),
+    };
+    let mut actions = Vec::new();
+    // Types used by declarations, checked once every section is read.
+    let mut type_uses: Vec<(String, Loc)> = Vec::new();
+    for s in sections {
+        let items = list(s, "a domain section such as (:predicates …)")?;
+        let head = items.first().map_or_else(
+            || expected(s, "a section keyword"),
+            |h| atom(h, "a section keyword"),
+        )?;
+        match head {
+            ":requirements" => {
+                for r in &items[1..] {
+                    let r_name = atom(r, "a requirement")?;
+                    if !SUPPORTED.contains(&r_name) {
+                        return err(r.loc(), ErrorKind::UnsupportedRequirement(r_name.into()));
+                    }
+                    d.requirements.push(r_name.to_string());
+                }
+            }
+            ":types" => {
+                for (t, loc) in typed_list(&items[1..], false)? {
+                    if t.name == "object" {
+                        continue;
+                    }
+                    if d.types.iter().any(|(n, _)| *n == t.name) {
+                        return err(loc, ErrorKind::Duplicate(t.name));
+                    }
+                    d.types.push((t.name, Some(t.type_name)));
+                }
+            }
+            ":constants" => {
+                for (c, loc) in typed_list(&items[1..], false)? {
+                    if d.constants.iter().any(|k| k.name == c.name) {
+                        return err(loc, ErrorKind::Duplicate(c.name));
+                    }
+                    type_uses.push((c.type_name.clone(), loc));
+                    d.constants.push(c);
+                }
+            }
+            ":predicates" | ":functions" => {
+                let mut i = 1;
+                while i < items.len() {
+                    let decl = list(&items[i], "a declaration (name ?args…)")?;
+                    let Some(first) = decl.first() else {
+                        return expected(&items[i], "a name");
+                    };
+                    let pname = atom(first, "a name")?.to_string();
+                    let mut params = Vec::new();
+                    for (t, loc) in typed_list(&decl[1..], true)? {
+                        type_uses.push((t.type_name.clone(), loc));
+                        params.push(t);
+                    }
+                    let sig = Signature {
+                        name: pname.clone(),
+                        params,
+                    };
+                    let target = if head == ":predicates" {
+                        &mut d.predicates
+                    } else {
+                        &mut d.functions
+                    };
+                    if target.iter().any(|p| p.name == pname) {
+                        return err(items[i].loc(), ErrorKind::Duplicate(pname));
+                    }
+                    target.push(sig);
+                    i += 1;
+                    // `:functions` may give a return type: `(f ?x) - number`.
+                    if head == ":functions" && items.get(i).and_then(Sexpr::atom) == Some("-") {
+                        i += 2;
+                    }
+                }
+            }
+            ":action" => actions.push(s),
+            other => {
+                return err(
+                    items[0].loc(),
+                    ErrorKind::Syntax(format!("unknown domain section `{other}`")),
+                );
+            }
+        }
+    }
+    // A parent named only after `-` is a type of its own, under `object` (as in
+    // Fast Downward's translator).
+    let parents: Vec<String> = d.types.iter().filter_map(|(_, p)| p.clone()).collect();
+    for p in parents {
+        if !d.types.iter().any(|(n, _)| *n == p) {
+            d.types.push((p, Some("object".into())));
+        }
+    }
+    for (t, loc) in type_uses {
+        if !d.types.iter().any(|(n, _)| *n == t) {
+            return err(loc, ErrorKind::UndefinedType(t));
+        }
+    }
+    for s in actions {
+        let a = parse_action(&d, s)?;
+        if d.actions.iter().any(|x| x.name == a.name) {
+            return err(s.loc(), ErrorKind::Duplicate(a.name));
+        }
+        d.actions.push(a);
+    }
+    Ok(d)
+}
+
+struct Scope<'a> {
+    domain: &'a Domain,
+    vars: Vec<TypedName>,
+    objects: &'a [TypedName],
+}
+
+impl Scope<'_> {
+    fn term(&self, node: &Sexpr) -> R<(Term, String)> {
+        let a = atom(node, "a variable or object")?;
+        if let Some(v) = a.strip_prefix('?') {
+            let t = self.vars.iter().rev().find(|x| x.name == v);
+            return t.map_or_else(
+                || err(node.loc(), ErrorKind::UndefinedVariable(a.into())),
+                |t| Ok((Term::Var(v.into()), t.type_name.clone())),
+            );
+        }
+        let o = self
+            .domain
+            .constants
+            .iter()
+            .chain(self.objects)
+            .find(|o| o.name == a);
+        o.map_or_else(
+            || err(node.loc(), ErrorKind::UndefinedObject(a.into())),
+            |o| Ok((Term::Const(a.into()), o.type_name.clone())),
+        )
+    }
+
+    fn atom(&self, items: &[Sexpr], loc: Loc) -> R<Atom> {
+        let name = atom(&items[0], "a predicate")?;
+        let Some(sig) = self.domain.predicate(name) else {
+            return err(items[0].loc(), ErrorKind::UndefinedPredicate(name.into()));
+        };
+        self.args(name, &sig.params, &items[1..], loc)
+            .map(|args| Atom {
+                predicate: name.into(),
+                args,
+            })
+    }
+
+    fn args(&self, name: &str, params: &[TypedName], items: &[Sexpr], loc: Loc) -> R<Vec<Term>> {
+        if params.len() != items.len() {
+            return err(
+                loc,
+                ErrorKind::Arity {
+                    name: name.into(),
+                    expected: params.len(),
+                    found: items.len(),
+                },
+            );
+        }
+        let mut args = Vec::with_capacity(items.len());
+        for (node, p) in items.iter().zip(params) {
+            let (term, t) = self.term(node)?;
+            // A variable of a supertype may still be bound to a fitting object; only
+            // reject what can never fit.
+            if !self.domain.is_subtype(&t, &p.type_name)
+                && !self.domain.is_subtype(&p.type_name, &t)
+            {
+                return err(
+                    node.loc(),
+                    ErrorKind::TypeMismatch {
+                        found: node.atom().unwrap_or_default().into(),
+                        found_type: t,
+                        expected_type: p.type_name.clone(),
+                    },
+                );
+            }
+            args.push(term);
+        }
+        Ok(args)
+    }
+
+    fn quantified(&mut self, items: &[Sexpr], node: &Sexpr) -> R<Vec<TypedName>> {
+        if items.len() != 3 {
+            return expected(node, "(quantifier (?vars…) body)");
+        }
+        let vars: Vec<TypedName> = typed_list(list(&items[1], "a variable list")?, true)?
+            .into_iter()
+            .map(|(t, _)| t)
+            .collect();
+        for v in &vars {
+            if !self.domain.types.iter().any(|(n, _)| *n == v.type_name) {
+                return err(
+                    items[1].loc(),
+                    ErrorKind::UndefinedType(v.type_name.clone()),
+                );
+            }
+        }
+        Ok(vars)
+    }
+
+    fn condition(&mut self, node: &Sexpr) -> R<Condition> {
+        let items = list(node, "a condition in parentheses")?;
+        let Some(head) = items.first() else {
+            return Ok(Condition::True);
+        };
+        let head = atom(head, "a predicate or connective")?;
+        let sub = |s: &mut Self, i: usize| -> R<Box<Condition>> {
+            match items.get(i) {
+                Some(n) => Ok(Box::new(s.condition(n)?)),
+                None => expected(node, "a sub-condition"),
+            }
+        };
+        Ok(match head {
+            "and" => Condition::And(
+                items[1..]
+                    .iter()
+                    .map(|c| self.condition(c))
+                    .collect::<R<_>>()?,
+            ),
+            "or" => Condition::Or(
+                items[1..]
+                    .iter()
+                    .map(|c| self.condition(c))
+                    .collect::<R<_>>()?,
+            ),
+            "not" if items.len() == 2 => Condition::Not(sub(self, 1)?),
+            "imply" if items.len() == 3 => Condition::Imply(sub(self, 1)?, sub(self, 2)?),
+            "exists" | "forall" => {
+                let vars = self.quantified(items, node)?;
+                let n = vars.len();
+                self.vars.extend(vars.iter().cloned());
+                let body = self.condition(&items[2]);
+                self.vars.truncate(self.vars.len() - n);
+                if head == "exists" {
+                    Condition::Exists(vars, Box::new(body?))
+                } else {
+                    Condition::Forall(vars, Box::new(body?))
+                }
+            }
+            "=" if items.len() == 3 => {
+                Condition::Equal(self.term(&items[1])?.0, self.term(&items[2])?.0)
+            }
+            "not" | "imply" | "=" => {
+                return expected(
+                    node,
+                    &format!("`{head}` with the right number of arguments"),
+                );
+            }
+            _ => Condition::Atom(self.atom(items, node.loc())?),
+        })
+    }
+
+    fn effect(&mut self, node: &Sexpr) -> R<Effect> {
+        let items = list(node, "an effect in parentheses")?;
+        let Some(head) = items.first() else {
+            return Ok(Effect::And(Vec::new()));
+        };
+        let head = atom(head, "a predicate or effect keyword")?;
+        Ok(match head {
+            "and" => Effect::And(
+                items[1..]
+                    .iter()
+                    .map(|e| self.effect(e))
+                    .collect::<R<_>>()?,
+            ),
+            "not" if items.len() == 2 => {
+                let inner = list(&items[1], "an atom")?;
+                if inner.is_empty() {
+                    return expected(&items[1], "an atom");
+                }
+                Effect::Delete(self.atom(inner, items[1].loc())?)
+            }
+            "forall" => {
+                let vars = self.quantified(items, node)?;
+                let n = vars.len();
+                self.vars.extend(vars.iter().cloned());
+                let body = self.effect(&items[2]);
+                self.vars.truncate(self.vars.len() - n);
+                Effect::Forall(vars, Box::new(body?))
+            }
+            "when" if items.len() == 3 => Effect::When(
+                self.condition(&items[1])?,
+                Box::new(self.effect(&items[2])?),
+            ),
+            "increase" if items.len() == 3 => {
+                let target = list(&items[1], "(total-cost)")?;
+                if target.len() != 1 || target[0].atom() != Some("total-cost") {
+                    return expected(&items[1], "(total-cost)");
+                }
+                Effect::IncreaseCost(match &items[2] {
+                    Sexpr::Atom(a, loc) => match a.parse::<i64>() {
+                        Ok(v) if v >= 0 => CostExpr::Constant(v),
+                        _ => {
+                            return err(
+                                *loc,
+                                ErrorKind::Expected {
+                                    expected: "a non-negative integer cost".into(),
+                                    found: format!("`{a}`"),
+                                },
+                            );
+                        }
+                    },
+                    Sexpr::List(f, loc) => {
+                        let Some(fname) = f.first() else {
+                            return expected(&items[2], "a cost function");
+                        };
+                        let fname = atom(fname, "a function name")?;
+                        let Some(sig) = self.domain.functions.iter().find(|s| s.name == fname)
+                        else {
+                            return err(*loc, ErrorKind::UndefinedFunction(fname.into()));
+                        };
+                        CostExpr::Function(
+                            fname.into(),
+                            self.args(fname, &sig.params, &f[1..], *loc)?,
+                        )
+                    }
+                })
+            }
+            "not" | "when" | "increase" => {
+                return expected(
+                    node,
+                    &format!("`{head}` with the right number of arguments"),
+                );
+            }
+            _ => Effect::Add(self.atom(items, node.loc())?),
+        })
+    }
+}
+
+fn parse_action(d: &Domain, node: &Sexpr) -> R<Action> {
+    let items = list(node, "(:action …)")?;
+    let Some(name) = items.get(1) else {
+        return expected(node, "an action name");
+    };
+    let name = atom(name, "an action name")?.to_string();
+    let mut scope = Scope {
+        domain: d,
+        vars: Vec::new(),
+        objects: &[],
+    };
+    let (mut precondition, mut effect) = (Condition::True, Effect::And(Vec::new()));
+    let mut i = 2;
+    while i < items.len() {
+        let key = atom(&items[i], "`:parameters`, `:precondition` or `:effect`")?;
+        let Some(value) = items.get(i + 1) else {
+            return expected(&items[i], "a value after the keyword");
+        };
+        match key {
+            ":parameters" => {
+                for (p, loc) in typed_list(list(value, "a parameter list")?, true)? {
+                    if !d.types.iter().any(|(n, _)| *n == p.type_name) {
+                        return err(loc, ErrorKind::UndefinedType(p.type_name));
+                    }
+                    if scope.vars.iter().any(|v| v.name == p.name) {
+                        return err(loc, ErrorKind::Duplicate(format!("?{}", p.name)));
+                    }
+                    scope.vars.push(p);
+                }
+            }
+            ":precondition" => precondition = scope.condition(value)?,
+            ":effect" => effect = scope.effect(value)?,
+            other => {
+                return err(
+                    items[i].loc(),
+                    ErrorKind::Syntax(format!("unknown action keyword `{other}`")),
+                );
+            }
+        }
+        i += 2;
+    }
+    Ok(Action {
+        name,
+        params: scope.vars,
+        precondition,
+        effect,
+        loc: node.loc(),
+    })
+}
+
+/// Parses a problem and checks it against `domain`.
+pub fn parse_problem(text: &str, domain: &Domain) -> R<Problem> {
+    let top = parse_all(text)?;
+    let (name, sections, loc) = define(text, &top, "problem")?;
+    let mut p = Problem {
+        name: name.to_string(),
+        domain_name: String::new(),
+        objects: Vec::new(),
+        init: Vec::new(),
+        init_numeric: Vec::new(),
+        goal: Condition::True,
+        minimize_total_cost: false,
+    };
+    let mut init_nodes: &[Sexpr] = &[];
+    let mut goal_node = None;
+    for s in sections {
+        let items = list(s, "a problem section such as (:init …)")?;
+        let head = items.first().map_or_else(
+            || expected(s, "a section keyword"),
+            |h| atom(h, "a section keyword"),
+        )?;
+        match head {
+            ":domain" => {
+                let Some(dn) = items.get(1) else {
+                    return expected(s, "a domain name");
+                };
+                p.domain_name = atom(dn, "a domain name")?.to_string();
+                if p.domain_name != domain.name {
+                    return err(
+                        dn.loc(),
+                        ErrorKind::DomainMismatch {
+                            domain: domain.name.clone(),
+                            problem_domain: p.domain_name.clone(),
+                        },
+                    );
+                }
+            }
+            ":requirements" => {
+                for r in &items[1..] {
+                    let r_name = atom(r, "a requirement")?;
+                    if !SUPPORTED.contains(&r_name) {
+                        return err(r.loc(), ErrorKind::UnsupportedRequirement(r_name.into()));
+                    }
+                }
+            }
+            ":objects" => {
+                for (o, oloc) in typed_list(&items[1..], false)? {
+                    if !domain.types.iter().any(|(n, _)| *n == o.type_name) {
+                        return err(oloc, ErrorKind::UndefinedType(o.type_name));
+                    }
+                    if p.objects
+                        .iter()
+                        .chain(&domain.constants)
+                        .any(|k| k.name == o.name)
+                    {
+                        return err(oloc, ErrorKind::Duplicate(o.name));
+                    }
+                    p.objects.push(o);
+                }
+            }
+            ":init" => init_nodes = &items[1..],
+            ":goal" => {
+                let Some(g) = items.get(1) else {
+                    return expected(s, "a goal condition");
+                };
+                goal_node = Some(g);
+            }
+            ":metric" => {
+                let ok = items.len() == 3
+                    && items[1].atom() == Some("minimize")
+                    && items[2]
+                        .list()
+                        .is_some_and(|l| l.len() == 1 && l[0].atom() == Some("total-cost"));
+                if !ok {
+                    return expected(s, "(:metric minimize (total-cost))");
+                }
+                p.minimize_total_cost = true;
+            }
+            other => {
+                return err(
+                    items[0].loc(),
+                    ErrorKind::Syntax(format!("unknown problem section `{other}`")),
+                );
+            }
+        }
+    }
+    if p.domain_name.is_empty() {
+        return err(
+            loc,
+            ErrorKind::Syntax("the problem names no (:domain …)".into()),
+        );
+    }
+    let scope = Scope {
+        domain,
+        vars: Vec::new(),
+        objects: &p.objects,
+    };
+    let mut init = Vec::new();
+    let mut init_numeric = Vec::new();
+    for node in init_nodes {
+        let items = list(node, "an initial fact in parentheses")?;
+        if items.is_empty() {
+            return expected(node, "an initial fact");
+        }
+        if items[0].atom() == Some("=") {
+            if items.len() != 3 {
+                return expected(node, "(= (function objects…) value)");
+            }
+            let f = list(&items[1], "(function objects…)")?;
+            let Some(fname) = f.first() else {
+                return expected(&items[1], "a function");
+            };
+            let fname = atom(fname, "a function name")?;
+            let Some(sig) = domain.functions.iter().find(|s| s.name == fname) else {
+                return err(items[1].loc(), ErrorKind::UndefinedFunction(fname.into()));
+            };
+            let args = scope.args(fname, &sig.params, &f[1..], items[1].loc())?;
+            let value = atom(&items[2], "a number")?;
+            let Ok(value) = value.parse::<i64>() else {
+                return expected(&items[2], "an integer value");
+            };
+            init_numeric.push((ground(fname, args), value));
+            continue;
+        }
+        let a = scope.atom(items, node.loc())?;
+        init.push(ground(&a.predicate, a.args));
+    }
+    init.sort();
+    init.dedup();
+    p.init = init;
+    p.init_numeric = init_numeric;
+    let mut goal_scope = Scope {
+        domain,
+        vars: Vec::new(),
+        objects: &p.objects,
+    };
+    if let Some(g) = goal_node {
+        let goal = goal_scope.condition(g)?;
+        p.goal = goal;
+    }
+    Ok(p)
+}
+
+fn ground(name: &str, args: Vec<Term>) -> GroundAtom {
+    GroundAtom {
+        predicate: name.into(),
+        args: args
+            .into_iter()
+            .map(|t| match t {
+                Term::Const(c) | Term::Var(c) => c,
+            })
+            .collect(),
+    }
+}

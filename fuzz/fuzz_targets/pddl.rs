@@ -1,0 +1,15 @@
+//! Any bytes as a PDDL domain, and as a problem of the seed's domain: a parse or a
+//! located error, never a panic. Run: `cargo +nightly fuzz run pddl`.
+#![no_main]
+
+use libfuzzer_sys::fuzz_target;
+
+const DOMAIN: &str = include_str!("../../pddl/tablewclear-domain.pddl");
+
+fuzz_target!(|data: &[u8]| {
+    let text = String::from_utf8_lossy(data);
+    let _ = tabula_pddl::parse_domain(&text);
+    if let Ok(domain) = tabula_pddl::parse_domain(DOMAIN) {
+        let _ = tabula_pddl::parse_problem(&text, &domain);
+    }
+});
