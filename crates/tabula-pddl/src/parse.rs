@@ -49,8 +49,7 @@ fn atom<'a>(node: &'a Sexpr, what: &str) -> R<&'a str> {
 }
 
 /// The single `(define …)` of a file and its sections.
-fn define<'a>(text: &'a str, top: &'a [Sexpr], kind: &str) -> R<(&'a str, &'a [Sexpr], Loc)> {
-    let _ = text;
+fn define<'a>(top: &'a [Sexpr], kind: &str) -> R<(&'a str, &'a [Sexpr], Loc)> {
     let Some(first) = top.first() else {
         return err(
             Loc { line: 1, column: 1 },
@@ -138,7 +137,7 @@ fn typed_list(items: &[Sexpr], variables: bool) -> R<Vec<(TypedName, Loc)>> {
 /// Parses and checks a domain.
 pub fn parse_domain(text: &str) -> R<Domain> {
     let top = parse_all(text)?;
-    let (name, sections, _) = define(text, &top, "domain")?;
+    let (name, sections, _) = define(&top, "domain")?;
     let mut d = Domain {
         name: name.to_string(),
         requirements: vec![":strips".into()],
@@ -526,7 +525,7 @@ fn parse_action(d: &Domain, node: &Sexpr) -> R<Action> {
 /// Parses a problem and checks it against `domain`.
 pub fn parse_problem(text: &str, domain: &Domain) -> R<Problem> {
     let top = parse_all(text)?;
-    let (name, sections, loc) = define(text, &top, "problem")?;
+    let (name, sections, loc) = define(&top, "problem")?;
     let mut p = Problem {
         name: name.to_string(),
         domain_name: String::new(),

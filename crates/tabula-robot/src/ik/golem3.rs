@@ -195,7 +195,6 @@ impl Golem3Ik {
 
     /// All right-arm branches for position `p` and rotation `r` (right-arm frame).
     fn solve_full_right(&self, p: Vec3, r: &Mat3, out: &mut Vec<[f64; 6]>) {
-        let prm = &self.params;
         let m = |i: usize, j: usize| r.col(j)[i];
         let phi = (-m(2, 0)).atan2(m(0, 0).hypot(m(1, 0)));
         let gamma = m(1, 0).atan2(m(0, 0));
@@ -206,19 +205,26 @@ impl Golem3Ik {
             if theta6 < self.lower[5] - ROUNDING || theta6 > self.upper[5] + ROUNDING {
                 continue;
             }
-            let s = -phi;
-            let (ss, cs) = s.sin_cos();
-            let c4 = -(p.z - prm.h - prm.l6 * ss + prm.l5 * cs) / prm.l4;
-            let Some(acos4) = robust_acos(c4) else {
-                continue;
-            };
-            for alpha in branches(acos4) {
-                let theta4 = wrap_angle(alpha - prm.rho);
-                let theta5 = wrap_angle(s - theta4);
-                let l3 = prm.l4 * alpha.sin() + prm.l5 * ss + prm.l6 * cs;
+            for (theta4, theta5, l3) in self.wrist(p.z, -phi) {
                 self.planar(p, gamma, l3, [theta4, theta5, theta6], out);
             }
         }
+    }
+
+    /// (θ4, θ5, l3) for tool height `z` and pitch sum s = θ4+θ5: z fixes cos(θ4+ρ),
+    /// both signs of its sine are branches, and l3 is the horizontal reach they give.
+    fn wrist(&self, z: f64, s: f64) -> impl Iterator<Item = (f64, f64, f64)> + '_ {
+        let prm = &self.params;
+        let (ss, cs) = s.sin_cos();
+        let c4 = -(z - prm.h - prm.l6 * ss + prm.l5 * cs) / prm.l4;
+        robust_acos(c4)
+            .into_iter()
+            .flat_map(branches)
+            .map(move |alpha| {
+                let theta4 = wrap_angle(alpha - prm.rho);
+                let l3 = prm.l4 * alpha.sin() + prm.l5 * ss + prm.l6 * cs;
+                (theta4, wrap_angle(s - theta4), l3)
+            })
     }
 
     /// θ1, θ2, θ3 for roll γ and horizontal reach l3, both elbow signs.
@@ -279,14 +285,7 @@ impl Golem3Ik {
             if s < s_min - ROUNDING || s > s_max + ROUNDING {
                 continue;
             }
-            let (ss, cs) = s.sin_cos();
-            let c4 = -(p.z - prm.h - prm.l6 * ss + prm.l5 * cs) / prm.l4;
-            let Some(acos4) = robust_acos(c4) else {
-                continue;
-            };
-            for alpha in branches(acos4) {
-                let theta4 = wrap_angle(alpha - prm.rho);
-                let theta5 = wrap_angle(s - theta4);
+            for (theta4, theta5, l3) in self.wrist(p.z, s) {
                 if theta4 < self.lower[3] - ROUNDING
                     || theta4 > self.upper[3] + ROUNDING
                     || theta5 < self.lower[4] - ROUNDING
@@ -294,7 +293,6 @@ impl Golem3Ik {
                 {
                     continue;
                 }
-                let l3 = prm.l4 * alpha.sin() + prm.l5 * ss + prm.l6 * cs;
                 for gamma in roll_candidates(w, phi_w, l3, r_min, r_max, gamma0) {
                     if self.planar(p, gamma, l3, [theta4, theta5, theta6], out) {
                         return;
