@@ -143,8 +143,14 @@ pub fn setup(args: &RobotArgs, kind: SolverKind) -> Result<Setup> {
         ("torso_lift_link", "left_tool_link") => Some(ArmSide::Left),
         _ => None,
     };
-    let analytic = golem_side
-        .and_then(|side| Golem3Ik::new(&robot.model, side, config.golem3_ik.clone()).ok());
+    // Asked for explicitly, a Golem-III chain that does not match the DH table is an
+    // error worth showing; on `auto` it just means the numeric solver.
+    let analytic =
+        match golem_side.map(|side| Golem3Ik::new(&robot.model, side, config.golem3_ik.clone())) {
+            Some(Err(e)) if kind == SolverKind::Analytic => return Err(e.into()),
+            Some(Ok(a)) => Some(a),
+            _ => None,
+        };
     let (solver, solver_name): (Box<dyn IkSolver>, &'static str) = match (kind, analytic) {
         (SolverKind::Analytic | SolverKind::Auto, Some(a)) => (Box::new(a), "analytic-golem3"),
         (SolverKind::Analytic, None) => bail!(

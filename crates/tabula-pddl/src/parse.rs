@@ -48,6 +48,31 @@ fn atom<'a>(node: &'a Sexpr, what: &str) -> R<&'a str> {
     node.atom().map_or_else(|| expected(node, what), Ok)
 }
 
+/// A `(:keyword …)` section: its keyword and all its items (keyword first).
+fn section<'a>(node: &'a Sexpr, what: &str) -> R<(&'a str, &'a [Sexpr])> {
+    let items = list(node, what)?;
+    let head = items.first().map_or_else(
+        || expected(node, "a section keyword"),
+        |h| atom(h, "a section keyword"),
+    )?;
+    Ok((head, items))
+}
+
+/// The requirement keywords of a `(:requirements …)` section, all supported.
+fn requirements(items: &[Sexpr]) -> R<Vec<String>> {
+    items
+        .iter()
+        .map(|r| {
+            let name = atom(r, "a requirement")?;
+            if SUPPORTED.contains(&name) {
+                Ok(name.to_string())
+            } else {
+                err(r.loc(), ErrorKind::UnsupportedRequirement(name.into()))
+            }
+        })
+        .collect()
+}
+
 /// The single `(define …)` of a file and its sections.
 fn define<'a>(top: &'a [Sexpr], kind: &str) -> R<(&'a str, &'a [Sexpr], Loc)> {
     let Some(first) = top.first() else {
@@ -151,21 +176,9 @@ pub fn parse_domain(text: &str) -> R<Domain> {
     // Types used by declarations, checked once every section is read.
     let mut type_uses: Vec<(String, Loc)> = Vec::new();
     for s in sections {
-        let items = list(s, "a domain section such as (:predicates …)")?;
-        let head = items.first().map_or_else(
-            || expected(s, "a section keyword"),
-            |h| atom(h, "a section keyword"),
-        )?;
+        let (head, items) = section(s, "a domain section such as (:predicates …)")?;
         match head {
-            ":requirements" => {
-                for r in &items[1..] {
-                    let r_name = atom(r, "a requirement")?;
-                    if !SUPPORTED.contains(&r_name) {
-                        return err(r.loc(), ErrorKind::UnsupportedRequirement(r_name.into()));
-                    }
-                    d.requirements.push(r_name.to_string());
-                }
-            }
+            ":requirements" => d.requirements.extend(requirements(&items[1..])?),
             ":types" => {
                 for (t, loc) in typed_list(&items[1..], false)? {
                     if t.name == "object" {
@@ -538,11 +551,7 @@ pub fn parse_problem(text: &str, domain: &Domain) -> R<Problem> {
     let mut init_nodes: &[Sexpr] = &[];
     let mut goal_node = None;
     for s in sections {
-        let items = list(s, "a problem section such as (:init …)")?;
-        let head = items.first().map_or_else(
-            || expected(s, "a section keyword"),
-            |h| atom(h, "a section keyword"),
-        )?;
+        let (head, items) = section(s, "a problem section such as (:init …)")?;
         match head {
             ":domain" => {
                 let Some(dn) = items.get(1) else {
@@ -560,12 +569,7 @@ pub fn parse_problem(text: &str, domain: &Domain) -> R<Problem> {
                 }
             }
             ":requirements" => {
-                for r in &items[1..] {
-                    let r_name = atom(r, "a requirement")?;
-                    if !SUPPORTED.contains(&r_name) {
-                        return err(r.loc(), ErrorKind::UnsupportedRequirement(r_name.into()));
-                    }
-                }
+                requirements(&items[1..])?;
             }
             ":objects" => {
                 for (o, oloc) in typed_list(&items[1..], false)? {

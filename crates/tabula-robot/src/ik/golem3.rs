@@ -113,9 +113,9 @@ impl Golem3Ik {
     ) -> Result<Self, RobotError> {
         let tip = format!("{}_tool_link", side.prefix());
         let chain = Chain::new(model, "torso_lift_link", &tip)?;
-        let not_golem = |why: &str| RobotError::Parse {
-            path: None,
-            message: format!("`{}` is not a Golem-III arm chain: {why}", tip),
+        let not_golem = |why: &'static str| RobotError::NotGolem3 {
+            tip: tip.clone(),
+            why,
         };
         if chain.dof() != 6 {
             return Err(not_golem("it does not have 6 joints"));
