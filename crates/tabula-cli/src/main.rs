@@ -2,6 +2,7 @@
 
 mod demo;
 mod ik;
+mod plan;
 
 use clap::{Parser, Subcommand};
 
@@ -22,6 +23,8 @@ enum Command {
         #[command(subcommand)]
         command: ik::IkCommand,
     },
+    /// Task planning in PDDL: plan, validate, benchmark (Fast Downward's role).
+    Plan(plan::PlanArgs),
 }
 
 fn main() {
@@ -29,6 +32,7 @@ fn main() {
     let result = match cli.command {
         Command::Demo => demo::run(),
         Command::Ik { command } => ik::run(command),
+        Command::Plan(args) => plan::run(args),
     };
     if let Err(e) = result {
         eprintln!("error: {e:#}");

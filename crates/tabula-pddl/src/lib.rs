@@ -1,4 +1,7 @@
-//! PDDL for tabula's task planner (SPEC §3.4–3.6): a parser for domains and problems
+//! PDDL for tabula's task planner (SPEC §3.4–3.6), in process: parse, ground, search
+//! (optimal A* + LM-cut + strong stubborn sets, or greedy h^FF), validate, replan.
+//!
+//! The parser reads domains and problems
 //! with `:strips`, `:typing`, `:negative-preconditions`, `:disjunctive-preconditions`,
 //! `:equality`, `:existential-preconditions`, `:universal-preconditions`,
 //! `:conditional-effects` (`:adl` is their union) and `:action-costs`.
@@ -7,11 +10,21 @@
 //! tabula is MIT OR Apache-2.0 (DESIGN.md). Every error names `file:line:column`.
 
 mod ast;
+pub mod generator;
+pub mod ground;
+pub mod heuristic;
 mod parse;
+pub mod planner;
+pub mod search;
 pub mod sexpr;
+mod task;
+pub mod validate;
 
 pub use ast::*;
+pub use ground::{GroundOptions, GroundTask};
 pub use parse::{parse_domain, parse_problem};
+pub use planner::{NoPlan, Plan, Planner, SearchMode};
+pub use validate::{PlanError, PlanStep, parse_plan, validate};
 
 /// A place in a PDDL file (1-based).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]

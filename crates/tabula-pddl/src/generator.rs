@@ -1,0 +1,176 @@
+//! Seeded table-clearing instances in the style of seed 002 (SPEC §3.3): random
+//! rectangles on a table, some touching, some stacked, turned into `on`,
+//! `block_grasp`, `block_dirK` and `ik_unfeasible_*` facts by the seed's geometric rules.
+
+use rand::{RngExt, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+/// An object's footprint on the table: centre and half sizes (m), axis-aligned.
+#[derive(Debug, Clone, Copy)]
+struct Rect {
+    cx: f64,
+    cy: f64,
+    hx: f64,
+    hy: f64,
+}
+
+impl Rect {
+    fn overlaps(&self, o: &Rect) -> bool {
+        (self.cx - o.cx).abs() < self.hx + o.hx && (self.cy - o.cy).abs() < self.hy + o.hy
+    }
+
+    fn grown(&self, gx: f64, gy: f64) -> Rect {
+        Rect {
+            hx: self.hx + gx,
+            hy: self.hy + gy,
+            ..*self
+        }
+    }
+}
+
+/// Finger width (m) swept beside the object when grasping (SPEC §6, seed 002).
+const FINGER_WIDTH: f64 = 0.03;
+/// Gripper clearance behind an object when pushing (SPEC §3.2: 5 cm behind).
+const PUSH_STANDOFF: f64 = 0.05;
+
+/// The PDDL problem text of a random `n`-object table for seed 002's domain.
+pub fn table_clearing_problem(n: usize, seed: u64) -> String {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let side = (n.max(1) as f64).sqrt() * 0.16;
+    let mut rects: Vec<Rect> = Vec::with_capacity(n);
+    let mut on: Vec<(usize, usize)> = Vec::new();
+    let mut stacked = vec![false; n];
+    for i in 0..n {
+        let hx = rng.random_range(0.015..0.035);
+        let hy = rng.random_range(0.015..0.06);
+        // A few are stacked on an object that is on the table.
+        if i > 0 && rng.random_bool(0.1) {
+            let base = rng.random_range(0..i);
+            if !stacked[base] && !on.iter().any(|&(_, b)| b == base) {
+                let b = rects[base];
+                rects.push(Rect {
+                    cx: b.cx,
+                    cy: b.cy,
+                    hx,
+                    hy,
+                });
+                on.push((i, base));
+                stacked[i] = true;
+                continue;
+            }
+        }
+        let mut placed = None;
+        for attempt in 0..200 {
+            let r = if i > 0 && attempt < 100 && rng.random_bool(0.3) {
+                // Touching a previous object along x or y.
+                let o = rects[rng.random_range(0..i)];
+                let sx = if rng.random_bool(0.5) { 1.0 } else { -1.0 };
+                if rng.random_bool(0.5) {
+                    Rect {
+                        cx: o.cx + sx * (o.hx + hx + 0.001),
+                        cy: o.cy,
+                        hx,
+                        hy,
+                    }
+                } else {
+                    Rect {
+                        cx: o.cx,
+                        cy: o.cy + sx * (o.hy + hy + 0.001),
+                        hx,
+                        hy,
+                    }
+                }
+            } else {
+                Rect {
+                    cx: rng.random_range(-side / 2.0..side / 2.0),
+                    cy: rng.random_range(-side / 2.0..side / 2.0),
+                    hx,
+                    hy,
+                }
+            };
+            if !rects
+                .iter()
+                .enumerate()
+                .any(|(j, o)| !stacked[j] && o.overlaps(&r))
+            {
+                placed = Some(r);
+                break;
+            }
+        }
+        rects.push(placed.unwrap_or(Rect {
+            cx: side + i as f64,
+            cy: 0.0,
+            hx,
+            hy,
+        }));
+    }
+    let mut facts: Vec<String> = Vec::new();
+    for &(top, base) in &on {
+        facts.push(format!("(on o{} o{})", top + 1, base + 1));
+    }
+    // Pushing along ±x, ±y (dir1..dir4): the object swept by its own length, and the
+    // gripper behind it.
+    let dirs = [(1.0, 0.0), (-1.0, 0.0), (0.0, 1.0), (0.0, -1.0)];
+    for b in 0..n {
+        if stacked[b] {
+            continue;
+        }
+        let rb = rects[b];
+        // Fingers close along x: they sweep a finger width beside both x faces.
+        let grasp_zone = rb.grown(FINGER_WIDTH, 0.0);
+        for (k, &(dx, dy)) in dirs.iter().enumerate() {
+            let len = if dx != 0.0 { 2.0 * rb.hx } else { 2.0 * rb.hy };
+            let swept = Rect {
+                cx: rb.cx + dx * len / 2.0,
+                cy: rb.cy + dy * len / 2.0,
+                hx: rb.hx + dx.abs() * len / 2.0,
+                hy: rb.hy + dy.abs() * len / 2.0,
+            };
+            let behind = Rect {
+                cx: rb.cx - dx * (rb.hx + PUSH_STANDOFF / 2.0),
+                cy: rb.cy - dy * (rb.hy + PUSH_STANDOFF / 2.0),
+                hx: if dx != 0.0 {
+                    PUSH_STANDOFF / 2.0
+                } else {
+                    rb.hx
+                },
+                hy: if dy != 0.0 {
+                    PUSH_STANDOFF / 2.0
+                } else {
+                    rb.hy
+                },
+            };
+            for a in 0..n {
+                if a != b
+                    && !stacked[a]
+                    && (swept.overlaps(&rects[a]) || behind.overlaps(&rects[a]))
+                {
+                    facts.push(format!("(block_dir{} o{} o{})", k + 1, a + 1, b + 1));
+                }
+            }
+        }
+        for a in 0..n {
+            if a != b && !stacked[a] && grasp_zone.overlaps(&rects[a]) {
+                facts.push(format!("(block_grasp o{} o{})", a + 1, b + 1));
+            }
+        }
+    }
+    for o in 0..n {
+        for k in 1..=4 {
+            if rng.random_bool(0.1) {
+                facts.push(format!("(ik_unfeasible_dir{k} o{})", o + 1));
+            }
+        }
+        if rng.random_bool(0.1) {
+            facts.push(format!("(ik_unfeasible_grasp o{})", o + 1));
+        }
+    }
+    let objects: Vec<String> = (1..=n).map(|i| format!("o{i}")).collect();
+    let goal: Vec<String> = objects.iter().map(|o| format!("(removed {o})")).collect();
+    format!(
+        "(define (problem table-{n}-{seed})\n  (:domain tablewclear)\n  (:objects {} - obj)\n  (:init\n    {})\n  (:goal (and {})))\n",
+        objects.join(" "),
+        facts.join("\n    "),
+        goal.join(" ")
+    )
+}
