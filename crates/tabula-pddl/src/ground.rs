@@ -185,6 +185,10 @@ struct InitIndex {
     objects: usize,
     dense: Vec<Option<Vec<u64>>>,
     sparse: FxHashSet<Vec<u32>>,
+    /// Every initial atom, and for (predicate, argument position, object) the atoms
+    /// that have that object there; position `u32::MAX` lists a predicate's atoms.
+    keys: Vec<Vec<u32>>,
+    by_arg: FxHashMap<(u32, u32, u32), Vec<u32>>,
 }
 
 impl InitIndex {
@@ -202,12 +206,27 @@ impl InitIndex {
             })
             .collect();
         let mut sparse = FxHashSet::default();
+        let mut by_arg: FxHashMap<(u32, u32, u32), Vec<u32>> = FxHashMap::default();
+        for (i, k) in keys.iter().enumerate() {
+            by_arg
+                .entry((k[0], u32::MAX, 0))
+                .or_default()
+                .push(i as u32);
+            for (pos, &o) in k[1..].iter().enumerate() {
+                by_arg
+                    .entry((k[0], pos as u32, o))
+                    .or_default()
+                    .push(i as u32);
+            }
+        }
         let mut me = Self {
             objects,
             dense: Vec::new(),
             sparse: FxHashSet::default(),
+            keys: Vec::new(),
+            by_arg,
         };
-        for k in keys {
+        for k in keys.iter().cloned() {
             match me
                 .cell(&k)
                 .and_then(|c| dense.get_mut(k[0] as usize)?.as_mut().map(|bits| (c, bits)))
@@ -220,6 +239,7 @@ impl InitIndex {
         }
         me.dense = dense;
         me.sparse = sparse;
+        me.keys = keys;
         me
     }
 
@@ -403,7 +423,7 @@ impl<'a> Grounder<'a> {
                 let conjunction = matches!(c, Condition::Forall(..)) == positive;
                 let mut parts = Vec::new();
                 let mut absorbed = false;
-                self.for_each_binding(vars, 0, binding, &mut |g, b| {
+                let mut visit = |g: &mut Self, b: &mut Binding<'a>| {
                     if absorbed {
                         return;
                     }
@@ -412,13 +432,129 @@ impl<'a> Grounder<'a> {
                         (Gf::False, true) | (Gf::True, false) => absorbed = true,
                         (part, _) => parts.push(part),
                     }
-                });
+                };
+                // One variable over a literal of an atom no action adds: every object
+                // outside the matching initial atoms gives the same value, so only the
+                // matching ones are visited (and the rest decided at once).
+                let mut negations = 0;
+                let mut literal = body.as_ref();
+                while let Condition::Not(inner) = literal {
+                    negations += 1;
+                    literal = inner;
+                }
+                let guarded = match (vars.as_slice(), literal) {
+                    ([v], Condition::Atom(a)) => {
+                        self.guard_values(a, &v.name, binding).map(|vals| (v, vals))
+                    }
+                    _ => None,
+                };
+                match guarded {
+                    Some((v, values)) => {
+                        // An atom outside the initial state is false; through the
+                        // negations and the polarity that is the others' common value.
+                        let others = (negations % 2 == 1) == positive;
+                        let neutral = others == conjunction;
+                        let typed = self.objects(&v.type_name);
+                        if !neutral && typed.iter().any(|o| values.binary_search(o).is_err()) {
+                            absorbed = true;
+                        } else {
+                            self.for_each_value(v, &values, binding, &mut visit);
+                        }
+                    }
+                    None => self.for_each_binding(vars, 0, binding, &mut visit),
+                }
                 match (absorbed, conjunction) {
                     (true, true) => Gf::False,
                     (true, false) => Gf::True,
                     (false, true) => and(parts),
                     (false, false) => or(parts),
                 }
+            }
+        }
+    }
+
+    /// Objects `var` can take for atom `a` (of a predicate no action adds) to be true:
+    /// those of the matching initial atoms. `None` when `a` is not such an atom or does
+    /// not mention `var`.
+    fn guard_values(&self, a: &Atom, var: &str, binding: &Binding<'_>) -> Option<Vec<u32>> {
+        let pid = *self.predicate_index.get(a.predicate.as_str())?;
+        if !self.never_added[pid as usize] {
+            return None;
+        }
+        let var_pos: Vec<usize> = (0..a.args.len())
+            .filter(|&i| a.args[i] == Term::Var(var.to_string()))
+            .collect();
+        if var_pos.is_empty() {
+            return None;
+        }
+        let bound: Vec<(usize, u32)> = (0..a.args.len())
+            .filter(|i| !var_pos.contains(i))
+            .map(|i| (i, self.resolve(&a.args[i], binding)))
+            .collect();
+        let list_key = bound
+            .first()
+            .map_or((pid, u32::MAX, 0), |&(i, o)| (pid, i as u32, o));
+        let mut out = Vec::new();
+        for &k in self
+            .init
+            .by_arg
+            .get(&list_key)
+            .map(Vec::as_slice)
+            .unwrap_or(&[])
+        {
+            let key = &self.init.keys[k as usize];
+            let value = key[var_pos[0] + 1];
+            if bound.iter().all(|&(i, o)| key[i + 1] == o)
+                && var_pos.iter().all(|&i| key[i + 1] == value)
+            {
+                out.push(value);
+            }
+        }
+        out.sort_unstable();
+        out.dedup();
+        Some(out)
+    }
+
+    /// For a one-variable `forall` effect whose every leaf is a delete of, or guarded by,
+    /// an atom no action adds: the only values of the variable that can do anything.
+    fn effect_candidates(&self, e: &Effect, var: &str, binding: &Binding<'_>) -> Option<Vec<u32>> {
+        match e {
+            Effect::And(items) => {
+                let mut all = Vec::new();
+                for i in items {
+                    all.extend(self.effect_candidates(i, var, binding)?);
+                }
+                all.sort_unstable();
+                all.dedup();
+                Some(all)
+            }
+            Effect::Delete(a) => self.guard_values(a, var, binding),
+            Effect::When(c, _) => match c {
+                Condition::Atom(a) => self.guard_values(a, var, binding),
+                Condition::And(items) => items.iter().find_map(|i| match i {
+                    Condition::Atom(a) => self.guard_values(a, var, binding),
+                    _ => None,
+                }),
+                _ => None,
+            },
+            _ => None,
+        }
+    }
+
+    /// Binds one variable to each of `values` that has its type.
+    fn for_each_value(
+        &mut self,
+        var: &'a TypedName,
+        values: &[u32],
+        binding: &mut Binding<'a>,
+        f: &mut dyn FnMut(&mut Self, &mut Binding<'a>),
+    ) {
+        let typed = self.objects(&var.type_name);
+        for &o in values {
+            if typed.binary_search(&o).is_ok() {
+                binding.push((var.name.as_str(), o));
+                f(self, binding);
+                binding.pop();
             }
         }
     }
@@ -470,7 +606,18 @@ impl<'a> Grounder<'a> {
                 out.push((cond.clone(), id, add));
             }
             Effect::Forall(vars, body) => {
-                self.for_each_binding(vars, 0, binding, &mut |g, b| g.effect(body, b, cond, out));
+                let candidates = match vars.as_slice() {
+                    [v] => self.effect_candidates(body, &v.name, binding),
+                    _ => None,
+                };
+                match candidates {
+                    Some(values) => self.for_each_value(&vars[0], &values, binding, &mut |g, b| {
+                        g.effect(body, b, cond, out)
+                    }),
+                    None => self.for_each_binding(vars, 0, binding, &mut |g, b| {
+                        g.effect(body, b, cond, out)
+                    }),
+                }
             }
             Effect::When(c, body) => {
                 // Most conditions are false (an atom outside the initial state that no

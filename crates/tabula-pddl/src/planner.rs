@@ -211,6 +211,51 @@ impl Planner {
         }
     }
 
+    /// Applies one step to the initial state (the robot executed it), so the next
+    /// [`Self::plan`] starts after it — the seed's loop without re-perceiving.
+    pub fn execute(&mut self, step: &PlanStep) -> Result<(), PlanError> {
+        let name = step.to_string();
+        let state = self.task.initial_state();
+        let Some(a) = self
+            .task
+            .actions
+            .iter()
+            .position(|a| a.name == name && !a.artificial)
+        else {
+            return Err(PlanError::UnknownAction {
+                step: 1,
+                text: name,
+                name: step.action.clone(),
+            });
+        };
+        if !self.task.applicable(&state, a) {
+            return Err(PlanError::PreconditionFalse {
+                step: 1,
+                text: name,
+            });
+        }
+        let next = self.task.apply(&state, a);
+        for (f, atom) in self.task.facts.iter().enumerate() {
+            let now = GroundTask::holds(
+                &next,
+                Lit {
+                    fact: f as u32,
+                    positive: true,
+                },
+            );
+            self.task.init[f] = now;
+            let was = self.problem.init.iter().position(|x| x == atom);
+            match (now, was) {
+                (true, None) => self.problem.init.push(atom.clone()),
+                (false, Some(i)) => {
+                    self.problem.init.swap_remove(i);
+                }
+                _ => {}
+            }
+        }
+        Ok(())
+    }
+
     /// Goal atoms that no plan can ever reach from the current state, each checked on
     /// its own (a relaxed test first, then a complete greedy search). In the clearing
     /// domain this is every object that can never be removed — those whose every action

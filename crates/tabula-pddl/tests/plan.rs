@@ -3,6 +3,7 @@
 
 use std::time::Duration;
 use tabula_pddl::generator::table_clearing_problem;
+use tabula_pddl::search;
 use tabula_pddl::*;
 
 const DATA: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../pddl/");
@@ -68,5 +69,259 @@ fn generated_tables_solve_optimally_and_validate() {
         validate(&d, &pruned_problem, &fast.steps).unwrap();
         assert!(fast.cost >= opt.cost, "n={n}");
         assert!(opt.steps.len() >= n - dropped.len());
+    }
+}
+
+fn classic(domain: &str, problem: &str) -> (Domain, Problem) {
+    let d = parse_domain(&read(&format!("classic/{domain}"))).unwrap();
+    let p = parse_problem(&read(&format!("classic/{problem}")), &d).unwrap();
+    (d, p)
+}
+
+#[test]
+fn classic_domains_reach_their_hand_derived_optima() {
+    for (domain, problem, cost, steps) in [
+        ("blocksworld-domain.pddl", "blocksworld-sussman.pddl", 6, 6),
+        ("blocksworld-domain.pddl", "blocksworld-reverse4.pddl", 8, 8),
+        ("gripper-domain.pddl", "gripper-4.pddl", 11, 11),
+        ("logistics-domain.pddl", "logistics-2cities.pddl", 23, 10),
+    ] {
+        let (d, p) = classic(domain, problem);
+        let plan = solve(&d, &p, SearchMode::Optimal).unwrap_or_else(|e| panic!("{problem}: {e}"));
+        assert_eq!(
+            (plan.cost, plan.steps.len()),
+            (cost, steps),
+            "{problem}: {:?}",
+            plan.steps
+        );
+        let fast = solve(&d, &p, SearchMode::Fast).unwrap();
+        assert!(fast.cost >= cost, "{problem}");
+    }
+}
+
+/// Uniform-cost search over the ground task: the optimum by brute force.
+fn brute_force_cost(task: &GroundTask) -> Option<u64> {
+    use std::cmp::Reverse;
+    use std::collections::{BinaryHeap, HashMap};
+    let start = task.initial_state();
+    let mut best: HashMap<Box<[u64]>, u64> = HashMap::from([(start.clone(), 0)]);
+    let mut open = BinaryHeap::from([Reverse((0u64, start))]);
+    while let Some(Reverse((g, s))) = open.pop() {
+        if best.get(&s).is_some_and(|&b| b < g) {
+            continue;
+        }
+        if task.is_goal(&s) {
+            return Some(g);
+        }
+        for a in 0..task.actions.len() {
+            if task.applicable(&s, a) {
+                let n = task.apply(&s, a);
+                let ng = g + task.actions[a].cost;
+                if best.get(&n).is_none_or(|&b| ng < b) {
+                    best.insert(n.clone(), ng);
+                    open.push(Reverse((ng, n)));
+                }
+            }
+        }
+    }
+    None
+}
+
+#[test]
+fn astar_with_stubborn_sets_is_optimal_against_brute_force() {
+    let d = seed_domain();
+    let mut checked = 0;
+    for seed in 0..40 {
+        let p = parse_problem(&table_clearing_problem(3 + (seed as usize % 5), seed), &d).unwrap();
+        let task = GroundTask::new(&d, &p, &GroundOptions::default()).unwrap();
+        let truth = brute_force_cost(&task);
+        for stubborn in [true, false] {
+            let r = search::astar(&task, stubborn, None);
+            match truth {
+                Some(c) => {
+                    assert_eq!(r.status, search::SearchStatus::Solved, "seed {seed}");
+                    assert_eq!(r.cost, c, "seed {seed}, stubborn {stubborn}");
+                }
+                None => assert_eq!(r.status, search::SearchStatus::Unsolvable, "seed {seed}"),
+            }
+        }
+        checked += usize::from(truth.is_some());
+    }
+    assert!(
+        checked > 10,
+        "too few solvable instances to mean anything: {checked}"
+    );
+    for (domain, problem) in [
+        ("blocksworld-domain.pddl", "blocksworld-reverse4.pddl"),
+        ("logistics-domain.pddl", "logistics-2cities.pddl"),
+    ] {
+        let (d, p) = classic(domain, problem);
+        let task = GroundTask::new(&d, &p, &GroundOptions::default()).unwrap();
+        assert_eq!(
+            Some(search::astar(&task, true, None).cost),
+            brute_force_cost(&task),
+            "{problem}"
+        );
+    }
+}
+
+#[test]
+fn the_validator_rejects_broken_plans() {
+    let d = seed_domain();
+    let p = parse_problem(&read("thesis6-a.pddl"), &d).unwrap();
+    let plan = solve(&d, &p, SearchMode::Optimal).unwrap().steps;
+    assert!(validate(&d, &p, &plan).is_ok());
+    assert_eq!(
+        validate(&d, &p, &plan[..plan.len() - 1]),
+        Err(PlanError::GoalNotReached)
+    );
+    let mut swapped = plan.clone();
+    let grasp_o1 = swapped
+        .iter()
+        .position(|s| s.to_string() == "(grasp o1)")
+        .unwrap();
+    let grasp_o2 = swapped
+        .iter()
+        .position(|s| s.to_string() == "(grasp o2)")
+        .unwrap();
+    swapped.swap(grasp_o1, grasp_o2);
+    assert!(
+        matches!(
+            validate(&d, &p, &swapped),
+            Err(PlanError::PreconditionFalse { .. })
+        ),
+        "o1 is on o2"
+    );
+    let mut unknown = plan.clone();
+    unknown[0].action = "fly".into();
+    assert!(matches!(
+        validate(&d, &p, &unknown),
+        Err(PlanError::UnknownAction { .. })
+    ));
+    let mut bad_object = plan.clone();
+    bad_object[0].args = vec!["o99".into()];
+    assert!(matches!(
+        validate(&d, &p, &bad_object),
+        Err(PlanError::BadArguments { .. })
+    ));
+    assert!(matches!(
+        parse_plan("(grasp o1\n"),
+        Err(PlanError::Syntax { line: 1, .. })
+    ));
+    let text: String =
+        plan.iter().map(|s| format!("{s}\n")).collect::<String>() + "; cost = 9 (unit cost)\n";
+    assert_eq!(parse_plan(&text).unwrap(), plan);
+}
+
+#[test]
+fn replanning_after_ik_failures_and_execution() {
+    let d = seed_domain();
+    let p = parse_problem(&read("thesis6-a.pddl"), &d).unwrap();
+    let mut planner = Planner::for_table_clearing(d.clone(), p).unwrap();
+    let mut executed = Vec::new();
+    for _ in 0..30 {
+        let plan = match planner.plan(SearchMode::Optimal, None) {
+            Ok(plan) if plan.steps.is_empty() => break,
+            Ok(plan) => plan,
+            Err(e) => panic!("{e}"),
+        };
+        validate(&d, planner.problem(), &plan.steps).unwrap();
+        let first = plan.steps[0].clone();
+        // Every third decision the first action turns out IK-infeasible: mark it and
+        // replan (SPEC §3.5) — a bit flip, no regrounding.
+        if executed.len() % 3 == 1 && first.action == "grasp" {
+            let fact = GroundAtom {
+                predicate: "ik_unfeasible_grasp".into(),
+                args: first.args.clone(),
+            };
+            assert!(
+                planner.task().fact(&fact).is_some(),
+                "switchable without regrounding"
+            );
+            planner.set_fact(&fact, true).unwrap();
+            let again = planner.plan(SearchMode::Optimal, None).unwrap();
+            assert_ne!(again.steps.first(), Some(&first));
+            validate(&d, planner.problem(), &again.steps).unwrap();
+            executed.push(first);
+            continue;
+        }
+        planner.execute(&first).unwrap();
+        executed.push(first);
+    }
+    let goal = planner.goal_atoms().unwrap();
+    let init: std::collections::HashSet<_> = planner.problem().init.iter().cloned().collect();
+    assert!(
+        goal.iter().all(|g| init.contains(g)),
+        "every object removed"
+    );
+}
+
+#[test]
+fn objects_that_can_never_be_removed_are_found() {
+    let d = seed_domain();
+    // o1 and o2 block each other's grasp and every push of both is blocked or
+    // IK-infeasible: the seed's rule (all actions IK-infeasible) misses them both.
+    // o3 has every action IK-infeasible (the seed's rule finds it); o4 is free.
+    let text = "(define (problem stuck) (:domain tablewclear) (:objects o1 o2 o3 o4 - obj)
+      (:init (block_grasp o1 o2) (block_grasp o2 o1)
+             (block_dir1 o2 o1) (block_dir2 o2 o1) (ik_unfeasible_dir3 o1) (ik_unfeasible_dir4 o1)
+             (block_dir1 o1 o2) (block_dir2 o1 o2) (ik_unfeasible_dir3 o2) (ik_unfeasible_dir4 o2)
+             (ik_unfeasible_grasp o3) (ik_unfeasible_dir1 o3) (ik_unfeasible_dir2 o3) (ik_unfeasible_dir3 o3) (ik_unfeasible_dir4 o3))
+      (:goal (and (removed o1) (removed o2) (removed o3) (removed o4))))";
+    let p = parse_problem(text, &d).unwrap();
+    let mut planner = Planner::for_table_clearing(d.clone(), p).unwrap();
+    assert_eq!(
+        planner.plan(SearchMode::Optimal, None).unwrap_err(),
+        NoPlan::Unsolvable
+    );
+    let mut dropped: Vec<String> = planner
+        .drop_unreachable_goals(None)
+        .unwrap()
+        .iter()
+        .map(|a| a.args[0].clone())
+        .collect();
+    dropped.sort();
+    assert_eq!(dropped, ["o1", "o2", "o3"]);
+    let plan = planner.plan(SearchMode::Optimal, None).unwrap();
+    assert_eq!(
+        plan.steps,
+        [PlanStep {
+            action: "grasp".into(),
+            args: vec!["o4".into()]
+        }]
+    );
+}
+
+#[test]
+fn the_corrected_domain_has_the_same_optima_and_never_touches_removed_objects() {
+    let literal = seed_domain();
+    let fixed = parse_domain(&read("tablewclear-domain-fixed.pddl")).unwrap();
+    for name in ["thesis6-a", "thesis6-b", "thesis6-c", "thesis6-d-dropped"] {
+        let text = read(&format!("{name}.pddl"));
+        let a = solve(
+            &literal,
+            &parse_problem(&text, &literal).unwrap(),
+            SearchMode::Optimal,
+        )
+        .unwrap();
+        let pf = parse_problem(&text, &fixed).unwrap();
+        let b = solve(&fixed, &pf, SearchMode::Optimal).unwrap();
+        assert_eq!(a.cost, b.cost, "{name}");
+    }
+    for seed in 1..=10 {
+        let pf = parse_problem(&table_clearing_problem(15, seed), &fixed).unwrap();
+        let mut planner = Planner::for_table_clearing(fixed.clone(), pf).unwrap();
+        planner.drop_unreachable_goals(None).unwrap();
+        let fast = planner.plan(SearchMode::Fast, None).unwrap();
+        let mut removed = std::collections::HashSet::new();
+        for s in &fast.steps {
+            assert!(
+                !removed.contains(&s.args[0]),
+                "seed {seed}: {s} after removing it"
+            );
+            if s.action == "grasp" {
+                removed.insert(s.args[0].clone());
+            }
+        }
     }
 }
