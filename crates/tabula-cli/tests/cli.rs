@@ -164,3 +164,85 @@ fn bench_results_repeat_with_the_same_seed() {
     }
     assert_eq!(a["errors"], b["errors"]);
 }
+
+const PDDL: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../pddl/");
+
+#[test]
+fn plan_prints_sas_plan_format_and_validates() {
+    let domain = format!("{PDDL}tablewclear-domain.pddl");
+    let problem = format!("{PDDL}thesis6-c.pddl");
+    let out = tabula(&["plan", &domain, &problem]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = String::from_utf8_lossy(&out.stdout).to_string();
+    let lines: Vec<&str> = text.lines().collect();
+    assert_eq!(lines.last(), Some(&"; cost = 11 (unit cost)"), "{text}");
+    assert_eq!(lines.len(), 12);
+    assert!(
+        lines[..11]
+            .iter()
+            .all(|l| l.starts_with("(grasp ") || l.starts_with("(push_dir"))
+    );
+    let plan_file = std::env::temp_dir().join(format!("tabula-plan-{}.txt", std::process::id()));
+    std::fs::write(&plan_file, &text).unwrap();
+    let ok = tabula(&[
+        "plan",
+        "--validate",
+        &domain,
+        &problem,
+        plan_file.to_str().unwrap(),
+    ]);
+    assert!(
+        ok.status.success() && String::from_utf8_lossy(&ok.stdout).contains("plan valid: 11 steps")
+    );
+    std::fs::write(&plan_file, lines[1..].join("\n")).unwrap();
+    let broken = tabula(&[
+        "plan",
+        "--validate",
+        &domain,
+        &problem,
+        plan_file.to_str().unwrap(),
+    ]);
+    assert!(!broken.status.success());
+    std::fs::remove_file(&plan_file).ok();
+}
+
+#[test]
+fn plan_reports_unsolvable_and_bad_files() {
+    let domain = format!("{PDDL}tablewclear-domain.pddl");
+    let out = tabula(&[
+        "plan",
+        &domain,
+        &format!("{PDDL}thesis6-unsolvable.pddl"),
+        "--json",
+    ]);
+    assert!(out.status.success());
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["status"], "unsolvable");
+    let bad = std::env::temp_dir().join(format!("tabula-bad-{}.pddl", std::process::id()));
+    std::fs::write(
+        &bad,
+        "(define (problem p) (:domain tablewclear)\n  (:objects a - obj)\n  (:init (on a b)))",
+    )
+    .unwrap();
+    let out = tabula(&["plan", &domain, bad.to_str().unwrap()]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        !out.status.success() && err.contains(":3:16:") && err.contains("`b`"),
+        "{err}"
+    );
+    std::fs::remove_file(&bad).ok();
+    let fast = tabula(&[
+        "plan",
+        &domain,
+        &format!("{PDDL}thesis6-a.pddl"),
+        "--fast",
+        "--json",
+    ]);
+    let v: serde_json::Value = serde_json::from_slice(&fast.stdout).unwrap();
+    assert_eq!(v["status"], "solved");
+    assert_eq!(v["optimal"], false);
+}
