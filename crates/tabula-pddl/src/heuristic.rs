@@ -30,6 +30,8 @@ pub struct Relaxed {
     adders: Vec<Vec<u32>>,
     /// Index of the artificial goal action (pre = goal, add = goal fact, cost 0).
     goal_action: usize,
+    /// Per fact f: whether f (bit 0) and ¬f (bit 1) are needed by some precondition.
+    needed: Vec<u8>,
 }
 
 fn relaxed_id(n: usize, l: Lit) -> u32 {
@@ -85,6 +87,18 @@ impl Relaxed {
         pre.push(g);
         add.push(vec![goal_fact]);
         cost.push(0);
+        // Only facts some precondition (or the goal) needs matter to any of these
+        // heuristics: "block" facts themselves never are, only their negations.
+        let mut needed = vec![false; facts];
+        for p in &pre {
+            for &f in p {
+                needed[f as usize] = true;
+            }
+        }
+        needed[goal_fact as usize] = true;
+        for e in &mut add {
+            e.retain(|&f| needed[f as usize]);
+        }
         let mut pre_of = vec![Vec::new(); facts];
         let mut adders = vec![Vec::new(); facts];
         for (a, p) in pre.iter().enumerate() {
@@ -97,6 +111,9 @@ impl Relaxed {
                 adders[f as usize].push(a as u32);
             }
         }
+        let needed = (0..n)
+            .map(|f| u8::from(needed[f]) | (u8::from(needed[f + n]) << 1))
+            .collect();
         Self {
             n,
             start_fact,
@@ -107,6 +124,7 @@ impl Relaxed {
             pre_of,
             adders,
             goal_action,
+            needed,
         }
     }
 
@@ -119,7 +137,10 @@ impl Relaxed {
         out.clear();
         for f in 0..self.n {
             let on = (state[f / 64] >> (f % 64)) & 1 == 1;
-            out.push(if on { f as u32 } else { (f + self.n) as u32 });
+            let (id, bit) = if on { (f, 1) } else { (f + self.n, 2) };
+            if self.needed[f] & bit != 0 {
+                out.push(id as u32);
+            }
         }
         out.push(self.start_fact);
     }
@@ -383,7 +404,8 @@ impl Relaxed {
         }
     }
 
-    /// Which facts (positive, by fact id) the delete relaxation reaches from `state`.
+    /// Which facts (positive, by fact id) the delete relaxation reaches from `state`;
+    /// only facts some precondition or the goal needs are tracked (others read false).
     pub fn reachable_facts(&self, state: &[u64]) -> Vec<bool> {
         let mut s = Scratch::default();
         self.start_facts(state, &mut s.start);
