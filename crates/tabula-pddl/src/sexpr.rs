@@ -34,6 +34,10 @@ impl Sexpr {
     }
 }
 
+/// Deepest nesting accepted: the grounder and validator recurse over formulas, and no
+/// real domain comes near this.
+pub const MAX_DEPTH: usize = 256;
+
 /// Reads every top-level expression of `text`; `;` starts a comment to end of line.
 pub fn parse_all(text: &str) -> Result<Vec<Sexpr>, PddlError> {
     let mut stack: Vec<(Vec<Sexpr>, Loc)> = Vec::new();
@@ -63,6 +67,12 @@ pub fn parse_all(text: &str) -> Result<Vec<Sexpr>, PddlError> {
             '(' => {
                 chars.next();
                 col += 1;
+                if stack.len() >= MAX_DEPTH {
+                    return Err(PddlError::at(
+                        here,
+                        ErrorKind::Syntax(format!("nesting deeper than {MAX_DEPTH} levels")),
+                    ));
+                }
                 stack.push((Vec::new(), here));
             }
             ')' => {

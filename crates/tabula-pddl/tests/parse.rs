@@ -143,6 +143,20 @@ fn errors_name_the_place_and_the_problem() {
     );
 }
 
+#[test]
+fn absurd_nesting_is_an_error_not_a_stack_overflow() {
+    let deep = format!(
+        "(define (domain d) (:predicates (p)) (:action a :parameters () :precondition {}(p){} :effect (p)))",
+        "(not ".repeat(100_000),
+        ")".repeat(100_000)
+    );
+    let e = parse_domain(&deep).unwrap_err();
+    assert!(
+        matches!(e.kind, ErrorKind::Syntax(ref m) if m.contains("nesting")),
+        "{e}"
+    );
+}
+
 proptest! {
     #![proptest_config(ProptestConfig { cases: 512, ..ProptestConfig::default() })]
 
