@@ -13,4 +13,6 @@ pub use parry3d_f64::glamx::{DMat3 as Mat3, DMat4 as Mat4, DPose3 as Pose, DQuat
 pub use parry3d_f64::glamx::{DVec2 as Vec2, DVec3 as Vec3};
 
 mod angles;
+mod cloud;
 pub use angles::*;
+pub use cloud::{PcdEncoding, PointCloud};

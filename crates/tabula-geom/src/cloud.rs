@@ -1,0 +1,109 @@
+//! Point clouds (organized like a depth image, or not) and the PCD file format.
+
+use crate::Vec3;
+use std::io::Write;
+
+/// A point cloud. Organized clouds keep the sensor's `width × height` grid, with NaN
+/// points where the sensor had no return; unorganized ones have `height == 1`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PointCloud {
+    pub width: usize,
+    pub height: usize,
+    pub points: Vec<Vec3>,
+}
+
+/// PCD data encodings this writer produces.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PcdEncoding {
+    Ascii,
+    Binary,
+}
+
+impl PointCloud {
+    /// An organized cloud; `points.len()` must be `width * height`.
+    pub fn organized(width: usize, height: usize, points: Vec<Vec3>) -> Option<Self> {
+        (points.len() == width * height).then_some(Self {
+            width,
+            height,
+            points,
+        })
+    }
+
+    /// An unorganized cloud.
+    pub fn unorganized(points: Vec<Vec3>) -> Self {
+        Self {
+            width: points.len(),
+            height: 1,
+            points,
+        }
+    }
+
+    pub fn is_organized(&self) -> bool {
+        self.height > 1
+    }
+
+    /// Number of finite points.
+    pub fn finite_count(&self) -> usize {
+        self.points.iter().filter(|p| p.is_finite()).count()
+    }
+
+    /// Writes PCD v0.7 (fields x y z, float32), keeping NaN points so the grid survives.
+    pub fn write_pcd(&self, out: &mut impl Write, encoding: PcdEncoding) -> std::io::Result<()> {
+        write!(
+            out,
+            "# .PCD v0.7 - Point Cloud Data file format\nVERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH {}\nHEIGHT {}\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS {}\nDATA {}\n",
+            self.width,
+            self.height,
+            self.points.len(),
+            match encoding {
+                PcdEncoding::Ascii => "ascii",
+                PcdEncoding::Binary => "binary",
+            }
+        )?;
+        match encoding {
+            PcdEncoding::Ascii => {
+                for p in &self.points {
+                    if p.is_finite() {
+                        writeln!(out, "{} {} {}", p.x as f32, p.y as f32, p.z as f32)?;
+                    } else {
+                        writeln!(out, "nan nan nan")?;
+                    }
+                }
+            }
+            PcdEncoding::Binary => {
+                let mut buf = Vec::with_capacity(self.points.len() * 12);
+                for p in &self.points {
+                    for v in [p.x, p.y, p.z] {
+                        buf.extend_from_slice(&(v as f32).to_le_bytes());
+                    }
+                }
+                out.write_all(&buf)?;
+            }
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn pcd_header_and_nan_points() {
+        let c = PointCloud::organized(2, 1, vec![Vec3::new(1.0, 2.0, 3.0), Vec3::NAN]).unwrap();
+        let mut out = Vec::new();
+        c.write_pcd(&mut out, PcdEncoding::Ascii).unwrap();
+        let text = String::from_utf8(out).unwrap();
+        assert!(
+            text.contains("WIDTH 2\nHEIGHT 1\n")
+                && text.contains("POINTS 2\nDATA ascii\n1 2 3\nnan nan nan\n")
+        );
+        let mut bin = Vec::new();
+        c.write_pcd(&mut bin, PcdEncoding::Binary).unwrap();
+        assert_eq!(
+            bin.len() - text.find("1 2 3").unwrap() - "binary".len() + "ascii".len(),
+            24
+        );
+        assert!(PointCloud::organized(3, 1, vec![Vec3::ZERO]).is_none());
+    }
+}

@@ -1,0 +1,450 @@
+//! Scene files (TOML): floor, furniture, objects, robots and cameras.
+//!
+//! Errors name the file, the line and the key: TOML syntax and type errors carry
+//! toml's own line and column; semantic errors (a negative size, an unknown robot) are
+//! located at the entry's `name` key.
+
+use serde::Deserialize;
+use std::path::Path;
+use toml::Spanned;
+
+/// A pose in the world: position (m) and URDF roll-pitch-yaw (rad).
+#[derive(Debug, Clone, Copy, Default, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct PoseSpec {
+    #[serde(default)]
+    pub xyz: [f64; 3],
+    #[serde(default)]
+    pub rpy: [f64; 3],
+}
+
+/// The shape of an object, in its own frame (cylinders, cones and capsules along z,
+/// centred on the origin).
+#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum ShapeSpec {
+    /// Full edge lengths x y z (m).
+    Box([f64; 3]),
+    Cylinder {
+        radius: f64,
+        height: f64,
+    },
+    Sphere {
+        radius: f64,
+    },
+    Cone {
+        radius: f64,
+        height: f64,
+    },
+    /// `height` is the cylindrical part, without the caps.
+    Capsule {
+        radius: f64,
+        height: f64,
+    },
+    /// An OBJ or STL file (relative to the scene file), as its convex hull.
+    Mesh {
+        path: String,
+        #[serde(default = "unit_scale")]
+        scale: [f64; 3],
+    },
+}
+
+fn unit_scale() -> [f64; 3] {
+    [1.0; 3]
+}
+
+/// A movable object.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ObjectSpec {
+    pub name: Spanned<String>,
+    pub shape: ShapeSpec,
+    #[serde(default)]
+    pub pose: PoseSpec,
+    /// kg; if absent, `density` is used.
+    pub mass: Option<f64>,
+    /// kg/m³ (default 600, wood-like).
+    pub density: Option<f64>,
+    #[serde(default = "default_friction")]
+    pub friction: f64,
+    #[serde(default = "default_object_color")]
+    pub color: [f64; 3],
+}
+
+fn default_friction() -> f64 {
+    0.8
+}
+
+fn default_object_color() -> [f64; 3] {
+    [0.8, 0.3, 0.2]
+}
+
+/// Kinds of furniture, built from boxes, cylinders and wedges; all fixed.
+#[derive(Debug, Clone, Copy, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum FurnitureKind {
+    Table,
+    Bookshelf,
+    Cabinet,
+    Drum,
+    /// A wedge whose top face makes `angle_deg` with the floor's upward normal side
+    /// (SPEC §1.3's 120° ramp: the surface is 60° from horizontal).
+    Ramp,
+    TrafficCone,
+    SignDrum,
+    Wall,
+    Bin,
+}
+
+/// A piece of furniture.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FurnitureSpec {
+    pub name: Spanned<String>,
+    pub kind: FurnitureKind,
+    #[serde(default)]
+    pub pose: PoseSpec,
+    /// Outer size x y z (m); each kind has a sensible default.
+    pub size: Option<[f64; 3]>,
+    /// Ramp angle between the ramp surface and the floor, measured over the ramp (deg).
+    pub angle_deg: Option<f64>,
+    /// Shelves of a bookshelf.
+    pub shelves: Option<u32>,
+    pub color: Option<[f64; 3]>,
+    #[serde(default = "default_friction")]
+    pub friction: f64,
+}
+
+/// A robot from a URDF at a base pose with initial joint values.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RobotSpec {
+    pub name: Spanned<String>,
+    /// `golem3`, `wam`, `pr2` or a URDF path relative to the scene file.
+    pub urdf: String,
+    #[serde(default)]
+    pub pose: PoseSpec,
+    #[serde(default)]
+    pub joints: std::collections::BTreeMap<String, f64>,
+}
+
+/// Where a camera looks from.
+#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct LookAt {
+    pub eye: [f64; 3],
+    pub target: [f64; 3],
+}
+
+/// A depth camera (Kinect-like defaults, SPEC §5).
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CameraSpec {
+    pub name: Spanned<String>,
+    /// Fixed in the world, looking from `eye` at `target` …
+    pub look_at: Option<LookAt>,
+    /// … or mounted on a robot link (its optical frame: z forward, x right, y down).
+    pub robot: Option<String>,
+    pub link: Option<String>,
+    #[serde(default = "default_width")]
+    pub width: usize,
+    #[serde(default = "default_height")]
+    pub height: usize,
+    #[serde(default = "default_hfov")]
+    pub hfov_deg: f64,
+    #[serde(default = "default_vfov")]
+    pub vfov_deg: f64,
+    #[serde(default = "default_min_range")]
+    pub min_range: f64,
+    #[serde(default = "default_max_range")]
+    pub max_range: f64,
+    /// σ = noise_coefficient · z² (m); 0.0015 ≈ a Kinect.
+    #[serde(default = "default_noise")]
+    pub noise_coefficient: f64,
+}
+
+fn default_width() -> usize {
+    640
+}
+fn default_height() -> usize {
+    480
+}
+fn default_hfov() -> f64 {
+    57.0
+}
+fn default_vfov() -> f64 {
+    43.0
+}
+fn default_min_range() -> f64 {
+    0.5
+}
+fn default_max_range() -> f64 {
+    4.0
+}
+fn default_noise() -> f64 {
+    0.0015
+}
+
+/// The floor: a horizontal slab whose top is z = 0.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FloorSpec {
+    #[serde(default = "default_floor")]
+    pub size: [f64; 2],
+    #[serde(default = "default_floor_color")]
+    pub color: [f64; 3],
+}
+
+fn default_floor() -> [f64; 2] {
+    [12.0, 12.0]
+}
+fn default_floor_color() -> [f64; 3] {
+    [0.55, 0.55, 0.5]
+}
+
+/// A whole scene file.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Scene {
+    pub floor: Option<FloorSpec>,
+    #[serde(default)]
+    pub furniture: Vec<FurnitureSpec>,
+    #[serde(default, rename = "object")]
+    pub objects: Vec<ObjectSpec>,
+    #[serde(default, rename = "robot")]
+    pub robots: Vec<RobotSpec>,
+    #[serde(default, rename = "camera")]
+    pub cameras: Vec<CameraSpec>,
+    /// Folder that relative paths in the scene resolve against.
+    #[serde(skip)]
+    pub base_dir: Option<std::path::PathBuf>,
+}
+
+/// A scene file that cannot be used.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("{file}:{line}: {message}")]
+pub struct SceneError {
+    pub file: String,
+    pub line: usize,
+    /// The key the problem is at, e.g. `object.box1.shape`.
+    pub key: String,
+    pub message: String,
+}
+
+fn line_of(text: &str, byte: usize) -> usize {
+    text[..byte.min(text.len())]
+        .bytes()
+        .filter(|&b| b == b'\n')
+        .count()
+        + 1
+}
+
+impl Scene {
+    /// Reads and checks a scene file.
+    pub fn load(path: &Path) -> Result<Self, SceneError> {
+        let text = std::fs::read_to_string(path).map_err(|e| SceneError {
+            file: path.display().to_string(),
+            line: 0,
+            key: String::new(),
+            message: format!("cannot read: {e}"),
+        })?;
+        let mut scene = Self::parse(&text, &path.display().to_string())?;
+        scene.base_dir = path.parent().map(Path::to_path_buf);
+        Ok(scene)
+    }
+
+    /// Parses and checks scene text; `file` names it in errors.
+    pub fn parse(text: &str, file: &str) -> Result<Self, SceneError> {
+        let scene: Scene = toml::from_str(text).map_err(|e| {
+            let line = e.span().map_or(0, |s| line_of(text, s.start));
+            SceneError {
+                file: file.to_string(),
+                line,
+                key: String::new(),
+                message: e.message().trim().to_string(),
+            }
+        })?;
+        scene.check(text, file)?;
+        Ok(scene)
+    }
+
+    fn check(&self, text: &str, file: &str) -> Result<(), SceneError> {
+        let err = |name: &Spanned<String>, key: String, message: String| SceneError {
+            file: file.to_string(),
+            line: line_of(text, name.span().start),
+            key,
+            message,
+        };
+        let mut names = std::collections::HashSet::new();
+        let all_names = self
+            .objects
+            .iter()
+            .map(|o| (&o.name, "object"))
+            .chain(self.furniture.iter().map(|f| (&f.name, "furniture")))
+            .chain(self.robots.iter().map(|r| (&r.name, "robot")))
+            .chain(self.cameras.iter().map(|c| (&c.name, "camera")));
+        for (name, table) in all_names {
+            if name.get_ref().is_empty() {
+                return Err(err(
+                    name,
+                    format!("{table}.name"),
+                    "name must not be empty".into(),
+                ));
+            }
+            if !names.insert(name.get_ref().clone()) {
+                return Err(err(
+                    name,
+                    format!("{table}.name"),
+                    format!("`{}` is used twice", name.get_ref()),
+                ));
+            }
+        }
+        let finite_pose = |p: &PoseSpec| p.xyz.iter().chain(&p.rpy).all(|v| v.is_finite());
+        for o in &self.objects {
+            let key = |k: &str| format!("object.{}.{k}", o.name.get_ref());
+            if !finite_pose(&o.pose) {
+                return Err(err(
+                    &o.name,
+                    key("pose"),
+                    "pose values must be finite".into(),
+                ));
+            }
+            let dims: Vec<f64> = match &o.shape {
+                ShapeSpec::Box(s) => s.to_vec(),
+                ShapeSpec::Cylinder { radius, height } | ShapeSpec::Cone { radius, height } => {
+                    vec![*radius, *height]
+                }
+                ShapeSpec::Capsule { radius, height } => vec![*radius, height + 1e-9],
+                ShapeSpec::Sphere { radius } => vec![*radius],
+                ShapeSpec::Mesh { scale, .. } => scale.to_vec(),
+            };
+            if dims.iter().any(|d| !d.is_finite() || *d <= 0.0) {
+                return Err(err(
+                    &o.name,
+                    key("shape"),
+                    "sizes must be positive finite numbers".into(),
+                ));
+            }
+            match (o.mass, o.density) {
+                (Some(m), _) if !(m.is_finite() && m > 0.0) => {
+                    return Err(err(
+                        &o.name,
+                        key("mass"),
+                        format!("mass must be positive, got {m}"),
+                    ));
+                }
+                (_, Some(d)) if !(d.is_finite() && d > 0.0) => {
+                    return Err(err(
+                        &o.name,
+                        key("density"),
+                        format!("density must be positive, got {d}"),
+                    ));
+                }
+                _ => {}
+            }
+            if !(o.friction.is_finite() && o.friction >= 0.0) {
+                return Err(err(
+                    &o.name,
+                    key("friction"),
+                    "friction must be a non-negative number".into(),
+                ));
+            }
+        }
+        for f in &self.furniture {
+            let key = |k: &str| format!("furniture.{}.{k}", f.name.get_ref());
+            if !finite_pose(&f.pose) {
+                return Err(err(
+                    &f.name,
+                    key("pose"),
+                    "pose values must be finite".into(),
+                ));
+            }
+            if let Some(s) = f.size
+                && s.iter().any(|d| !d.is_finite() || *d <= 0.0)
+            {
+                return Err(err(
+                    &f.name,
+                    key("size"),
+                    "sizes must be positive finite numbers".into(),
+                ));
+            }
+            if let Some(a) = f.angle_deg
+                && !(a.is_finite() && a > 90.0 && a < 180.0)
+            {
+                return Err(err(
+                    &f.name,
+                    key("angle_deg"),
+                    format!("a ramp angle must be between 90° and 180°, got {a}"),
+                ));
+            }
+        }
+        for r in &self.robots {
+            if !finite_pose(&r.pose) || r.joints.values().any(|v| !v.is_finite()) {
+                return Err(err(
+                    &r.name,
+                    format!("robot.{}", r.name.get_ref()),
+                    "pose and joint values must be finite".into(),
+                ));
+            }
+        }
+        for c in &self.cameras {
+            let key = |k: &str| format!("camera.{}.{k}", c.name.get_ref());
+            if c.look_at.is_some() == c.link.is_some() {
+                return Err(err(
+                    &c.name,
+                    key("look_at"),
+                    "give either look_at = {eye, target} or robot + link".into(),
+                ));
+            }
+            if c.width == 0 || c.height == 0 || c.width * c.height > 16_000_000 {
+                return Err(err(
+                    &c.name,
+                    key("width"),
+                    "image size must be between 1 and 16 million pixels".into(),
+                ));
+            }
+            let fov_ok = |v: f64| v.is_finite() && v > 0.0 && v < 179.0;
+            if !fov_ok(c.hfov_deg) || !fov_ok(c.vfov_deg) {
+                return Err(err(
+                    &c.name,
+                    key("hfov_deg"),
+                    "fields of view must be in (0°, 179°)".into(),
+                ));
+            }
+            if !(c.min_range.is_finite()
+                && c.max_range.is_finite()
+                && 0.0 <= c.min_range
+                && c.min_range < c.max_range)
+            {
+                return Err(err(
+                    &c.name,
+                    key("max_range"),
+                    "need 0 ≤ min_range < max_range".into(),
+                ));
+            }
+            if !(c.noise_coefficient.is_finite() && c.noise_coefficient >= 0.0) {
+                return Err(err(
+                    &c.name,
+                    key("noise_coefficient"),
+                    "noise must be non-negative".into(),
+                ));
+            }
+            if let Some(l) = &c.look_at
+                && (l.eye.iter().chain(&l.target).any(|v| !v.is_finite()) || l.eye == l.target)
+            {
+                return Err(err(
+                    &c.name,
+                    key("look_at"),
+                    "eye and target must be finite and distinct".into(),
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Just a spanned name, for entries made by code rather than read from a file.
+#[derive(Debug, Clone, Deserialize)]
+pub struct NameOnly {
+    pub name: Spanned<String>,
+}

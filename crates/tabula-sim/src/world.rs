@@ -1,0 +1,851 @@
+//! The simulated world: rapier3d-f64 rigid bodies built from a scene, settling, pose
+//! queries, and the seed's scene commands (SPEC §1.6).
+
+use crate::scene::{FurnitureKind, FurnitureSpec, ObjectSpec, PoseSpec, Scene, ShapeSpec};
+use rapier3d_f64::prelude::*;
+use std::f64::consts::FRAC_PI_2;
+use std::path::Path;
+use tabula_geom::{Pose, Quat, Vec3, pose_from_xyz_rpy, rotation_angle_between};
+use tabula_robot::model::Geometry;
+
+/// What an entity is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum EntityKind {
+    Floor,
+    Furniture,
+    Object,
+    RobotLink,
+}
+
+/// A named thing in the world with one rigid body; its label in camera images is its
+/// index + 1 (0 = nothing).
+#[derive(Debug, Clone)]
+pub struct Entity {
+    pub name: String,
+    pub kind: EntityKind,
+    pub body: RigidBodyHandle,
+    pub color: [f64; 3],
+}
+
+/// Why a world operation failed.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SimError {
+    #[error("unknown model `{name}`; valid models: {valid}")]
+    UnknownModel { name: String, valid: String },
+    #[error("no entity named `{0}` in the world")]
+    UnknownEntity(String),
+    #[error("`{0}` is already in the world")]
+    NameTaken(String),
+    #[error("`{new}` would overlap `{existing}` at that pose")]
+    Overlap { new: String, existing: String },
+    #[error("nothing below `{0}` to put it on")]
+    NoSurfaceBelow(String),
+    #[error("{0}")]
+    Robot(String),
+    #[error("mesh `{path}`: {message}")]
+    Mesh { path: String, message: String },
+    #[error("pose values must be finite")]
+    NonFinite,
+}
+
+/// Parameters of the physics (SPEC §5); defaults favour resting accuracy over speed.
+#[derive(Debug, Clone, serde::Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct PhysicsParams {
+    /// Time step (s).
+    pub dt: f64,
+    /// Settling gives up after this much simulated time (s).
+    pub settle_time_limit: f64,
+}
+
+impl Default for PhysicsParams {
+    fn default() -> Self {
+        Self {
+            dt: 1.0 / 120.0,
+            settle_time_limit: 10.0,
+        }
+    }
+}
+
+/// The outcome of [`SimWorld::settle`].
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct SettleReport {
+    pub steps: usize,
+    pub simulated_seconds: f64,
+    /// True when every dynamic body fell asleep before the time limit.
+    pub all_asleep: bool,
+}
+
+/// Catalogue of spawnable models (the seed's simulator scripts spawned named models).
+pub const MODELS: &[(&str, &str)] = &[
+    ("cube_5cm", "a 5 cm wooden cube"),
+    ("box_small", "a 6×4×10 cm box"),
+    ("can", "a soda can (r 3.3 cm, 12 cm)"),
+    ("bottle", "a bottle (r 3.5 cm, 25 cm)"),
+    ("ball", "a 7 cm ball"),
+    ("cone_small", "a 6 cm cone, 10 cm tall"),
+    ("capsule_small", "a capsule r 2.5 cm"),
+    ("tall_box", "a 4×4×30 cm box"),
+];
+
+/// The shape and mass of catalogue model `name`.
+pub fn model_shape(name: &str) -> Option<(ShapeSpec, f64)> {
+    Some(match name {
+        "cube_5cm" => (ShapeSpec::Box([0.05; 3]), 0.08),
+        "box_small" => (ShapeSpec::Box([0.06, 0.04, 0.1]), 0.15),
+        "can" => (
+            ShapeSpec::Cylinder {
+                radius: 0.033,
+                height: 0.12,
+            },
+            0.35,
+        ),
+        "bottle" => (
+            ShapeSpec::Cylinder {
+                radius: 0.035,
+                height: 0.25,
+            },
+            0.5,
+        ),
+        "ball" => (ShapeSpec::Sphere { radius: 0.035 }, 0.1),
+        "cone_small" => (
+            ShapeSpec::Cone {
+                radius: 0.03,
+                height: 0.1,
+            },
+            0.05,
+        ),
+        "capsule_small" => (
+            ShapeSpec::Capsule {
+                radius: 0.025,
+                height: 0.08,
+            },
+            0.1,
+        ),
+        "tall_box" => (ShapeSpec::Box([0.04, 0.04, 0.3]), 0.3),
+        _ => return None,
+    })
+}
+
+/// The world.
+pub struct SimWorld {
+    pub physics: PhysicsWorld,
+    pub entities: Vec<Entity>,
+    pub params: PhysicsParams,
+    /// Robots placed: name, model, `world_from_root`, joint values.
+    pub robots: Vec<(String, tabula_robot::RobotModel, Pose, Vec<f64>)>,
+    base_dir: Option<std::path::PathBuf>,
+}
+
+fn pose_of(p: &PoseSpec) -> Pose {
+    pose_from_xyz_rpy(p.xyz, p.rpy)
+}
+
+/// Parry aligns cylinders and cones with y; tabula's shapes stand along z.
+fn y_to_z() -> Pose {
+    Pose::from_rotation(Quat::from_rotation_x(FRAC_PI_2))
+}
+
+fn load_mesh_points(path: &Path, scale: [f64; 3]) -> Result<Vec<Vec3>, SimError> {
+    let fail = |m: String| SimError::Mesh {
+        path: path.display().to_string(),
+        message: m,
+    };
+    let text = std::fs::read(path).map_err(|e| fail(e.to_string()))?;
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .unwrap_or("")
+        .to_ascii_lowercase();
+    let mut points = Vec::new();
+    match ext.as_str() {
+        "obj" => {
+            // Vertex lines are all a convex hull needs.
+            for line in String::from_utf8_lossy(&text).lines() {
+                let mut w = line.split_whitespace();
+                if w.next() == Some("v") {
+                    let v: Vec<f64> = w.take(3).filter_map(|x| x.parse().ok()).collect();
+                    if v.len() == 3 {
+                        points.push(Vec3::new(v[0], v[1], v[2]));
+                    }
+                }
+            }
+        }
+        "stl" => {
+            let ascii =
+                text.starts_with(b"solid") && String::from_utf8_lossy(&text).contains("facet");
+            if ascii {
+                for line in String::from_utf8_lossy(&text).lines() {
+                    let mut w = line.split_whitespace();
+                    if w.next() == Some("vertex") {
+                        let v: Vec<f64> = w.take(3).filter_map(|x| x.parse().ok()).collect();
+                        if v.len() == 3 {
+                            points.push(Vec3::new(v[0], v[1], v[2]));
+                        }
+                    }
+                }
+            } else {
+                if text.len() < 84 {
+                    return Err(fail("binary STL shorter than its header".into()));
+                }
+                let n = u32::from_le_bytes([text[80], text[81], text[82], text[83]]) as usize;
+                if text.len() < 84 + n * 50 {
+                    return Err(fail(format!(
+                        "binary STL declares {n} triangles but is too short"
+                    )));
+                }
+                for t in 0..n {
+                    let base = 84 + t * 50 + 12;
+                    for k in 0..3 {
+                        let f = |i: usize| {
+                            let o = base + k * 12 + i * 4;
+                            f32::from_le_bytes([text[o], text[o + 1], text[o + 2], text[o + 3]])
+                                as f64
+                        };
+                        points.push(Vec3::new(f(0), f(1), f(2)));
+                    }
+                }
+            }
+        }
+        other => {
+            return Err(fail(format!(
+                "unsupported mesh format `{other}` (use .obj or .stl)"
+            )));
+        }
+    }
+    let s = Vec3::from_array(scale);
+    points.retain(|p| p.is_finite());
+    if points.len() < 4 {
+        return Err(fail("fewer than 4 vertices".into()));
+    }
+    Ok(points.into_iter().map(|p| p * s).collect())
+}
+
+impl SimWorld {
+    /// An empty world with gravity along −z.
+    pub fn new(params: PhysicsParams) -> Self {
+        let mut physics = PhysicsWorld {
+            gravity: Vec3::new(0.0, 0.0, -9.81),
+            ..Default::default()
+        };
+        physics.integration_parameters.dt = params.dt;
+        Self {
+            physics,
+            entities: Vec::new(),
+            params,
+            robots: Vec::new(),
+            base_dir: None,
+        }
+    }
+
+    /// Builds the world of a scene.
+    pub fn from_scene(scene: &Scene, params: PhysicsParams) -> Result<Self, SimError> {
+        let mut w = Self::new(params);
+        w.base_dir = scene.base_dir.clone();
+        if let Some(f) = &scene.floor {
+            w.add_floor(f.size, f.color);
+        }
+        for f in &scene.furniture {
+            w.add_furniture(f)?;
+        }
+        for o in &scene.objects {
+            w.add_object(o)?;
+        }
+        for r in &scene.robots {
+            w.add_robot(r)?;
+        }
+        Ok(w)
+    }
+
+    fn label_of(&self) -> u128 {
+        self.entities.len() as u128 + 1
+    }
+
+    fn push_entity(
+        &mut self,
+        name: &str,
+        kind: EntityKind,
+        body: RigidBodyHandle,
+        color: [f64; 3],
+    ) {
+        self.entities.push(Entity {
+            name: name.to_string(),
+            kind,
+            body,
+            color,
+        });
+    }
+
+    fn add_floor(&mut self, size: [f64; 2], color: [f64; 3]) {
+        let label = self.label_of();
+        let body = self
+            .physics
+            .insert_body(RigidBodyBuilder::fixed().translation(Vec3::new(0.0, 0.0, -0.05)));
+        let c = ColliderBuilder::cuboid(size[0] / 2.0, size[1] / 2.0, 0.05)
+            .friction(0.8)
+            .user_data(label);
+        self.physics.insert_collider(c, Some(body));
+        self.push_entity("floor", EntityKind::Floor, body, color);
+    }
+
+    /// Adds a fixed composite of boxes, cylinders and wedges.
+    pub fn add_furniture(&mut self, f: &FurnitureSpec) -> Result<(), SimError> {
+        let name = f.name.get_ref().clone();
+        if self.entity(&name).is_some() {
+            return Err(SimError::NameTaken(name));
+        }
+        let label = self.label_of();
+        let body = self
+            .physics
+            .insert_body(RigidBodyBuilder::fixed().pose(pose_of(&f.pose)));
+        let boxed = |hx: f64, hy: f64, hz: f64, at: Vec3| {
+            (SharedShape::cuboid(hx, hy, hz), Pose::from_translation(at))
+        };
+        let (parts, color): (Vec<(SharedShape, Pose)>, [f64; 3]) = match f.kind {
+            FurnitureKind::Table => {
+                let [sx, sy, h] = f.size.unwrap_or([0.8, 1.2, 0.72]);
+                let t = 0.04;
+                let mut parts = vec![boxed(
+                    sx / 2.0,
+                    sy / 2.0,
+                    t / 2.0,
+                    Vec3::new(0.0, 0.0, h - t / 2.0),
+                )];
+                for (x, y) in [(1.0, 1.0), (1.0, -1.0), (-1.0, 1.0), (-1.0, -1.0)] {
+                    let leg =
+                        Vec3::new(x * (sx / 2.0 - 0.04), y * (sy / 2.0 - 0.04), (h - t) / 2.0);
+                    parts.push(boxed(0.025, 0.025, (h - t) / 2.0, leg));
+                }
+                (parts, [0.55, 0.4, 0.25])
+            }
+            FurnitureKind::Bookshelf => {
+                let [sx, sy, h] = f.size.unwrap_or([0.35, 0.9, 1.6]);
+                let shelves = f.shelves.unwrap_or(4).clamp(1, 20);
+                let t = 0.02;
+                let mut parts = vec![
+                    boxed(
+                        sx / 2.0,
+                        t / 2.0,
+                        h / 2.0,
+                        Vec3::new(0.0, sy / 2.0 - t / 2.0, h / 2.0),
+                    ),
+                    boxed(
+                        sx / 2.0,
+                        t / 2.0,
+                        h / 2.0,
+                        Vec3::new(0.0, -sy / 2.0 + t / 2.0, h / 2.0),
+                    ),
+                    boxed(
+                        t / 2.0,
+                        sy / 2.0,
+                        h / 2.0,
+                        Vec3::new(-sx / 2.0 + t / 2.0, 0.0, h / 2.0),
+                    ),
+                ];
+                for i in 0..=shelves {
+                    let z = (h - t) * i as f64 / shelves as f64 + t / 2.0;
+                    parts.push(boxed(
+                        sx / 2.0,
+                        sy / 2.0 - t,
+                        t / 2.0,
+                        Vec3::new(0.0, 0.0, z),
+                    ));
+                }
+                (parts, [0.6, 0.45, 0.3])
+            }
+            FurnitureKind::Cabinet => {
+                let [sx, sy, h] = f.size.unwrap_or([0.5, 0.6, 0.9]);
+                (
+                    vec![boxed(
+                        sx / 2.0,
+                        sy / 2.0,
+                        h / 2.0,
+                        Vec3::new(0.0, 0.0, h / 2.0),
+                    )],
+                    [0.7, 0.7, 0.72],
+                )
+            }
+            FurnitureKind::Drum | FurnitureKind::SignDrum => {
+                let [sx, _, h] = f.size.unwrap_or([0.58, 0.58, 0.88]);
+                let shape = SharedShape::cylinder(h / 2.0, sx / 2.0);
+                let color = if f.kind == FurnitureKind::Drum {
+                    [0.2, 0.35, 0.7]
+                } else {
+                    [0.95, 0.5, 0.1]
+                };
+                (
+                    vec![(
+                        shape,
+                        Pose::from_translation(Vec3::new(0.0, 0.0, h / 2.0)) * y_to_z(),
+                    )],
+                    color,
+                )
+            }
+            FurnitureKind::TrafficCone => {
+                let [sx, _, h] = f.size.unwrap_or([0.36, 0.36, 0.7]);
+                let cone = SharedShape::cone(h / 2.0, sx / 2.0 * 0.8);
+                (
+                    vec![
+                        boxed(sx / 2.0, sx / 2.0, 0.015, Vec3::new(0.0, 0.0, 0.015)),
+                        (
+                            cone,
+                            Pose::from_translation(Vec3::new(0.0, 0.0, h / 2.0 + 0.03)) * y_to_z(),
+                        ),
+                    ],
+                    [0.95, 0.35, 0.05],
+                )
+            }
+            FurnitureKind::Ramp => {
+                // A wedge rising along +x: its top face is `angle_deg` from the floor
+                // measured across the ramp, i.e. 180° − angle from horizontal.
+                let [sx, sy, _] = f.size.unwrap_or([0.4, 0.6, 0.0]);
+                let slope = (180.0 - f.angle_deg.unwrap_or(120.0)).to_radians();
+                let h = sx * slope.tan();
+                let pts: Vec<Vec3> = [(0.0, 0.0), (sx, 0.0), (sx, h)]
+                    .iter()
+                    .flat_map(|&(x, z)| {
+                        [
+                            Vec3::new(x - sx / 2.0, -sy / 2.0, z),
+                            Vec3::new(x - sx / 2.0, sy / 2.0, z),
+                        ]
+                    })
+                    .collect();
+                let shape = SharedShape::convex_hull(&pts).ok_or_else(|| SimError::Mesh {
+                    path: name.clone(),
+                    message: "degenerate ramp".into(),
+                })?;
+                (vec![(shape, Pose::IDENTITY)], [0.5, 0.5, 0.55])
+            }
+            FurnitureKind::Wall => {
+                let [sx, sy, h] = f.size.unwrap_or([0.1, 4.0, 2.5]);
+                (
+                    vec![boxed(
+                        sx / 2.0,
+                        sy / 2.0,
+                        h / 2.0,
+                        Vec3::new(0.0, 0.0, h / 2.0),
+                    )],
+                    [0.85, 0.85, 0.8],
+                )
+            }
+            FurnitureKind::Bin => {
+                let [sx, sy, h] = f.size.unwrap_or([0.4, 0.4, 0.4]);
+                let t = 0.01;
+                (
+                    vec![
+                        boxed(sx / 2.0, sy / 2.0, t / 2.0, Vec3::new(0.0, 0.0, t / 2.0)),
+                        boxed(
+                            t / 2.0,
+                            sy / 2.0,
+                            h / 2.0,
+                            Vec3::new(sx / 2.0, 0.0, h / 2.0),
+                        ),
+                        boxed(
+                            t / 2.0,
+                            sy / 2.0,
+                            h / 2.0,
+                            Vec3::new(-sx / 2.0, 0.0, h / 2.0),
+                        ),
+                        boxed(
+                            sx / 2.0,
+                            t / 2.0,
+                            h / 2.0,
+                            Vec3::new(0.0, sy / 2.0, h / 2.0),
+                        ),
+                        boxed(
+                            sx / 2.0,
+                            t / 2.0,
+                            h / 2.0,
+                            Vec3::new(0.0, -sy / 2.0, h / 2.0),
+                        ),
+                    ],
+                    [0.3, 0.3, 0.3],
+                )
+            }
+        };
+        for (shape, local) in parts {
+            let c = ColliderBuilder::new(shape)
+                .position(local)
+                .friction(f.friction)
+                .user_data(label);
+            self.physics.insert_collider(c, Some(body));
+        }
+        self.push_entity(&name, EntityKind::Furniture, body, f.color.unwrap_or(color));
+        Ok(())
+    }
+
+    fn object_shape(&self, shape: &ShapeSpec) -> Result<(SharedShape, Pose), SimError> {
+        Ok(match shape {
+            ShapeSpec::Box(s) => (
+                SharedShape::cuboid(s[0] / 2.0, s[1] / 2.0, s[2] / 2.0),
+                Pose::IDENTITY,
+            ),
+            ShapeSpec::Cylinder { radius, height } => {
+                (SharedShape::cylinder(height / 2.0, *radius), y_to_z())
+            }
+            ShapeSpec::Sphere { radius } => (SharedShape::ball(*radius), Pose::IDENTITY),
+            ShapeSpec::Cone { radius, height } => {
+                (SharedShape::cone(height / 2.0, *radius), y_to_z())
+            }
+            ShapeSpec::Capsule { radius, height } => (
+                SharedShape::capsule_z(height / 2.0, *radius),
+                Pose::IDENTITY,
+            ),
+            ShapeSpec::Mesh { path, scale } => {
+                let full = match &self.base_dir {
+                    Some(d) if Path::new(path).is_relative() => d.join(path),
+                    _ => Path::new(path).to_path_buf(),
+                };
+                let points = load_mesh_points(&full, *scale)?;
+                let hull = SharedShape::convex_hull(&points).ok_or_else(|| SimError::Mesh {
+                    path: full.display().to_string(),
+                    message: "degenerate (flat or collinear) vertices: no convex hull".into(),
+                })?;
+                (hull, Pose::IDENTITY)
+            }
+        })
+    }
+
+    /// Adds a dynamic object; an object that would overlap another is refused.
+    pub fn add_object(&mut self, o: &ObjectSpec) -> Result<(), SimError> {
+        let name = o.name.get_ref().clone();
+        if self.entity(&name).is_some() {
+            return Err(SimError::NameTaken(name));
+        }
+        let (shape, local) = self.object_shape(&o.shape)?;
+        let pose = pose_of(&o.pose);
+        if let Some(existing) = self.overlapping(&shape, &(pose * local)) {
+            return Err(SimError::Overlap {
+                new: name,
+                existing,
+            });
+        }
+        let volume = shape.mass_properties(1.0).mass();
+        let density = match (o.mass, o.density) {
+            (Some(m), _) => m / volume.max(1e-12),
+            (None, Some(d)) => d,
+            (None, None) => 600.0,
+        };
+        let label = self.label_of();
+        let body = self
+            .physics
+            .insert_body(RigidBodyBuilder::dynamic().pose(pose).ccd_enabled(true));
+        let c = ColliderBuilder::new(shape)
+            .position(local)
+            .density(density)
+            .friction(o.friction)
+            .user_data(label);
+        self.physics.insert_collider(c, Some(body));
+        self.push_entity(&name, EntityKind::Object, body, o.color);
+        Ok(())
+    }
+
+    /// Robot links as kinematic bodies at their FK poses (collision geometry).
+    pub fn add_robot(&mut self, r: &crate::scene::RobotSpec) -> Result<(), SimError> {
+        let source = match (&self.base_dir, Path::new(&r.urdf).extension()) {
+            (Some(d), Some(_)) if Path::new(&r.urdf).is_relative() => {
+                d.join(&r.urdf).display().to_string()
+            }
+            _ => r.urdf.clone(),
+        };
+        let robot =
+            tabula_robot::robots::load(&source).map_err(|e| SimError::Robot(e.to_string()))?;
+        let model = &robot.model;
+        let mut values = model.mid_configuration();
+        for (joint, v) in &r.joints {
+            let j = model.joint(joint).ok_or_else(|| {
+                SimError::Robot(format!(
+                    "robot `{}` has no joint `{joint}`",
+                    r.name.get_ref()
+                ))
+            })?;
+            values[j] = *v;
+        }
+        let root_from_link = model
+            .forward_kinematics(&values)
+            .map_err(|e| SimError::Robot(e.to_string()))?;
+        let world_from_root = pose_of(&r.pose);
+        for (li, link) in model.links.iter().enumerate() {
+            let mut colliders = Vec::new();
+            for s in &link.collision {
+                let shape = match &s.geometry {
+                    Geometry::Box { half_extents } => {
+                        SharedShape::cuboid(half_extents.x, half_extents.y, half_extents.z)
+                    }
+                    Geometry::Cylinder { radius, length } => {
+                        colliders.push((
+                            SharedShape::cylinder(length / 2.0, *radius),
+                            s.link_from_shape * y_to_z(),
+                        ));
+                        continue;
+                    }
+                    Geometry::Capsule { radius, length } => {
+                        SharedShape::capsule_z(length / 2.0, *radius)
+                    }
+                    Geometry::Sphere { radius } => SharedShape::ball(*radius),
+                    Geometry::Mesh { path, scale } => {
+                        match load_mesh_points(path, scale.to_array())
+                            .ok()
+                            .and_then(|p| SharedShape::convex_hull(&p))
+                        {
+                            Some(h) => h,
+                            None => continue,
+                        }
+                    }
+                };
+                colliders.push((shape, s.link_from_shape));
+            }
+            if colliders.is_empty() {
+                continue;
+            }
+            let name = format!("{}/{}", r.name.get_ref(), link.name);
+            let label = self.label_of();
+            let body = self.physics.insert_body(
+                RigidBodyBuilder::kinematic_position_based()
+                    .pose(world_from_root * root_from_link[li]),
+            );
+            for (shape, local) in colliders {
+                self.physics.insert_collider(
+                    ColliderBuilder::new(shape).position(local).user_data(label),
+                    Some(body),
+                );
+            }
+            self.push_entity(&name, EntityKind::RobotLink, body, [0.75, 0.75, 0.78]);
+        }
+        self.robots.push((
+            r.name.get_ref().clone(),
+            robot.model,
+            world_from_root,
+            values,
+        ));
+        Ok(())
+    }
+
+    /// The name of an entity that `shape` at `pose` would penetrate by more than a
+    /// millimetre (touching, as an object resting on a table does, is fine).
+    fn overlapping(&self, shape: &SharedShape, pose: &Pose) -> Option<String> {
+        for (_, c) in self.physics.colliders.iter() {
+            let contact = rapier3d_f64::parry::query::contact(
+                pose,
+                shape.as_ref(),
+                c.position(),
+                c.shape(),
+                0.0,
+            )
+            .ok()
+            .flatten();
+            if contact.is_some_and(|k| k.dist < -1e-3) {
+                return self
+                    .entities
+                    .get((c.user_data as usize).wrapping_sub(1))
+                    .map(|e| e.name.clone());
+            }
+        }
+        None
+    }
+
+    /// Index of a named entity.
+    pub fn entity(&self, name: &str) -> Option<usize> {
+        self.entities.iter().position(|e| e.name == name)
+    }
+
+    /// `world_from_entity` of a named entity.
+    pub fn pose(&self, name: &str) -> Result<Pose, SimError> {
+        let i = self
+            .entity(name)
+            .ok_or_else(|| SimError::UnknownEntity(name.into()))?;
+        Ok(*self.physics.bodies[self.entities[i].body].position())
+    }
+
+    /// `world_from_link` of a robot link, even one without collision geometry (a
+    /// camera's optical frame): FK from the robot's nearest link that has a body.
+    pub fn link_pose(&self, robot: &str, link: &str) -> Result<Pose, SimError> {
+        let placed = self
+            .robots
+            .iter()
+            .find(|r| r.0 == robot)
+            .ok_or_else(|| SimError::UnknownEntity(robot.into()))?;
+        let (_, model, world_from_root, values) = placed;
+        let li = model
+            .link(link)
+            .map_err(|e| SimError::Robot(e.to_string()))?;
+        let all = model
+            .forward_kinematics(values)
+            .map_err(|e| SimError::Robot(e.to_string()))?;
+        Ok(*world_from_root * all[li])
+    }
+
+    /// Every object's name and pose.
+    pub fn object_poses(&self) -> Vec<(String, Pose)> {
+        self.entities
+            .iter()
+            .filter(|e| e.kind == EntityKind::Object)
+            .map(|e| (e.name.clone(), *self.physics.bodies[e.body].position()))
+            .collect()
+    }
+
+    /// One physics step.
+    pub fn step(&mut self) {
+        self.physics.step();
+    }
+
+    /// Steps until every dynamic body sleeps or the time limit passes.
+    pub fn settle(&mut self) -> SettleReport {
+        let dt = self.physics.integration_parameters.dt;
+        let max_steps = (self.params.settle_time_limit / dt).ceil() as usize;
+        let mut steps = 0;
+        while steps < max_steps {
+            self.physics.step();
+            steps += 1;
+            if self.all_dynamic_asleep() {
+                return SettleReport {
+                    steps,
+                    simulated_seconds: steps as f64 * dt,
+                    all_asleep: true,
+                };
+            }
+        }
+        SettleReport {
+            steps,
+            simulated_seconds: steps as f64 * dt,
+            all_asleep: self.all_dynamic_asleep(),
+        }
+    }
+
+    fn all_dynamic_asleep(&self) -> bool {
+        self.physics
+            .bodies
+            .iter()
+            .all(|(_, b)| !b.is_dynamic() || b.is_sleeping())
+    }
+
+    /// Position error (m) and rotation error (rad) of an entity against `expected`.
+    pub fn pose_error(&self, name: &str, expected: &Pose) -> Result<(f64, f64), SimError> {
+        let p = self.pose(name)?;
+        Ok((
+            (p.translation - expected.translation).length(),
+            rotation_angle_between(p.rotation, expected.rotation),
+        ))
+    }
+
+    /// True when the entity's up axis has turned more than `tolerance` rad from where
+    /// `reference` had it — it fell over rather than rested as planned.
+    pub fn has_toppled(
+        &self,
+        name: &str,
+        reference: &Pose,
+        tolerance: f64,
+    ) -> Result<bool, SimError> {
+        let p = self.pose(name)?;
+        let now = p.rotation * Vec3::Z;
+        let then = reference.rotation * Vec3::Z;
+        Ok(now.angle_between(then) > tolerance)
+    }
+
+    /// Spawns catalogue model `model` named `name` at `xyz` (upright).
+    pub fn spawn(&mut self, model: &str, name: &str, xyz: [f64; 3]) -> Result<(), SimError> {
+        let (shape, mass) = model_shape(model).ok_or_else(|| SimError::UnknownModel {
+            name: model.into(),
+            valid: MODELS
+                .iter()
+                .map(|(n, _)| *n)
+                .collect::<Vec<_>>()
+                .join(", "),
+        })?;
+        if xyz.iter().any(|v| !v.is_finite()) {
+            return Err(SimError::NonFinite);
+        }
+        let text = format!("name = \"{}\"", name.replace('"', ""));
+        let spanned_name: crate::scene::NameOnly =
+            toml::from_str(&text).map_err(|_| SimError::UnknownEntity(name.into()))?;
+        self.add_object(&ObjectSpec {
+            name: spanned_name.name,
+            shape,
+            pose: PoseSpec { xyz, rpy: [0.0; 3] },
+            mass: Some(mass),
+            density: None,
+            friction: 0.8,
+            color: [0.3, 0.5, 0.8],
+        })
+    }
+
+    /// Moves an object (teleport, velocities zeroed).
+    pub fn move_to(&mut self, name: &str, world_from_object: Pose) -> Result<(), SimError> {
+        if !(world_from_object.translation.is_finite() && world_from_object.rotation.is_finite()) {
+            return Err(SimError::NonFinite);
+        }
+        let i = self
+            .entity(name)
+            .ok_or_else(|| SimError::UnknownEntity(name.into()))?;
+        let b = &mut self.physics.bodies[self.entities[i].body];
+        b.set_position(world_from_object, true);
+        b.set_linvel(Vec3::ZERO, true);
+        b.set_angvel(Vec3::ZERO, true);
+        Ok(())
+    }
+
+    /// Puts an object on whatever surface is below it: it keeps x, y and orientation
+    /// and is lowered until it touches (the seed's "put on surface" script).
+    pub fn put_on_surface(&mut self, name: &str) -> Result<(), SimError> {
+        let i = self
+            .entity(name)
+            .ok_or_else(|| SimError::UnknownEntity(name.into()))?;
+        let handle = self.entities[i].body;
+        let pose = *self.physics.bodies[handle].position();
+        let colliders: Vec<ColliderHandle> = self.physics.bodies[handle].colliders().to_vec();
+        let Some(&ch) = colliders.first() else {
+            return Err(SimError::NoSurfaceBelow(name.into()));
+        };
+        let collider = &self.physics.colliders[ch];
+        let shape = collider.shared_shape().clone();
+        let local = *collider.position_wrt_parent().unwrap_or(&Pose::IDENTITY);
+        // Cast the object's shape straight down against everything else.
+        let mut best: Option<f64> = None;
+        for (h, c) in self.physics.colliders.iter() {
+            if colliders.contains(&h) {
+                continue;
+            }
+            let hit = rapier3d_f64::parry::query::cast_shapes(
+                &(pose * local),
+                Vec3::new(0.0, 0.0, -1.0),
+                shape.as_ref(),
+                c.position(),
+                Vec3::ZERO,
+                c.shape(),
+                rapier3d_f64::parry::query::ShapeCastOptions::with_max_time_of_impact(50.0),
+            )
+            .ok()
+            .flatten();
+            if let Some(hit) = hit {
+                best = Some(best.map_or(hit.time_of_impact, |b: f64| b.min(hit.time_of_impact)));
+            }
+        }
+        let drop = best.ok_or_else(|| SimError::NoSurfaceBelow(name.into()))?;
+        let placed = Pose::from_parts(
+            pose.translation - Vec3::new(0.0, 0.0, drop - 1e-4),
+            pose.rotation,
+        );
+        self.move_to(name, placed)
+    }
+
+    /// Removes an entity.
+    pub fn delete(&mut self, name: &str) -> Result<(), SimError> {
+        let i = self
+            .entity(name)
+            .ok_or_else(|| SimError::UnknownEntity(name.into()))?;
+        let e = self.entities[i].clone();
+        self.physics.remove_body_with_colliders(e.body, true);
+        // Keep labels stable: the slot stays, renamed, with no body left.
+        self.entities[i].name = format!("__deleted_{}", e.name);
+        Ok(())
+    }
+
+    /// Names of the entities of one kind (`None` = all).
+    pub fn list(&self, kind: Option<EntityKind>) -> Vec<String> {
+        self.entities
+            .iter()
+            .filter(|e| kind.is_none_or(|k| e.kind == k) && !e.name.starts_with("__deleted_"))
+            .map(|e| e.name.clone())
+            .collect()
+    }
+}
