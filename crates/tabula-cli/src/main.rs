@@ -3,6 +3,7 @@
 mod demo;
 mod ik;
 mod plan;
+mod sim;
 
 use clap::{Parser, Subcommand};
 
@@ -25,6 +26,11 @@ enum Command {
     },
     /// Task planning in PDDL: plan, validate, benchmark (Fast Downward's role).
     Plan(plan::PlanArgs),
+    /// The built-in simulator: settle scenes, capture depth frames, render snapshots.
+    Sim {
+        #[command(subcommand)]
+        command: sim::SimCommand,
+    },
 }
 
 fn main() {
@@ -33,6 +39,7 @@ fn main() {
         Command::Demo => demo::run(),
         Command::Ik { command } => ik::run(command),
         Command::Plan(args) => plan::run(args),
+        Command::Sim { command } => sim::run(command),
     };
     if let Err(e) = result {
         eprintln!("error: {e:#}");

@@ -11,6 +11,7 @@ use crate::world::{SimError, SimWorld};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rapier3d_f64::parry::query::Ray;
+use rapier3d_f64::parry::shape::ShapeType;
 use rapier3d_f64::prelude::SharedShape;
 use rayon::prelude::*;
 use tabula_geom::{Mat3, PointCloud, Pose, Quat, Vec3};
@@ -99,9 +100,12 @@ impl Camera {
 
     /// Direction (camera frame, z = 1) of the ray through the centre of pixel (u, v).
     pub fn pixel_ray(&self, u: usize, v: usize) -> Vec3 {
-        let (fx, fy, cx, cy) = self.intrinsics();
-        Vec3::new((u as f64 + 0.5 - cx) / fx, (v as f64 + 0.5 - cy) / fy, 1.0)
+        pixel_ray(self.intrinsics(), u, v)
     }
+}
+
+fn pixel_ray((fx, fy, cx, cy): (f64, f64, f64, f64), u: usize, v: usize) -> Vec3 {
+    Vec3::new((u as f64 + 0.5 - cx) / fx, (v as f64 + 0.5 - cy) / fy, 1.0)
 }
 
 /// One captured frame.
@@ -121,10 +125,128 @@ pub struct DepthFrame {
     pub label_names: Vec<String>,
 }
 
+/// Shapes with a closed-form ray intersection, in their own frame (parry's: cylinders
+/// along y). Everything else goes through parry's general (GJK) ray cast.
+#[derive(Clone, Copy)]
+enum Closed {
+    Cuboid(Vec3),
+    Ball(f64),
+    Cylinder { half_height: f64, radius: f64 },
+    General,
+}
+
 struct Target {
     shape: SharedShape,
     world_from_shape: Pose,
     label: u32,
+    closed: Closed,
+    /// Rotation world → shape, and the ray origin (the camera centre, the same for
+    /// every pixel) in the shape frame.
+    shape_from_world: Mat3,
+    origin_in_shape: Vec3,
+}
+
+impl Target {
+    /// First hit of the ray `origin + t·dir` (origin fixed per frame) with this shape:
+    /// `t` in units of `dir`, outward unit normal in the world frame.
+    fn cast(&self, origin: Vec3, dir: Vec3, max_t: f64) -> Option<(f64, Vec3)> {
+        let o = self.origin_in_shape;
+        let d = self.shape_from_world * dir;
+        let world = |n: Vec3| self.world_from_shape.rotation * n;
+        match self.closed {
+            Closed::Cuboid(h) => {
+                let (mut t0, mut t1, mut axis, mut sign) =
+                    (f64::NEG_INFINITY, f64::INFINITY, 0usize, 0.0);
+                for k in 0..3 {
+                    if d[k].abs() < 1e-300 {
+                        if o[k].abs() > h[k] {
+                            return None;
+                        }
+                        continue;
+                    }
+                    let (a, b) = ((-h[k] - o[k]) / d[k], (h[k] - o[k]) / d[k]);
+                    let (near, far) = if a < b { (a, b) } else { (b, a) };
+                    if near > t0 {
+                        t0 = near;
+                        axis = k;
+                        sign = -d[k].signum();
+                    }
+                    t1 = t1.min(far);
+                }
+                if t0 > t1 || t1 < 0.0 || t0 > max_t {
+                    return None;
+                }
+                if t0 < 0.0 {
+                    return Some((0.0, -dir.normalize()));
+                }
+                let mut n = Vec3::ZERO;
+                n[axis] = sign;
+                Some((t0, world(n)))
+            }
+            Closed::Ball(r) => {
+                let a = d.dot(d);
+                let b = o.dot(d);
+                let c = o.dot(o) - r * r;
+                let disc = b * b - a * c;
+                if disc < 0.0 {
+                    return None;
+                }
+                let t = (-b - disc.sqrt()) / a;
+                if t < 0.0 {
+                    return (c <= 0.0).then(|| (0.0, -dir.normalize()));
+                }
+                (t <= max_t).then(|| (t, world((o + d * t) / r)))
+            }
+            Closed::Cylinder {
+                half_height,
+                radius,
+            } => {
+                let mut best: Option<(f64, Vec3)> = None;
+                let mut consider = |t: f64, n: Vec3| {
+                    if t >= 0.0 && t <= max_t && best.is_none_or(|b| t < b.0) {
+                        best = Some((t, n));
+                    }
+                };
+                // Side: (ox + t dx)² + (oz + t dz)² = r², |oy + t dy| ≤ h.
+                let a = d.x * d.x + d.z * d.z;
+                if a > 1e-300 {
+                    let b = o.x * d.x + o.z * d.z;
+                    let c = o.x * o.x + o.z * o.z - radius * radius;
+                    let disc = b * b - a * c;
+                    if disc >= 0.0 {
+                        let t = (-b - disc.sqrt()) / a;
+                        let p = o + d * t;
+                        if p.y.abs() <= half_height {
+                            consider(t, Vec3::new(p.x, 0.0, p.z) / radius);
+                        }
+                    }
+                }
+                // Caps.
+                if d.y.abs() > 1e-300 {
+                    for s in [1.0, -1.0] {
+                        let t = (s * half_height - o.y) / d.y;
+                        let p = o + d * t;
+                        if p.x * p.x + p.z * p.z <= radius * radius {
+                            consider(t, Vec3::new(0.0, s, 0.0));
+                        }
+                    }
+                }
+                if best.is_none()
+                    && o.x * o.x + o.z * o.z <= radius * radius
+                    && o.y.abs() <= half_height
+                {
+                    return Some((0.0, -dir.normalize()));
+                }
+                best.map(|(t, n)| (t, world(n)))
+            }
+            Closed::General => {
+                let ray = Ray::new(origin, dir);
+                self.shape
+                    .cast_ray_and_get_normal(&self.world_from_shape, &ray, max_t, true)
+                    .map(|h| (h.time_of_impact, h.normal))
+            }
+        }
+    }
 }
 
 /// A ray hit: distance along the (unnormalised) ray, world normal, label.
@@ -157,10 +279,34 @@ impl Tracer {
                 }
                 None => *c.position(),
             };
+            let shape = c.shared_shape().clone();
+            let closed = match shape.shape_type() {
+                ShapeType::Cuboid => shape
+                    .as_cuboid()
+                    .map_or(Closed::General, |b| Closed::Cuboid(b.half_extents)),
+                ShapeType::Ball => shape
+                    .as_ball()
+                    .map_or(Closed::General, |b| Closed::Ball(b.radius)),
+                ShapeType::Cylinder => {
+                    shape
+                        .as_cylinder()
+                        .map_or(Closed::General, |c| Closed::Cylinder {
+                            half_height: c.half_height,
+                            radius: c.radius,
+                        })
+                }
+                _ => Closed::General,
+            };
+            let shape_from_world = Mat3::from_quat(world_from_shape.rotation.inverse());
+            let origin_in_shape =
+                world_from_shape.inverse_transform_point(world_from_camera.translation);
             targets.push(Target {
-                shape: c.shared_shape().clone(),
+                shape,
                 world_from_shape,
                 label: c.user_data as u32,
+                closed,
+                shape_from_world,
+                origin_in_shape,
             });
         }
         let tiles_x = width.div_ceil(TILE);
@@ -218,17 +364,15 @@ impl Tracer {
         }
     }
 
-    fn cast(&self, u: usize, v: usize, ray: &Ray, max_toi: f64) -> Option<Hit> {
+    fn cast(&self, u: usize, v: usize, origin: Vec3, dir: Vec3, max_toi: f64) -> Option<Hit> {
         let mut best: Option<Hit> = None;
         for &i in &self.tiles[(v / TILE) * self.tiles_x + u / TILE] {
             let t = &self.targets[i as usize];
             let limit = best.map_or(max_toi, |b| b.0);
-            if let Some(hit) =
-                t.shape
-                    .cast_ray_and_get_normal(&t.world_from_shape, ray, limit, true)
-                && best.is_none_or(|b| hit.time_of_impact < b.0)
+            if let Some((toi, normal)) = t.cast(origin, dir, limit)
+                && best.is_none_or(|b| toi < b.0)
             {
-                best = Some((hit.time_of_impact, hit.normal, t.label));
+                best = Some((toi, normal, t.label));
             }
         }
         best
@@ -249,6 +393,7 @@ pub fn capture(world: &SimWorld, camera: &Camera, seed: u64) -> DepthFrame {
     let origin = camera.world_from_camera.translation;
     let rot = camera.world_from_camera.rotation;
     let cos_limit = camera.max_incidence.cos();
+    let intr = camera.intrinsics();
     let rows: Vec<(Vec<f64>, Vec<u32>, Vec<Vec3>)> = (0..h)
         .into_par_iter()
         .map(|v| {
@@ -258,10 +403,9 @@ pub fn capture(world: &SimWorld, camera: &Camera, seed: u64) -> DepthFrame {
             let mut labels = Vec::with_capacity(w);
             let mut points = Vec::with_capacity(w);
             for u in 0..w {
-                let dir_c = camera.pixel_ray(u, v);
-                let ray = Ray::new(origin, rot * dir_c);
+                let dir_c = pixel_ray(intr, u, v);
                 // z = time of impact, since the camera-frame ray has z = 1.
-                let hit = tracer.cast(u, v, &ray, camera.max_range * 1.5);
+                let hit = tracer.cast(u, v, origin, rot * dir_c, camera.max_range * 1.5);
                 let (z, label) = match hit {
                     Some((z, normal, label)) => {
                         let incidence = normal.dot(-(rot * dir_c).normalize());
@@ -333,16 +477,15 @@ pub fn snapshot(
         camera.intrinsics(),
     );
     let rot = camera.world_from_camera.rotation;
+    let intr = camera.intrinsics();
     let light = Vec3::new(0.4, 0.3, 1.0).normalize();
     let pixels: Vec<[u8; 3]> = (0..height)
         .into_par_iter()
         .flat_map_iter(|v| {
             let tracer = &tracer;
-            let camera = &camera;
             (0..width).map(move |u| {
-                let dir = rot * camera.pixel_ray(u, v);
-                let ray = Ray::new(eye, dir);
-                match tracer.cast(u, v, &ray, 100.0) {
+                let dir = rot * pixel_ray(intr, u, v);
+                match tracer.cast(u, v, eye, dir, 100.0) {
                     Some((_, normal, label)) => {
                         let color = world
                             .entities
@@ -368,4 +511,81 @@ pub fn snapshot(
         img.put_pixel((i % width) as u32, (i / width) as u32, image::Rgb(p));
     }
     img
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::{RngExt, SeedableRng};
+
+    /// The closed-form casts agree with parry's general ones (same hit, same normal).
+    #[test]
+    fn closed_form_casts_match_parry() {
+        let mut rng = ChaCha8Rng::seed_from_u64(5);
+        let shapes = [
+            (
+                SharedShape::cuboid(0.3, 0.2, 0.1),
+                Closed::Cuboid(Vec3::new(0.3, 0.2, 0.1)),
+            ),
+            (SharedShape::ball(0.25), Closed::Ball(0.25)),
+            (
+                SharedShape::cylinder(0.2, 0.1),
+                Closed::Cylinder {
+                    half_height: 0.2,
+                    radius: 0.1,
+                },
+            ),
+        ];
+        let mut hits = 0;
+        for _ in 0..3000 {
+            let (shape, closed) = shapes[rng.random_range(0..3)].clone();
+            let closed_name = match closed {
+                Closed::Cuboid(_) => "cuboid",
+                Closed::Ball(_) => "ball",
+                _ => "cylinder",
+            };
+            let r = |rng: &mut ChaCha8Rng| rng.random_range(-1.0..1.0);
+            let pose = Pose::from_parts(
+                Vec3::new(r(&mut rng), r(&mut rng), r(&mut rng)) * 0.3,
+                Quat::from_scaled_axis(Vec3::new(r(&mut rng), r(&mut rng), r(&mut rng)) * 2.0),
+            );
+            let origin = Vec3::new(r(&mut rng), r(&mut rng), 2.0);
+            let aim = pose.translation + Vec3::new(r(&mut rng), r(&mut rng), r(&mut rng)) * 0.3;
+            let dir = aim - origin;
+            let target = Target {
+                shape: shape.clone(),
+                world_from_shape: pose,
+                label: 1,
+                closed,
+                shape_from_world: Mat3::from_quat(pose.rotation.inverse()),
+                origin_in_shape: pose.inverse_transform_point(origin),
+            };
+            let mine = target.cast(origin, dir, 10.0);
+            let theirs = shape.cast_ray_and_get_normal(&pose, &Ray::new(origin, dir), 10.0, true);
+            match (mine, theirs) {
+                (Some((t, n)), Some(h)) => {
+                    assert!(
+                        (t - h.time_of_impact).abs() < 1e-7,
+                        "{t} vs {}",
+                        h.time_of_impact
+                    );
+                    // parry casts cylinders by GJK, whose normals are good to ~1e-4 rad.
+                    let tol = if closed_name == "cylinder" {
+                        1e-3
+                    } else {
+                        1e-6
+                    };
+                    assert!(
+                        n.angle_between(h.normal) < tol,
+                        "{closed_name} t {t}: {n:?} vs {:?}",
+                        h.normal
+                    );
+                    hits += 1;
+                }
+                (None, None) => {}
+                other => panic!("disagree: {other:?}"),
+            }
+        }
+        assert!(hits > 300, "{hits}");
+    }
 }

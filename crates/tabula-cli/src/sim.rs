@@ -1,0 +1,299 @@
+//! `tabula sim …`: the simulator from the command line.
+
+use anyhow::{Context, Result, bail};
+use clap::{Args, Subcommand};
+use std::path::PathBuf;
+use std::time::Instant;
+use tabula_geom::{PcdEncoding, Vec3, rpy_from_quat};
+use tabula_sim::camera::{Camera, capture, snapshot};
+use tabula_sim::world::MODELS;
+use tabula_sim::{PhysicsParams, Scene, SimWorld};
+
+#[derive(Subcommand)]
+pub enum SimCommand {
+    /// Settle a scene (until every body sleeps) and print where everything rests.
+    Settle {
+        #[arg(long)]
+        scene: PathBuf,
+        #[arg(long)]
+        json: bool,
+    },
+    /// Capture a depth frame as an organized PCD in the camera's optical frame.
+    Capture(CaptureArgs),
+    /// Render a shaded PNG of the scene.
+    Snapshot(SnapshotArgs),
+    /// Spawn a catalogue model into a scene, settle, and print the result.
+    Spawn {
+        #[arg(long)]
+        scene: PathBuf,
+        #[arg(long)]
+        model: String,
+        #[arg(long)]
+        name: String,
+        #[arg(long, num_args = 3, allow_negative_numbers = true, value_names = ["X", "Y", "Z"])]
+        at: Vec<f64>,
+        /// Lower it onto the surface below before settling.
+        #[arg(long)]
+        on_surface: bool,
+    },
+    /// List the models `spawn` accepts.
+    Models,
+    /// Time frame capture and settling on a scene.
+    Bench {
+        #[arg(long)]
+        scene: PathBuf,
+        #[arg(long, default_value_t = 20)]
+        frames: usize,
+        #[arg(long)]
+        json: bool,
+    },
+}
+
+#[derive(Args)]
+pub struct CaptureArgs {
+    #[arg(long)]
+    scene: PathBuf,
+    /// Camera name (default: the scene's first camera).
+    #[arg(long)]
+    camera: Option<String>,
+    #[arg(long)]
+    out: PathBuf,
+    /// Also write per-pixel ground-truth labels as JSON.
+    #[arg(long)]
+    labels: Option<PathBuf>,
+    /// Noise seed.
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Write binary PCD instead of ASCII.
+    #[arg(long)]
+    binary: bool,
+    /// Settle the scene before capturing.
+    #[arg(long)]
+    settle: bool,
+}
+
+#[derive(Args)]
+pub struct SnapshotArgs {
+    #[arg(long)]
+    scene: PathBuf,
+    #[arg(long)]
+    png: PathBuf,
+    #[arg(long, num_args = 3, allow_negative_numbers = true, value_names = ["X", "Y", "Z"])]
+    eye: Option<Vec<f64>>,
+    #[arg(long, num_args = 3, allow_negative_numbers = true, value_names = ["X", "Y", "Z"])]
+    target: Option<Vec<f64>>,
+    #[arg(long, default_value_t = 960)]
+    width: usize,
+    #[arg(long, default_value_t = 720)]
+    height: usize,
+}
+
+fn load(scene: &std::path::Path) -> Result<(Scene, SimWorld)> {
+    let s = Scene::load(scene)?;
+    let w = SimWorld::from_scene(&s, PhysicsParams::default())
+        .with_context(|| format!("building {}", scene.display()))?;
+    Ok((s, w))
+}
+
+fn camera_of(scene: &Scene, world: &SimWorld, name: Option<&str>) -> Result<Camera> {
+    let spec = match name {
+        Some(n) => scene
+            .cameras
+            .iter()
+            .find(|c| c.name.get_ref() == n)
+            .with_context(|| {
+                let names: Vec<&str> = scene
+                    .cameras
+                    .iter()
+                    .map(|c| c.name.get_ref().as_str())
+                    .collect();
+                format!(
+                    "no camera `{n}` in the scene; cameras: {}",
+                    names.join(", ")
+                )
+            })?,
+        None => scene
+            .cameras
+            .first()
+            .context("the scene has no [[camera]]")?,
+    };
+    Ok(Camera::from_spec(spec, world)?)
+}
+
+fn print_poses(world: &SimWorld) {
+    for (name, p) in world.object_poses() {
+        let [r, pi, y] = rpy_from_quat(p.rotation);
+        let t = p.translation;
+        println!(
+            "  {name:<16} xyz {:>7.4} {:>7.4} {:>7.4}   rpy {:>7.4} {:>7.4} {:>7.4}",
+            t.x, t.y, t.z, r, pi, y
+        );
+    }
+}
+
+/// Writes a default snapshot of `world` next to the scene's camera view.
+pub fn default_snapshot(world: &SimWorld, path: &std::path::Path) -> Result<()> {
+    let img = snapshot(
+        world,
+        Vec3::new(2.2, -1.6, 1.9),
+        Vec3::new(0.7, 0.0, 0.6),
+        960,
+        720,
+    );
+    img.save(path)
+        .with_context(|| format!("cannot write {}", path.display()))
+}
+
+pub fn run(cmd: SimCommand) -> Result<()> {
+    match cmd {
+        SimCommand::Settle { scene, json } => {
+            let (_, mut world) = load(&scene)?;
+            let t0 = Instant::now();
+            let report = world.settle();
+            let ms = t0.elapsed().as_secs_f64() * 1e3;
+            if json {
+                let poses: Vec<_> = world
+                    .object_poses()
+                    .into_iter()
+                    .map(|(n, p)| serde_json::json!({"name": n, "xyz": p.translation.to_array(), "quat_xyzw": p.rotation.to_array()}))
+                    .collect();
+                println!(
+                    "{}",
+                    serde_json::json!({"report": report, "wall_ms": ms, "objects": poses})
+                );
+            } else {
+                println!(
+                    "settled in {} steps ({:.2} s simulated, {ms:.1} ms wall), all asleep: {}",
+                    report.steps, report.simulated_seconds, report.all_asleep
+                );
+                print_poses(&world);
+            }
+        }
+        SimCommand::Capture(a) => {
+            let (scene, mut world) = load(&a.scene)?;
+            if a.settle {
+                world.settle();
+            }
+            let camera = camera_of(&scene, &world, a.camera.as_deref())?;
+            let t0 = Instant::now();
+            let frame = capture(&world, &camera, a.seed);
+            let ms = t0.elapsed().as_secs_f64() * 1e3;
+            let mut out = std::io::BufWriter::new(
+                std::fs::File::create(&a.out)
+                    .with_context(|| format!("cannot write {}", a.out.display()))?,
+            );
+            frame.cloud.write_pcd(
+                &mut out,
+                if a.binary {
+                    PcdEncoding::Binary
+                } else {
+                    PcdEncoding::Ascii
+                },
+            )?;
+            if let Some(path) = &a.labels {
+                let v = serde_json::json!({"width": frame.width, "height": frame.height, "names": frame.label_names, "labels": frame.labels});
+                std::fs::write(path, v.to_string())
+                    .with_context(|| format!("cannot write {}", path.display()))?;
+            }
+            let p = frame.world_from_camera;
+            let [r, pi, y] = rpy_from_quat(p.rotation);
+            println!(
+                "{}×{} frame, {} valid points, {ms:.1} ms; world_from_camera (optical) xyz {:.4} {:.4} {:.4} rpy {:.4} {:.4} {:.4}; wrote {}",
+                frame.width,
+                frame.height,
+                frame.cloud.finite_count(),
+                p.translation.x,
+                p.translation.y,
+                p.translation.z,
+                r,
+                pi,
+                y,
+                a.out.display()
+            );
+        }
+        SimCommand::Snapshot(a) => {
+            let (_, world) = load(&a.scene)?;
+            if a.width == 0 || a.height == 0 || a.width * a.height > 16_000_000 {
+                bail!("snapshot size must be between 1 and 16 million pixels");
+            }
+            let v3 = |v: &Option<Vec<f64>>, d: Vec3| {
+                v.as_ref().map_or(d, |v| Vec3::new(v[0], v[1], v[2]))
+            };
+            let eye = v3(&a.eye, Vec3::new(2.2, -1.6, 1.9));
+            let target = v3(&a.target, Vec3::new(0.7, 0.0, 0.6));
+            if !eye.is_finite() || !target.is_finite() || eye == target {
+                bail!("--eye and --target must be finite and distinct");
+            }
+            snapshot(&world, eye, target, a.width, a.height)
+                .save(&a.png)
+                .with_context(|| format!("cannot write {}", a.png.display()))?;
+            println!("wrote {}", a.png.display());
+        }
+        SimCommand::Spawn {
+            scene,
+            model,
+            name,
+            at,
+            on_surface,
+        } => {
+            let (_, mut world) = load(&scene)?;
+            world.spawn(&model, &name, [at[0], at[1], at[2]])?;
+            if on_surface {
+                world.put_on_surface(&name)?;
+            }
+            let report = world.settle();
+            println!(
+                "spawned `{name}` ({model}); settled in {} steps",
+                report.steps
+            );
+            print_poses(&world);
+        }
+        SimCommand::Models => {
+            for (name, what) in MODELS {
+                println!("{name:<14} {what}");
+            }
+        }
+        SimCommand::Bench {
+            scene,
+            frames,
+            json,
+        } => {
+            let (s, world) = load(&scene)?;
+            let camera = camera_of(&s, &world, None)?;
+            let mut capture_ms = Vec::new();
+            for seed in 0..frames.max(1) as u64 {
+                let t0 = Instant::now();
+                std::hint::black_box(capture(&world, &camera, seed));
+                capture_ms.push(t0.elapsed().as_secs_f64() * 1e3);
+            }
+            let mut settle_ms = Vec::new();
+            let mut steps = 0;
+            for _ in 0..frames.max(1) {
+                let (_, mut w) = load(&scene)?;
+                let t0 = Instant::now();
+                steps = w.settle().steps;
+                settle_ms.push(t0.elapsed().as_secs_f64() * 1e3);
+            }
+            let median = |v: &mut Vec<f64>| {
+                v.sort_by(f64::total_cmp);
+                v[v.len() / 2]
+            };
+            let (c, st) = (median(&mut capture_ms), median(&mut settle_ms));
+            if json {
+                println!(
+                    "{}",
+                    serde_json::json!({"capture_ms_median": c, "settle_ms_median": st, "settle_steps": steps, "width": camera.width, "height": camera.height, "threads": rayon::current_num_threads()})
+                );
+            } else {
+                println!(
+                    "{}: {}×{} capture median {c:.1} ms wall ({} threads); settle median {st:.1} ms wall ({steps} steps)",
+                    scene.display(),
+                    camera.width,
+                    camera.height,
+                    rayon::current_num_threads()
+                );
+            }
+        }
+    }
+    Ok(())
+}
