@@ -254,19 +254,59 @@ fn sim_capture_snapshot_and_errors() {
     std::fs::create_dir_all(&dir).unwrap();
     let pcd = dir.join("f.pcd");
     let labels = dir.join("l.json");
-    let out = tabula(&["sim", "capture", "--scene", scene, "--out", pcd.to_str().unwrap(), "--labels", labels.to_str().unwrap(), "--binary"]);
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let out = tabula(&[
+        "sim",
+        "capture",
+        "--scene",
+        scene,
+        "--out",
+        pcd.to_str().unwrap(),
+        "--labels",
+        labels.to_str().unwrap(),
+        "--binary",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let bytes = std::fs::read(&pcd).unwrap();
     let header = String::from_utf8_lossy(&bytes[..200]);
-    assert!(header.contains("WIDTH 640\nHEIGHT 480\n") && header.contains("DATA binary"), "{header}");
+    assert!(
+        header.contains("WIDTH 640\nHEIGHT 480\n") && header.contains("DATA binary"),
+        "{header}"
+    );
     let v: serde_json::Value = serde_json::from_slice(&std::fs::read(&labels).unwrap()).unwrap();
     assert_eq!(v["labels"].as_array().unwrap().len(), 640 * 480);
     let png = dir.join("s.png");
-    let out = tabula(&["sim", "snapshot", "--scene", scene, "--png", png.to_str().unwrap(), "--width", "64", "--height", "48"]);
+    let out = tabula(&[
+        "sim",
+        "snapshot",
+        "--scene",
+        scene,
+        "--png",
+        png.to_str().unwrap(),
+        "--width",
+        "64",
+        "--height",
+        "48",
+    ]);
     assert!(out.status.success() && std::fs::read(&png).unwrap().starts_with(b"\x89PNG"));
-    let bad_camera = tabula(&["sim", "capture", "--scene", scene, "--camera", "nope", "--out", pcd.to_str().unwrap()]);
+    let bad_camera = tabula(&[
+        "sim",
+        "capture",
+        "--scene",
+        scene,
+        "--camera",
+        "nope",
+        "--out",
+        pcd.to_str().unwrap(),
+    ]);
     assert!(String::from_utf8_lossy(&bad_camera.stderr).contains("cameras: overhead"));
-    let bad_model = tabula(&["sim", "spawn", "--scene", scene, "--model", "unicorn", "--name", "u", "--at", "0", "0", "1"]);
+    let bad_model = tabula(&[
+        "sim", "spawn", "--scene", scene, "--model", "unicorn", "--name", "u", "--at", "0", "0",
+        "1",
+    ]);
     assert!(String::from_utf8_lossy(&bad_model.stderr).contains("valid models: cube_5cm"));
     std::fs::remove_dir_all(&dir).ok();
 }

@@ -134,6 +134,8 @@ pub struct SimWorld {
     pub params: PhysicsParams,
     /// Robots placed: name, model, `world_from_root`, joint values.
     pub robots: Vec<(String, tabula_robot::RobotModel, Pose, Vec<f64>)>,
+    /// Objects held by grippers.
+    pub attachments: Vec<crate::robot::Attachment>,
     base_dir: Option<std::path::PathBuf>,
 }
 
@@ -234,6 +236,7 @@ impl SimWorld {
             entities: Vec::new(),
             params,
             robots: Vec::new(),
+            attachments: Vec::new(),
             base_dir: None,
         }
     }

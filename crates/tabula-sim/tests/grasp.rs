@@ -1,0 +1,102 @@
+//! The gripper holds what it closes on (issue 3's grasp scenario).
+
+use tabula_geom::{Pose, Quat, Vec3};
+use tabula_robot::Chain;
+use tabula_robot::ik::{IkMode, IkSolver, NumericIk, NumericIkParams};
+use tabula_sim::{PhysicsParams, Scene, SimWorld};
+
+const SCENE: &str = r#"
+[floor]
+[[furniture]]
+name = "table"
+kind = "table"
+pose = { xyz = [0.55, 0.0, 0.0] }
+size = [0.5, 0.8, 0.4]
+
+[[object]]
+name = "box"
+shape = { box = [0.05, 0.05, 0.05] }
+pose = { xyz = [0.55, 0.0, 0.425] }
+mass = 0.1
+
+[[robot]]
+name = "wam"
+urdf = "wam"
+"#;
+
+/// Joint values putting the WAM's tool at `xyz` pointing down (fingers closing along x).
+fn ik(chain: &Chain, xyz: Vec3, seed: &[f64]) -> Vec<f64> {
+    let solver = NumericIk::new(
+        chain.clone(),
+        NumericIkParams {
+            timeout_s: None,
+            ..Default::default()
+        },
+    );
+    let target = Pose::from_parts(xyz, Quat::from_rotation_x(std::f64::consts::PI));
+    solver
+        .solve(&target, IkMode::Full, seed)
+        .expect("reachable")[0]
+        .joints
+        .clone()
+}
+
+#[test]
+fn the_gripper_carries_a_box_and_lets_it_fall_on_the_table() {
+    let scene = Scene::parse(SCENE, "grasp.toml").unwrap();
+    let mut world = SimWorld::from_scene(&scene, PhysicsParams::default()).unwrap();
+    let robot = tabula_robot::robots::load("wam").unwrap();
+    let chain = Chain::new(&robot.model, "base_link", "wam_tool").unwrap();
+    let names: Vec<&str> = chain.joint_names.iter().map(String::as_str).collect();
+    let grasp = ik(
+        &chain,
+        Vec3::new(0.55, 0.0, 0.425),
+        &chain.mid_configuration(),
+    );
+    let at = |q: &[f64]| {
+        names
+            .iter()
+            .copied()
+            .zip(q.iter().copied())
+            .collect::<Vec<_>>()
+    };
+    world.set_joints("wam", &at(&grasp)).unwrap();
+    world.settle();
+    let before = world.pose("box").unwrap();
+
+    let held = world
+        .close_gripper(
+            "wam",
+            "wam_gripper_left_finger_joint",
+            ["wam_gripper_left_finger", "wam_gripper_right_finger"],
+            "wam_gripper_palm",
+        )
+        .unwrap();
+    assert_eq!(held.as_deref(), Some("box"));
+    let gap = world.joint("wam", "wam_gripper_left_finger_joint").unwrap();
+    assert!(
+        (gap - 0.025).abs() < 2e-3,
+        "fingers stopped at the box faces, half gap {gap}"
+    );
+
+    let lifted = ik(&chain, Vec3::new(0.55, 0.0, 0.725), &grasp);
+    world.move_joints("wam", &at(&lifted)).unwrap();
+    let up = world.pose("box").unwrap();
+    assert!(
+        (up.translation - before.translation - Vec3::new(0.0, 0.0, 0.3)).length() < 5e-3,
+        "box at {:?}",
+        up.translation
+    );
+
+    world
+        .open_gripper("wam", "wam_gripper_left_finger_joint")
+        .unwrap();
+    assert!(world.settle().all_asleep);
+    let rest = world.pose("box").unwrap();
+    assert!(
+        (rest.translation.z - 0.425).abs() < 5e-3,
+        "box rests at z = {}",
+        rest.translation.z
+    );
+    assert!((rest.translation.x - 0.55).abs() < 0.1 && rest.translation.y.abs() < 0.1);
+}
