@@ -36,6 +36,19 @@ pub enum SimCommand {
         #[arg(long)]
         on_surface: bool,
     },
+    /// Run the seed's scene commands on a scene, in order: `spawn MODEL NAME X Y Z`,
+    /// `move NAME X Y Z [ROLL PITCH YAW]`, `put NAME` (onto the surface below),
+    /// `delete NAME`, `list`, `models`, `settle`.
+    Do {
+        #[arg(long)]
+        scene: PathBuf,
+        /// One command; repeat for several.
+        #[arg(long = "cmd", required = true)]
+        commands: Vec<String>,
+        /// Write a snapshot of the result.
+        #[arg(long)]
+        png: Option<PathBuf>,
+    },
     /// List the models `spawn` accepts.
     Models,
     /// Time frame capture and settling on a scene.
@@ -144,6 +157,74 @@ pub fn default_snapshot(world: &SimWorld, path: &std::path::Path) -> Result<()> 
         .with_context(|| format!("cannot write {}", path.display()))
 }
 
+fn run_command(world: &mut SimWorld, line: &str) -> Result<()> {
+    let words: Vec<&str> = line.split_whitespace().collect();
+    let num = |i: usize| -> Result<f64> {
+        let w = words
+            .get(i)
+            .with_context(|| format!("missing argument {i}"))?;
+        let v: f64 = w
+            .parse()
+            .with_context(|| format!("`{w}` is not a number"))?;
+        if !v.is_finite() {
+            bail!("`{w}` is not finite");
+        }
+        Ok(v)
+    };
+    let name = |i: usize| {
+        words
+            .get(i)
+            .copied()
+            .with_context(|| format!("missing argument {i}"))
+    };
+    match words.first().copied() {
+        Some("spawn") => {
+            world.spawn(name(1)?, name(2)?, [num(3)?, num(4)?, num(5)?])?;
+            println!("spawned {} as {}", name(1)?, name(2)?);
+        }
+        Some("move") => {
+            let rpy = if words.len() >= 8 {
+                [num(5)?, num(6)?, num(7)?]
+            } else {
+                [0.0; 3]
+            };
+            world.move_to(
+                name(1)?,
+                tabula_geom::pose_from_xyz_rpy([num(2)?, num(3)?, num(4)?], rpy),
+            )?;
+            println!("moved {}", name(1)?);
+        }
+        Some("put") => {
+            world.put_on_surface(name(1)?)?;
+            let t = world.pose(name(1)?)?.translation;
+            println!("put {} on the surface below, at z = {:.4}", name(1)?, t.z);
+        }
+        Some("delete") => {
+            world.delete(name(1)?)?;
+            println!("deleted {}", name(1)?);
+        }
+        Some("list") => {
+            for n in world.list(None) {
+                println!("  {n}");
+            }
+        }
+        Some("models") => {
+            for (n, what) in MODELS {
+                println!("  {n:<14} {what}");
+            }
+        }
+        Some("settle") => {
+            let r = world.settle();
+            println!("settled in {} steps, all asleep: {}", r.steps, r.all_asleep);
+            print_poses(world);
+        }
+        other => bail!(
+            "unknown command {other:?}; commands: spawn, move, put, delete, list, models, settle"
+        ),
+    }
+    Ok(())
+}
+
 pub fn run(cmd: SimCommand) -> Result<()> {
     match cmd {
         SimCommand::Settle { scene, json } => {
@@ -247,6 +328,21 @@ pub fn run(cmd: SimCommand) -> Result<()> {
                 report.steps
             );
             print_poses(&world);
+        }
+        SimCommand::Do {
+            scene,
+            commands,
+            png,
+        } => {
+            let (_, mut world) = load(&scene)?;
+            for (i, line) in commands.iter().enumerate() {
+                run_command(&mut world, line)
+                    .with_context(|| format!("command {} `{line}`", i + 1))?;
+            }
+            if let Some(path) = png {
+                default_snapshot(&world, &path)?;
+                println!("wrote {}", path.display());
+            }
         }
         SimCommand::Models => {
             for (name, what) in MODELS {

@@ -310,3 +310,38 @@ fn sim_capture_snapshot_and_errors() {
     assert!(String::from_utf8_lossy(&bad_model.stderr).contains("valid models: cube_5cm"));
     std::fs::remove_dir_all(&dir).ok();
 }
+
+#[test]
+fn sim_scene_commands_run_in_order() {
+    let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/../../scenes/clutter.toml");
+    let out = tabula(&[
+        "sim",
+        "do",
+        "--scene",
+        scene,
+        "--cmd",
+        "spawn can extra 0.6 -0.4 1.2",
+        "--cmd",
+        "put extra",
+        "--cmd",
+        "move extra 0.5 -0.45 1.0",
+        "--cmd",
+        "put extra",
+        "--cmd",
+        "delete box_red",
+        "--cmd",
+        "list",
+    ]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(
+        text.contains("at z = 0.78") && text.contains("  extra") && !text.contains("  box_red"),
+        "{text}"
+    );
+    let bad = tabula(&["sim", "do", "--scene", scene, "--cmd", "teleport x"]);
+    assert!(String::from_utf8_lossy(&bad.stderr).contains("unknown command"));
+}

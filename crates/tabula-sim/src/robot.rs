@@ -253,3 +253,182 @@ impl SimWorld {
         None
     }
 }
+
+impl SimWorld {
+    /// The entity a robot link penetrates by more than a millimetre among fixed furniture
+    /// and walls (not the floor).
+    fn robot_blocked(&self, robot: &str) -> Option<String> {
+        let prefix = format!("{robot}/");
+        let links = self
+            .entities
+            .iter()
+            .filter(|e| e.kind == EntityKind::RobotLink && e.name.starts_with(&prefix));
+        for link in links {
+            let lb = &self.physics.bodies[link.body];
+            let world_from_link = lb.next_position();
+            for &lc in lb.colliders() {
+                let c = &self.physics.colliders[lc];
+                let pose = *world_from_link * *c.position_wrt_parent().unwrap_or(&Pose::IDENTITY);
+                for other in self
+                    .entities
+                    .iter()
+                    .filter(|o| o.kind == EntityKind::Furniture)
+                {
+                    let ob = &self.physics.bodies[other.body];
+                    for &oc in ob.colliders() {
+                        let occ = &self.physics.colliders[oc];
+                        let opose =
+                            *ob.position() * *occ.position_wrt_parent().unwrap_or(&Pose::IDENTITY);
+                        let contact = rapier3d_f64::parry::query::contact(
+                            &pose,
+                            c.shape(),
+                            &opose,
+                            occ.shape(),
+                            0.0,
+                        )
+                        .ok()
+                        .flatten();
+                        if contact.is_some_and(|k| k.dist < -1e-3) {
+                            return Some(other.name.clone());
+                        }
+                    }
+                }
+            }
+        }
+        None
+    }
+
+    /// Drives a planar mobile base to (x, y, θ) in the world the way seed 000 did
+    /// (SPEC §1.4): turn towards the goal, drive straight, turn to the final heading,
+    /// at the joints' velocity limits. The base collides with furniture: it stops at the
+    /// first contact and reports what it hit. Joint names are the PR2 model's.
+    pub fn drive_base(&mut self, robot: &str, x: f64, y: f64, theta: f64) -> Result<(), SimError> {
+        if !(x.is_finite() && y.is_finite() && theta.is_finite()) {
+            return Err(SimError::NonFinite);
+        }
+        let (jx, jy, jt) = ("base_x_joint", "base_y_joint", "base_theta_joint");
+        let (x0, y0, t0) = (
+            self.joint(robot, jx)?,
+            self.joint(robot, jy)?,
+            self.joint(robot, jt)?,
+        );
+        let (dx, dy) = (x - x0, y - y0);
+        let distance = dx.hypot(dy);
+        let mut legs: Vec<Vec<(&str, f64)>> = Vec::new();
+        let mut heading = t0;
+        if distance > 1e-4 {
+            let face = t0 + tabula_geom::wrap_angle(dy.atan2(dx) - t0);
+            legs.push(vec![(jt, face)]);
+            legs.push(vec![(jx, x), (jy, y)]);
+            heading = face;
+        }
+        legs.push(vec![(
+            jt,
+            heading + tabula_geom::wrap_angle(theta - heading),
+        )]);
+        for leg in legs {
+            self.move_joints_guarded(robot, &leg)?;
+        }
+        Ok(())
+    }
+
+    /// [`Self::move_joints`] that stops before a link would enter furniture.
+    fn move_joints_guarded(
+        &mut self,
+        robot: &str,
+        targets: &[(&str, f64)],
+    ) -> Result<(), SimError> {
+        let ri = self
+            .robots
+            .iter()
+            .position(|r| r.0 == robot)
+            .ok_or_else(|| SimError::UnknownEntity(robot.into()))?;
+        let dt = self.physics.integration_parameters.dt;
+        let mut plan = Vec::new();
+        let mut longest: f64 = 0.0;
+        for &(joint, target) in targets {
+            let start = self.joint(robot, joint)?;
+            let model = &self.robots[ri].1;
+            let j = model
+                .joint(joint)
+                .ok_or_else(|| SimError::Robot(format!("no joint `{joint}`")))?;
+            let v = model.joints[j].limits.velocity;
+            longest = longest.max((target - start).abs() / if v.is_finite() { v } else { 1.0 });
+            plan.push((joint, start, target));
+        }
+        let steps = ((longest / dt).ceil() as usize).max(1);
+        for k in 1..=steps {
+            let s = k as f64 / steps as f64;
+            let now: Vec<(&str, f64)> =
+                plan.iter().map(|&(j, a, b)| (j, a + (b - a) * s)).collect();
+            let before: Vec<(&str, f64)> = plan
+                .iter()
+                .map(|&(j, a, b)| (j, a + (b - a) * (k - 1) as f64 / steps as f64))
+                .collect();
+            self.write_joints(ri, &now)?;
+            self.place_robot(ri, true)?;
+            if let Some(hit) = self.robot_blocked(robot) {
+                self.write_joints(ri, &before)?;
+                self.place_robot(ri, false)?;
+                return Err(SimError::Blocked {
+                    robot: robot.into(),
+                    by: hit,
+                });
+            }
+            self.physics.step();
+        }
+        Ok(())
+    }
+
+    /// Points a pan/tilt head so that `camera_link`'s optical axis (z) goes through
+    /// `point` (world): Gauss–Newton on the image-plane offset of the point, within the
+    /// joints' limits. Returns the remaining angle between axis and point (rad).
+    pub fn look_at(
+        &mut self,
+        robot: &str,
+        pan: &str,
+        tilt: &str,
+        camera_link: &str,
+        point: tabula_geom::Vec3,
+    ) -> Result<f64, SimError> {
+        if !point.is_finite() {
+            return Err(SimError::NonFinite);
+        }
+        let ri = self
+            .robots
+            .iter()
+            .position(|r| r.0 == robot)
+            .ok_or_else(|| SimError::UnknownEntity(robot.into()))?;
+        let offset = |w: &SimWorld| -> Result<(f64, f64, f64), SimError> {
+            let cam = w.link_pose(robot, camera_link)?;
+            let p = cam.inverse_transform_point(point);
+            let angle = p.angle_between(tabula_geom::Vec3::Z);
+            Ok((p.x.atan2(p.z), p.y.atan2(p.z), angle))
+        };
+        for _ in 0..20 {
+            let (ex, ey, angle) = offset(self)?;
+            if angle < 1e-6 {
+                break;
+            }
+            let q = [self.joint(robot, pan)?, self.joint(robot, tilt)?];
+            let mut jac = [[0.0; 2]; 2];
+            for (k, name) in [pan, tilt].iter().enumerate() {
+                let h = 1e-6;
+                self.write_joints(ri, &[(name, q[k] + h)])?;
+                let (fx, fy, _) = offset(self)?;
+                self.write_joints(ri, &[(name, q[k])])?;
+                jac[0][k] = (fx - ex) / h;
+                jac[1][k] = (fy - ey) / h;
+            }
+            let det = jac[0][0] * jac[1][1] - jac[0][1] * jac[1][0];
+            if det.abs() < 1e-12 {
+                break;
+            }
+            let d0 = -(jac[1][1] * ex - jac[0][1] * ey) / det;
+            let d1 = -(-jac[1][0] * ex + jac[0][0] * ey) / det;
+            self.write_joints(ri, &[(pan, q[0] + d0), (tilt, q[1] + d1)])?;
+        }
+        self.place_robot(ri, false)?;
+        Ok(offset(self)?.2)
+    }
+}

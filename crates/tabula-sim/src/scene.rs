@@ -126,6 +126,19 @@ pub struct RobotSpec {
     pub pose: PoseSpec,
     #[serde(default)]
     pub joints: std::collections::BTreeMap<String, f64>,
+    /// An object the robot starts holding in a gripper.
+    pub hold: Option<HoldSpec>,
+}
+
+/// A held object: placed at `tool_link` and gripped by closing `finger_joint`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct HoldSpec {
+    pub object: String,
+    pub tool_link: String,
+    pub finger_joint: String,
+    pub fingers: [String; 2],
+    pub palm: String,
 }
 
 /// Where a camera looks from.

@@ -46,6 +46,8 @@ pub enum SimError {
     Mesh { path: String, message: String },
     #[error("pose values must be finite")]
     NonFinite,
+    #[error("`{robot}` stopped: it would drive into `{by}`")]
+    Blocked { robot: String, by: String },
 }
 
 /// Parameters of the physics (SPEC §5); defaults favour resting accuracy over speed.
@@ -256,6 +258,24 @@ impl SimWorld {
         }
         for r in &scene.robots {
             w.add_robot(r)?;
+        }
+        for r in &scene.robots {
+            if let Some(h) = &r.hold {
+                let robot = r.name.get_ref();
+                w.open_gripper(robot, &h.finger_joint)?;
+                let world_from_tool = w.link_pose(robot, &h.tool_link)?;
+                w.move_to(&h.object, world_from_tool)?;
+                let fingers = [h.fingers[0].as_str(), h.fingers[1].as_str()];
+                if w.close_gripper(robot, &h.finger_joint, fingers, &h.palm)?
+                    .as_deref()
+                    != Some(h.object.as_str())
+                {
+                    return Err(SimError::Robot(format!(
+                        "`{robot}` could not close its gripper on `{}`",
+                        h.object
+                    )));
+                }
+            }
         }
         Ok(w)
     }
