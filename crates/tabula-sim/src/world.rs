@@ -150,50 +150,76 @@ fn y_to_z() -> Pose {
     Pose::from_rotation(Quat::from_rotation_x(FRAC_PI_2))
 }
 
-fn load_mesh_points(path: &Path, scale: [f64; 3]) -> Result<Vec<Vec3>, SimError> {
+/// Vertices and triangles of an OBJ or STL file, scaled.
+fn load_mesh(path: &Path, scale: [f64; 3]) -> Result<(Vec<Vec3>, Vec<[u32; 3]>), SimError> {
     let fail = |m: String| SimError::Mesh {
         path: path.display().to_string(),
         message: m,
     };
-    let text = std::fs::read(path).map_err(|e| fail(e.to_string()))?;
+    let bytes = std::fs::read(path).map_err(|e| fail(e.to_string()))?;
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
         .unwrap_or("")
         .to_ascii_lowercase();
     let mut points = Vec::new();
+    let mut triangles: Vec<[u32; 3]> = Vec::new();
+    let parse3 = |w: &mut std::str::SplitWhitespace| -> Option<Vec3> {
+        let v: Vec<f64> = w.take(3).filter_map(|x| x.parse().ok()).collect();
+        (v.len() == 3).then(|| Vec3::new(v[0], v[1], v[2]))
+    };
     match ext.as_str() {
         "obj" => {
-            // Vertex lines are all a convex hull needs.
-            for line in String::from_utf8_lossy(&text).lines() {
+            let text = String::from_utf8_lossy(&bytes);
+            for line in text.lines() {
                 let mut w = line.split_whitespace();
-                if w.next() == Some("v") {
-                    let v: Vec<f64> = w.take(3).filter_map(|x| x.parse().ok()).collect();
-                    if v.len() == 3 {
-                        points.push(Vec3::new(v[0], v[1], v[2]));
+                match w.next() {
+                    Some("v") => points.push(
+                        parse3(&mut w).ok_or_else(|| fail(format!("bad vertex line `{line}`")))?,
+                    ),
+                    Some("f") => {
+                        // `f a b c …`, each `a` possibly `a/t/n`, negative = from the end.
+                        let mut idx = Vec::new();
+                        for item in w {
+                            let first = item.split('/').next().unwrap_or("");
+                            let i: i64 = first
+                                .parse()
+                                .map_err(|_| fail(format!("bad face line `{line}`")))?;
+                            let n = points.len() as i64;
+                            let i = if i < 0 { n + i } else { i - 1 };
+                            if i < 0 || i >= n {
+                                return Err(fail(format!(
+                                    "face refers to vertex {first}, which does not exist"
+                                )));
+                            }
+                            idx.push(i as u32);
+                        }
+                        for k in 1..idx.len().saturating_sub(1) {
+                            triangles.push([idx[0], idx[k], idx[k + 1]]);
+                        }
                     }
+                    _ => {}
                 }
             }
         }
         "stl" => {
-            let ascii =
-                text.starts_with(b"solid") && String::from_utf8_lossy(&text).contains("facet");
-            if ascii {
-                for line in String::from_utf8_lossy(&text).lines() {
+            let text = String::from_utf8_lossy(&bytes);
+            if bytes.starts_with(b"solid") && text.contains("facet") {
+                for line in text.lines() {
                     let mut w = line.split_whitespace();
                     if w.next() == Some("vertex") {
-                        let v: Vec<f64> = w.take(3).filter_map(|x| x.parse().ok()).collect();
-                        if v.len() == 3 {
-                            points.push(Vec3::new(v[0], v[1], v[2]));
-                        }
+                        points.push(
+                            parse3(&mut w)
+                                .ok_or_else(|| fail(format!("bad vertex line `{line}`")))?,
+                        );
                     }
                 }
             } else {
-                if text.len() < 84 {
+                if bytes.len() < 84 {
                     return Err(fail("binary STL shorter than its header".into()));
                 }
-                let n = u32::from_le_bytes([text[80], text[81], text[82], text[83]]) as usize;
-                if text.len() < 84 + n * 50 {
+                let n = u32::from_le_bytes([bytes[80], bytes[81], bytes[82], bytes[83]]) as usize;
+                if bytes.len() < 84 + n.saturating_mul(50) {
                     return Err(fail(format!(
                         "binary STL declares {n} triangles but is too short"
                     )));
@@ -203,13 +229,16 @@ fn load_mesh_points(path: &Path, scale: [f64; 3]) -> Result<Vec<Vec3>, SimError>
                     for k in 0..3 {
                         let f = |i: usize| {
                             let o = base + k * 12 + i * 4;
-                            f32::from_le_bytes([text[o], text[o + 1], text[o + 2], text[o + 3]])
+                            f32::from_le_bytes([bytes[o], bytes[o + 1], bytes[o + 2], bytes[o + 3]])
                                 as f64
                         };
                         points.push(Vec3::new(f(0), f(1), f(2)));
                     }
                 }
             }
+            triangles = (0..points.len() as u32 / 3)
+                .map(|t| [3 * t, 3 * t + 1, 3 * t + 2])
+                .collect();
         }
         other => {
             return Err(fail(format!(
@@ -217,12 +246,52 @@ fn load_mesh_points(path: &Path, scale: [f64; 3]) -> Result<Vec<Vec3>, SimError>
             )));
         }
     }
-    let s = Vec3::from_array(scale);
-    points.retain(|p| p.is_finite());
+    if points.iter().any(|p| !p.is_finite()) {
+        return Err(fail("non-finite vertex".into()));
+    }
     if points.len() < 4 {
         return Err(fail("fewer than 4 vertices".into()));
     }
-    Ok(points.into_iter().map(|p| p * s).collect())
+    let s = Vec3::from_array(scale);
+    Ok((points.into_iter().map(|p| p * s).collect(), triangles))
+}
+
+/// Enclosed volume of a triangle mesh (divergence theorem; orientation-consistent meshes).
+fn mesh_volume(points: &[Vec3], triangles: &[[u32; 3]]) -> f64 {
+    triangles
+        .iter()
+        .map(|t| {
+            points[t[0] as usize].dot(points[t[1] as usize].cross(points[t[2] as usize])) / 6.0
+        })
+        .sum::<f64>()
+        .abs()
+}
+
+/// The collision shape of a mesh: its convex hull when the mesh is (nearly) convex, a
+/// convex decomposition (V-HACD) when it is not, so a cup's hollow stays hollow and a
+/// concave body cannot tunnel as a dynamic trimesh would.
+fn mesh_shape(
+    path: &Path,
+    points: &[Vec3],
+    triangles: &[[u32; 3]],
+) -> Result<SharedShape, SimError> {
+    let hull = SharedShape::convex_hull(points).ok_or_else(|| SimError::Mesh {
+        path: path.display().to_string(),
+        message: "degenerate (flat or collinear) vertices: no convex hull".into(),
+    })?;
+    let hull_volume = hull.mass_properties(1.0).mass();
+    let volume = mesh_volume(points, triangles);
+    if triangles.is_empty() || volume >= 0.95 * hull_volume {
+        return Ok(hull);
+    }
+    // V-HACD is third-party code on arbitrary input: a panic there is a mesh error.
+    let (pts, tris) = (points.to_vec(), triangles.to_vec());
+    std::panic::catch_unwind(move || SharedShape::convex_decomposition(&pts, &tris)).map_err(|_| {
+        SimError::Mesh {
+            path: path.display().to_string(),
+            message: "convex decomposition failed".into(),
+        }
+    })
 }
 
 impl SimWorld {
@@ -519,12 +588,8 @@ impl SimWorld {
                     Some(d) if Path::new(path).is_relative() => d.join(path),
                     _ => Path::new(path).to_path_buf(),
                 };
-                let points = load_mesh_points(&full, *scale)?;
-                let hull = SharedShape::convex_hull(&points).ok_or_else(|| SimError::Mesh {
-                    path: full.display().to_string(),
-                    message: "degenerate (flat or collinear) vertices: no convex hull".into(),
-                })?;
-                (hull, Pose::IDENTITY)
+                let (points, triangles) = load_mesh(&full, *scale)?;
+                (mesh_shape(&full, &points, &triangles)?, Pose::IDENTITY)
             }
         })
     }
@@ -606,15 +671,14 @@ impl SimWorld {
                         SharedShape::capsule_z(length / 2.0, *radius)
                     }
                     Geometry::Sphere { radius } => SharedShape::ball(*radius),
-                    Geometry::Mesh { path, scale } => {
-                        match load_mesh_points(path, scale.to_array())
-                            .ok()
-                            .and_then(|p| SharedShape::convex_hull(&p))
-                        {
-                            Some(h) => h,
-                            None => continue,
-                        }
-                    }
+                    // A robot whose mesh files are missing or broken still loads,
+                    // without that shape.
+                    Geometry::Mesh { path, scale } => match load_mesh(path, scale.to_array())
+                        .and_then(|(p, t)| mesh_shape(path, &p, &t))
+                    {
+                        Ok(shape) => shape,
+                        Err(_) => continue,
+                    },
                 };
                 colliders.push((shape, s.link_from_shape));
             }
