@@ -142,6 +142,29 @@ impl SimWorld {
         Ok(steps)
     }
 
+    /// Follows a joint trajectory: `waypoints[k][i]` is joint `joints[i]` at waypoint k,
+    /// each segment at the velocity limits. Returns the physics steps taken.
+    pub fn follow_trajectory(
+        &mut self,
+        robot: &str,
+        joints: &[&str],
+        waypoints: &[Vec<f64>],
+    ) -> Result<usize, SimError> {
+        let mut steps = 0;
+        for (k, w) in waypoints.iter().enumerate() {
+            if w.len() != joints.len() {
+                return Err(SimError::Robot(format!(
+                    "waypoint {k} has {} values for {} joints",
+                    w.len(),
+                    joints.len()
+                )));
+            }
+            let targets: Vec<(&str, f64)> = joints.iter().copied().zip(w.iter().copied()).collect();
+            steps += self.move_joints(robot, &targets)?;
+        }
+        Ok(steps)
+    }
+
     /// Closes a parallel gripper (its finger joint closes towards its lower limit); if
     /// both fingers touch the same object it is held until [`Self::open_gripper`].
     /// Returns the held object.
