@@ -328,13 +328,14 @@ PR2_ARM = [
     ("wrist_flex", (0.321, 0.0, 0.0), (0, 1, 0), (-2.094, 0.0), 3.078),
     ("wrist_roll", (0.0, 0.0, 0.0), (1, 0, 0), None, 3.6),
 ]
+# Collision shapes kept clear of each other at the joints, so only real contacts count.
 PR2_LINK_SHAPES = {
-    "shoulder_pan": [(cylinder(0.1, 0.3), origin_xyz_rpy((0, 0, -0.05)))],
-    "shoulder_lift": [(sphere(0.1), origin_xyz_rpy((0, 0, 0)))],
-    "upper_arm_roll": [(cylinder(0.07, 0.3), origin_xyz_rpy((0.2, 0, 0), (0, DEG90, 0)))],
-    "elbow_flex": [(sphere(0.07), origin_xyz_rpy((0, 0, 0)))],
-    "forearm_roll": [(cylinder(0.055, 0.25), origin_xyz_rpy((0.16, 0, 0), (0, DEG90, 0)))],
-    "wrist_flex": [(sphere(0.045), origin_xyz_rpy((0, 0, 0)))],
+    "shoulder_pan": [(cylinder(0.07, 0.25), origin_xyz_rpy((0, 0, -0.1)))],
+    "shoulder_lift": [(sphere(0.07), origin_xyz_rpy((0.02, 0, 0)))],
+    "upper_arm_roll": [(cylinder(0.06, 0.2), origin_xyz_rpy((0.2, 0, 0), (0, DEG90, 0)))],
+    "elbow_flex": [(sphere(0.06), origin_xyz_rpy((0, 0, 0)))],
+    "forearm_roll": [(cylinder(0.05, 0.16), origin_xyz_rpy((0.16, 0, 0), (0, DEG90, 0)))],
+    "wrist_flex": [(sphere(0.04), origin_xyz_rpy((0, 0, 0)))],
     "wrist_roll": [],
 }
 PR2_TOOL_FROM_WRIST = 0.18
@@ -359,7 +360,8 @@ def pr2():
     u.joint("base_theta_joint", "continuous", "base_y_link", "base_footprint", origin_xyz_rpy((0, 0, 0)), (0, 0, 1), (None, None, 1.0, 1000))
     u.link("base_link", [(box(0.668, 0.668, 0.28), origin_xyz_rpy((0, 0, 0.14 - 0.051 + 0.02)))], 100.0, "dark")
     u.joint("base_footprint_joint", "fixed", "base_footprint", "base_link", origin_xyz_rpy((0, 0, 0.051)))
-    u.link("torso_lift_link", [(box(0.3, 0.62, 0.3), origin_xyz_rpy((-0.05, 0, 0.05)))], 20.0, "grey")
+    # The torso column between the shoulders (the shoulder pan links carry the arms' width).
+    u.link("torso_lift_link", [(box(0.25, 0.2, 0.7), origin_xyz_rpy((-0.1, 0, -0.3)))], 20.0, "grey")
     u.joint("torso_lift_joint", "prismatic", "base_link", "torso_lift_link", origin_xyz_rpy((-0.05, 0, 0.739675)), (0, 0, 1), (0.0, 0.33, 0.013, 10000))
     u.link("head_pan_link", [(cylinder(0.06, 0.1), origin_xyz_rpy((0, 0, 0.05)))], 1.0, "dark")
     u.joint("head_pan_joint", "revolute", "torso_lift_link", "head_pan_link", origin_xyz_rpy((-0.01707, 0, 0.38145)), (0, 0, 1), (-3.007, 3.007, 6.0, 2.6))

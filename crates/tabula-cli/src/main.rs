@@ -2,6 +2,7 @@
 
 mod demo;
 mod ik;
+mod motion;
 mod plan;
 mod sim;
 
@@ -24,6 +25,11 @@ enum Command {
         #[command(subcommand)]
         command: ik::IkCommand,
     },
+    /// Motion planning: collision world, RRT-Connect, benchmarks (MoveIt/OMPL's role).
+    Motion {
+        #[command(subcommand)]
+        command: motion::MotionCommand,
+    },
     /// Task planning in PDDL: plan, validate, benchmark (Fast Downward's role).
     Plan(plan::PlanArgs),
     /// The built-in simulator: settle scenes, capture depth frames, render snapshots.
@@ -39,6 +45,7 @@ fn main() {
         Command::Demo => demo::run(),
         Command::Ik { command } => ik::run(command),
         Command::Plan(args) => plan::run(args),
+        Command::Motion { command } => motion::run(command),
         Command::Sim { command } => sim::run(command),
     };
     if let Err(e) = result {

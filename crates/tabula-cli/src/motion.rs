@@ -1,0 +1,88 @@
+//! `tabula motion …`: motion planning benchmarks.
+
+use anyhow::{Result, bail};
+use clap::Subcommand;
+use tabula_motion::PlannerParams;
+use tabula_motion::bench;
+use tabula_robot::{Chain, robots};
+
+#[derive(Subcommand)]
+pub enum MotionCommand {
+    /// RRT-Connect on generated tabletop reach problems (table, shelf, boxes).
+    Bench {
+        /// wam or pr2.
+        #[arg(long, default_value = "wam")]
+        robot: String,
+        #[arg(long, default_value_t = 200)]
+        problems: usize,
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// Planning time limit per problem (s).
+        #[arg(long, default_value_t = 1.0)]
+        timeout: f64,
+        #[arg(long)]
+        json: bool,
+    },
+}
+
+pub fn run(cmd: MotionCommand) -> Result<()> {
+    match cmd {
+        MotionCommand::Bench {
+            robot,
+            problems,
+            seed,
+            timeout,
+            json,
+        } => {
+            if robot != "wam" && robot != "pr2" {
+                bail!("--robot must be wam or pr2 (the generated scenes are sized for them)");
+            }
+            if !(timeout.is_finite() && timeout > 0.0) {
+                bail!("--timeout must be a positive number of seconds");
+            }
+            let r = robots::load(&robot)?;
+            let base = if robot == "pr2" {
+                "base_link"
+            } else {
+                r.default_base.as_str()
+            };
+            let chain = Chain::new(&r.model, base, &r.default_tip)?;
+            let params = PlannerParams {
+                timeout_s: timeout,
+                ..PlannerParams::default()
+            };
+            let report = bench::run(&r, &chain, problems, seed, &params)?;
+            if json {
+                println!("{}", serde_json::to_string(&report)?);
+            } else {
+                println!(
+                    "RRT-Connect on {} tabletop reach problems ({}), seed {seed}, {timeout} s limit",
+                    report.problems, report.robot
+                );
+                println!(
+                    "  solved              {}/{} ({:.1} %)",
+                    report.solved,
+                    report.problems,
+                    100.0 * report.success_rate
+                );
+                println!(
+                    "  planning time       median {:.3} ms   p95 {:.3} ms",
+                    report.time_ms_median, report.time_ms_p95
+                );
+                println!(
+                    "  path length         median {:.3} rad",
+                    report.path_length_median
+                );
+                println!(
+                    "  validity checks     {:.0} per second; one check median {:.2} µs",
+                    report.checks_per_second, report.validity_check_us_median
+                );
+                println!(
+                    "  convex–convex query median {:.3} µs",
+                    report.convex_query_us_median
+                );
+            }
+        }
+    }
+    Ok(())
+}

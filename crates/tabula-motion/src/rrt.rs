@@ -1,0 +1,405 @@
+//! RRT-Connect in joint space (Kuffner & LaValle 2000, as OMPL's default in MoveIt),
+//! random shortcutting, and time parameterisation under velocity and acceleration limits.
+
+use crate::world::CollisionWorld;
+use rand::{RngExt, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use std::time::{Duration, Instant};
+
+/// Planner parameters; defaults follow the seed's use of RRT-Connect (SPEC §6: 1 s limit).
+#[derive(Debug, Clone, serde::Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct PlannerParams {
+    /// Time limit (s), SPEC §6.
+    pub timeout_s: f64,
+    /// Longest tree extension (rad, max over joints).
+    pub range: f64,
+    /// Edge checking resolution (rad, max over joints).
+    pub resolution: f64,
+    /// Random shortcut attempts on the found path.
+    pub shortcut_attempts: usize,
+    pub seed: u64,
+}
+
+impl Default for PlannerParams {
+    fn default() -> Self {
+        Self {
+            timeout_s: 1.0,
+            range: 0.6,
+            resolution: 0.02,
+            shortcut_attempts: 100,
+            seed: 0,
+        }
+    }
+}
+
+/// Why planning gave no path.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum PlanError {
+    #[error("the start is invalid: {0}")]
+    StartInvalid(String),
+    #[error("the goal is invalid: {0}")]
+    GoalInvalid(String),
+    #[error("no goal: every goal candidate is invalid")]
+    NoValidGoal,
+    #[error("no path found within {0:.3} s")]
+    Timeout(f64),
+    #[error("{0}")]
+    World(String),
+}
+
+/// A collision-free path of waypoints (joint space, chain order).
+#[derive(Debug, Clone)]
+pub struct Path {
+    pub waypoints: Vec<Vec<f64>>,
+    /// Planning time (s), tree sizes.
+    pub planning_time: f64,
+    pub tree_nodes: usize,
+}
+
+impl Path {
+    /// Joint-space length (sum of Euclidean segment lengths).
+    pub fn length(&self) -> f64 {
+        self.waypoints.windows(2).map(|w| dist(&w[0], &w[1])).sum()
+    }
+}
+
+fn dist(a: &[f64], b: &[f64]) -> f64 {
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| (x - y) * (x - y))
+        .sum::<f64>()
+        .sqrt()
+}
+
+fn linf(a: &[f64], b: &[f64]) -> f64 {
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0, f64::max)
+}
+
+/// True when the straight segment a→b is valid: configurations are checked at most
+/// `resolution` rad apart (max over joints) and close enough that no point of the robot
+/// moves more than the world's `max_step_displacement` between two — so with that much
+/// padding, nothing in between can touch. Checked in bisection order so a collision in
+/// the middle is found early.
+pub fn segment_valid(world: &CollisionWorld, a: &[f64], b: &[f64], resolution: f64) -> bool {
+    segment_valid_spaced(world, a, b, resolution, world.params.max_step_displacement)
+}
+
+fn segment_valid_spaced(
+    world: &CollisionWorld,
+    a: &[f64],
+    b: &[f64],
+    resolution: f64,
+    displacement: f64,
+) -> bool {
+    let by_angle = linf(a, b) / resolution.max(1e-9);
+    let by_motion = world.displacement_bound(a, b) / displacement.max(1e-4);
+    let steps = by_angle.max(by_motion).ceil() as usize;
+    if steps <= 1 {
+        return world.is_valid(b);
+    }
+    let mut q = vec![0.0; a.len()];
+    // Van der Corput order over 1..steps.
+    let mut order: Vec<usize> = (1..=steps).collect();
+    order.sort_by_key(|&i| (i as u32).reverse_bits());
+    for i in order {
+        let t = i as f64 / steps as f64;
+        for k in 0..a.len() {
+            q[k] = a[k] + (b[k] - a[k]) * t;
+        }
+        if !world.is_valid(&q) {
+            return false;
+        }
+    }
+    true
+}
+
+struct Tree {
+    nodes: Vec<Vec<f64>>,
+    parent: Vec<usize>,
+}
+
+impl Tree {
+    fn nearest(&self, q: &[f64]) -> usize {
+        let mut best = (f64::INFINITY, 0);
+        for (i, n) in self.nodes.iter().enumerate() {
+            let d: f64 = n.iter().zip(q).map(|(x, y)| (x - y) * (x - y)).sum();
+            if d < best.0 {
+                best = (d, i);
+            }
+        }
+        best.1
+    }
+
+    fn path_to_root(&self, mut i: usize) -> Vec<Vec<f64>> {
+        let mut out = vec![self.nodes[i].clone()];
+        while self.parent[i] != usize::MAX {
+            i = self.parent[i];
+            out.push(self.nodes[i].clone());
+        }
+        out
+    }
+}
+
+enum Extend {
+    Trapped,
+    Advanced(usize),
+    Reached(usize),
+}
+
+fn extend(
+    world: &CollisionWorld,
+    tree: &mut Tree,
+    q: &[f64],
+    p: &PlannerParams,
+    spacing: f64,
+) -> Extend {
+    let near = tree.nearest(q);
+    let from = tree.nodes[near].clone();
+    let d = linf(&from, q);
+    let (target, reached) = if d <= p.range {
+        (q.to_vec(), true)
+    } else {
+        let s = p.range / d;
+        (
+            from.iter().zip(q).map(|(a, b)| a + (b - a) * s).collect(),
+            false,
+        )
+    };
+    if !segment_valid_spaced(world, &from, &target, p.resolution, spacing) {
+        return Extend::Trapped;
+    }
+    tree.nodes.push(target);
+    tree.parent.push(near);
+    let i = tree.nodes.len() - 1;
+    if reached {
+        Extend::Reached(i)
+    } else {
+        Extend::Advanced(i)
+    }
+}
+
+/// Plans from `start` to any of `goals` (several goals: e.g. IK solutions of a pose).
+///
+/// Lazy in the edge checks: the trees grow with edges checked at four times the world's
+/// step displacement, and only the final path is checked at the full density; if it
+/// fails there (rare: a thin obstacle between two coarse samples), planning runs again
+/// with full-density checks in the time that is left.
+pub fn rrt_connect(
+    world: &CollisionWorld,
+    start: &[f64],
+    goals: &[Vec<f64>],
+    p: &PlannerParams,
+) -> Result<Path, PlanError> {
+    let t0 = Instant::now();
+    if let Some(c) = world
+        .first_collision(start)
+        .map_err(|e| PlanError::StartInvalid(e.to_string()))?
+    {
+        return Err(PlanError::StartInvalid(format!("{} touches {}", c.0, c.1)));
+    }
+    let mut valid_goals = Vec::new();
+    let mut last_problem = None;
+    for g in goals {
+        match world.first_collision(g) {
+            Ok(None) => valid_goals.push(g.clone()),
+            Ok(Some(c)) => last_problem = Some(format!("{} touches {}", c.0, c.1)),
+            Err(e) => return Err(PlanError::GoalInvalid(e.to_string())),
+        }
+    }
+    if valid_goals.is_empty() {
+        return Err(match (goals.len(), last_problem) {
+            (1, Some(why)) => PlanError::GoalInvalid(why),
+            _ => PlanError::NoValidGoal,
+        });
+    }
+    let deadline = t0 + Duration::from_secs_f64(p.timeout_s.max(0.0));
+    let fine = world.params.max_step_displacement;
+    for spacing in [4.0 * fine, fine] {
+        match grow(world, start, &valid_goals, p, spacing, deadline) {
+            Some(mut path) => {
+                let verified = path
+                    .waypoints
+                    .windows(2)
+                    .all(|w| segment_valid_spaced(world, &w[0], &w[1], p.resolution, fine));
+                if verified {
+                    path.planning_time = t0.elapsed().as_secs_f64();
+                    return Ok(path);
+                }
+            }
+            None => break,
+        }
+    }
+    Err(PlanError::Timeout(p.timeout_s))
+}
+
+/// The RRT-Connect loop with edges checked at `spacing`; `None` at the deadline.
+fn grow(
+    world: &CollisionWorld,
+    start: &[f64],
+    goals: &[Vec<f64>],
+    p: &PlannerParams,
+    spacing: f64,
+    deadline: Instant,
+) -> Option<Path> {
+    // Straight line first: in open space that is the answer.
+    for g in goals {
+        if segment_valid_spaced(world, start, g, p.resolution, spacing) {
+            return Some(Path {
+                waypoints: vec![start.to_vec(), g.clone()],
+                planning_time: 0.0,
+                tree_nodes: 2,
+            });
+        }
+    }
+    let mut rng = ChaCha8Rng::seed_from_u64(p.seed);
+    let mut a = Tree {
+        nodes: vec![start.to_vec()],
+        parent: vec![usize::MAX],
+    };
+    let mut b = Tree {
+        nodes: goals.to_vec(),
+        parent: vec![usize::MAX; goals.len()],
+    };
+    let mut a_is_start = true;
+    let chain = &world.chain;
+    let mut q = vec![0.0; start.len()];
+    let mut iter = 0usize;
+    loop {
+        iter += 1;
+        if iter.is_multiple_of(16) && Instant::now() >= deadline {
+            return None;
+        }
+        for (i, v) in q.iter_mut().enumerate() {
+            let (lo, hi) = chain.sample_range(i);
+            *v = rng.random_range(lo..=hi);
+        }
+        let new = match extend(world, &mut a, &q, p, spacing) {
+            Extend::Trapped => None,
+            Extend::Advanced(i) | Extend::Reached(i) => Some(i),
+        };
+        if let Some(ai) = new {
+            // Connect the other tree towards the new node greedily.
+            let target = a.nodes[ai].clone();
+            loop {
+                match extend(world, &mut b, &target, p, spacing) {
+                    Extend::Trapped => break,
+                    Extend::Advanced(_) => continue,
+                    Extend::Reached(bi) => {
+                        let mut from_a = a.path_to_root(ai);
+                        from_a.reverse();
+                        let from_b = b.path_to_root(bi);
+                        let mut waypoints = from_a;
+                        waypoints.extend(from_b.into_iter().skip(1));
+                        if !a_is_start {
+                            waypoints.reverse();
+                        }
+                        let mut path = Path {
+                            waypoints,
+                            planning_time: 0.0,
+                            tree_nodes: a.nodes.len() + b.nodes.len(),
+                        };
+                        shortcut_spaced(world, &mut path, p, &mut rng, spacing);
+                        return Some(path);
+                    }
+                }
+            }
+        }
+        std::mem::swap(&mut a, &mut b);
+        a_is_start = !a_is_start;
+    }
+}
+
+/// Random shortcutting: replace the stretch between two random waypoints by the
+/// straight segment whenever that segment is valid.
+pub fn shortcut(world: &CollisionWorld, path: &mut Path, p: &PlannerParams, rng: &mut ChaCha8Rng) {
+    shortcut_spaced(world, path, p, rng, world.params.max_step_displacement);
+}
+
+fn shortcut_spaced(
+    world: &CollisionWorld,
+    path: &mut Path,
+    p: &PlannerParams,
+    rng: &mut ChaCha8Rng,
+    spacing: f64,
+) {
+    for _ in 0..p.shortcut_attempts {
+        let n = path.waypoints.len();
+        if n < 3 {
+            return;
+        }
+        let i = rng.random_range(0..n - 2);
+        let j = rng.random_range(i + 2..n);
+        if segment_valid_spaced(
+            world,
+            &path.waypoints[i],
+            &path.waypoints[j],
+            p.resolution,
+            spacing,
+        ) {
+            path.waypoints.drain(i + 1..j);
+        }
+    }
+}
+
+/// A timed trajectory: samples `(t, q)`.
+#[derive(Debug, Clone)]
+pub struct Trajectory {
+    pub times: Vec<f64>,
+    pub positions: Vec<Vec<f64>>,
+}
+
+impl Trajectory {
+    pub fn duration(&self) -> f64 {
+        self.times.last().copied().unwrap_or(0.0)
+    }
+}
+
+/// Times a path under per-joint velocity and acceleration limits: each segment follows
+/// one fixed rest-to-rest profile in the path parameter (accelerate for a quarter of the
+/// segment, cruise, decelerate for a quarter), stretched until every joint's peak
+/// velocity `d/(0.75 T)` and acceleration `d/(0.1875 T²)` are within its limits, so all
+/// joints stay on the straight segment. Sampled every `dt` seconds.
+pub fn time_parameterize(path: &[Vec<f64>], vmax: &[f64], amax: &[f64], dt: f64) -> Trajectory {
+    let mut times = vec![0.0];
+    let mut positions = vec![path.first().cloned().unwrap_or_default()];
+    let mut t_start = 0.0;
+    for w in path.windows(2) {
+        let (a, b) = (&w[0], &w[1]);
+        let mut duration: f64 = 0.0;
+        for k in 0..a.len() {
+            let d = (b[k] - a[k]).abs();
+            let (v, acc) = (vmax[k].max(1e-9), amax[k].max(1e-9));
+            duration = duration
+                .max(d / (0.75 * v))
+                .max((d / (0.1875 * acc)).sqrt());
+        }
+        if duration <= 0.0 {
+            continue;
+        }
+        let ta = duration / 4.0;
+        let vs = 1.0 / (duration - ta);
+        let s_of = |t: f64| {
+            if t < ta {
+                0.5 * vs / ta * t * t
+            } else if t < duration - ta {
+                0.5 * vs * ta + vs * (t - ta)
+            } else {
+                let r = duration - t;
+                1.0 - 0.5 * vs / ta * r * r
+            }
+        };
+        let n = (duration / dt.max(1e-6)).ceil().max(1.0) as usize;
+        for i in 1..=n {
+            let t = (i as f64 * duration / n as f64).min(duration);
+            let s = s_of(t).clamp(0.0, 1.0);
+            times.push(t_start + t);
+            positions.push(a.iter().zip(b).map(|(x, y)| x + (y - x) * s).collect());
+        }
+        t_start += duration;
+    }
+    Trajectory { times, positions }
+}

@@ -1,0 +1,760 @@
+//! The collision world of a planning problem: one robot's links (URDF collision
+//! geometry, padded), the objects around it, objects attached to links, and an allowed
+//! collision matrix computed the way MoveIt's setup assistant does.
+
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+use std::cell::Cell;
+use std::collections::HashSet;
+use tabula_geom::parry::bounding_volume::{Aabb, BoundingVolume};
+use tabula_geom::parry::query;
+use tabula_geom::parry::shape::SharedShape;
+use tabula_geom::{Pose, Quat, Vec3};
+use tabula_robot::model::Geometry;
+use tabula_robot::{Chain, RobotError, RobotModel};
+
+/// Why a world or a query is refused.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum WorldError {
+    #[error("{0}")]
+    Robot(String),
+    #[error("expected {expected} joint values, got {got}")]
+    WrongLength { expected: usize, got: usize },
+    #[error("joint values must be finite")]
+    NonFinite,
+    #[error("no object named `{0}`")]
+    UnknownObject(String),
+    #[error("object `{0}` is already in the world")]
+    NameTaken(String),
+}
+
+impl From<RobotError> for WorldError {
+    fn from(e: RobotError) -> Self {
+        WorldError::Robot(e.to_string())
+    }
+}
+
+/// Parameters of the collision world.
+#[derive(Debug, Clone, serde::Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct WorldParams {
+    /// Extra clearance around every robot link (m) — SPEC §1.1's 0.9 cm self-filter
+    /// padding is the same idea for perception; planning uses 1 cm by default.
+    pub padding: f64,
+    /// Random configurations sampled to find link pairs that never collide (MoveIt's
+    /// setup assistant uses thousands).
+    pub acm_samples: usize,
+    pub acm_seed: u64,
+    /// Pairs colliding in at least this fraction of the samples count as "always in
+    /// collision" (MoveIt setup assistant's 95 %).
+    pub always_fraction: f64,
+    /// Edges are checked at configurations so close that no point of the robot moves
+    /// more than this between two (m). With the padding at least this large, a path
+    /// whose checked configurations are all valid cannot touch anything in between.
+    pub max_step_displacement: f64,
+}
+
+impl Default for WorldParams {
+    fn default() -> Self {
+        Self {
+            padding: 0.01,
+            acm_samples: 5000,
+            acm_seed: 0,
+            always_fraction: 0.95,
+            max_step_displacement: 0.01,
+        }
+    }
+}
+
+#[derive(Clone)]
+struct LinkBody {
+    link: usize,
+    name: String,
+    shapes: Vec<(SharedShape, Pose)>,
+    /// Moves with the planning joints.
+    moving: bool,
+}
+
+/// A fixed object in the world.
+#[derive(Clone)]
+pub struct WorldObject {
+    pub name: String,
+    pub shape: SharedShape,
+    pub world_from_object: Pose,
+    aabb: Aabb,
+}
+
+/// An object carried by a link (e.g. held in the gripper): checked against the world and
+/// the robot except `touch_links`.
+#[derive(Clone)]
+pub struct Attached {
+    pub name: String,
+    pub shape: SharedShape,
+    pub link_from_object: Pose,
+    body: usize,
+    touch: Vec<usize>,
+}
+
+/// Robot, objects and allowed collisions, for checking configurations of one chain.
+/// Cloning keeps the (costly to sample) allowed collision matrix.
+#[derive(Clone)]
+pub struct CollisionWorld {
+    model: RobotModel,
+    pub chain: Chain,
+    world_from_root: Pose,
+    /// Values of every joint (indexed like the model's); the chain's are overwritten per query.
+    values: Vec<f64>,
+    bodies: Vec<LinkBody>,
+    allowed: HashSet<(usize, usize)>,
+    /// `allowed` as a dense symmetric matrix (bodies × bodies), for the hot loop.
+    allowed_matrix: Vec<bool>,
+    objects: Vec<WorldObject>,
+    attached: Vec<Attached>,
+    pub params: WorldParams,
+    checks: Cell<u64>,
+    /// Per chain variable: an upper bound on how far any point of the robot (and what it
+    /// holds) can be from that joint's axis — so a joint step Δ moves no point by more
+    /// than `radius · Δ`.
+    motion_radius: Vec<f64>,
+    /// How to place each body without full forward kinematics (see [`Anchor`]).
+    anchors: Vec<Anchor>,
+    /// Model joint of each chain element (descending chains only).
+    element_joints: Option<Vec<usize>>,
+    world_from_chain_base: Pose,
+}
+
+/// A body's pose from the chain: `world_from_chain_base · F_k(q) · offset`, where `F_k`
+/// is the chain's frame after element `k` (`None`: the body does not move; `offset` is
+/// then its world pose). Computed once, so a check is one pass over the chain.
+#[derive(Clone, Copy)]
+struct Anchor {
+    element: Option<usize>,
+    offset: Pose,
+}
+
+fn shape_of(g: &Geometry) -> Option<(SharedShape, Pose)> {
+    // parry's cylinders stand along y, URDF's along z.
+    let y_to_z = Pose::from_rotation(Quat::from_rotation_x(std::f64::consts::FRAC_PI_2));
+    Some(match g {
+        Geometry::Box { half_extents } => (
+            SharedShape::cuboid(half_extents.x, half_extents.y, half_extents.z),
+            Pose::IDENTITY,
+        ),
+        Geometry::Cylinder { radius, length } => {
+            (SharedShape::cylinder(length / 2.0, *radius), y_to_z)
+        }
+        Geometry::Capsule { radius, length } => (
+            SharedShape::capsule_z(length / 2.0, *radius),
+            Pose::IDENTITY,
+        ),
+        Geometry::Sphere { radius } => (SharedShape::ball(*radius), Pose::IDENTITY),
+        Geometry::Mesh { .. } => return None,
+    })
+}
+
+impl CollisionWorld {
+    /// The world of `chain` of `model` placed at `world_from_root`, other joints at
+    /// `fixed_values` (all joints, model order; `None` = mid-range), with the allowed
+    /// collision matrix computed by sampling.
+    pub fn new(
+        model: RobotModel,
+        chain: Chain,
+        world_from_root: Pose,
+        fixed_values: Option<Vec<f64>>,
+        params: WorldParams,
+    ) -> Result<Self, WorldError> {
+        let values = fixed_values.unwrap_or_else(|| model.mid_configuration());
+        if values.len() != model.joints.len() {
+            return Err(WorldError::WrongLength {
+                expected: model.joints.len(),
+                got: values.len(),
+            });
+        }
+        // A link moves if a chain joint is on its path to the root.
+        let chain_joints: HashSet<usize> = chain.joint_indices.iter().copied().collect();
+        let moves = |mut l: usize| {
+            while let Some(j) = model.links[l].parent_joint {
+                if chain_joints.contains(&j)
+                    || model.joints[j]
+                        .mimic
+                        .as_ref()
+                        .is_some_and(|m| chain_joints.contains(&m.master))
+                {
+                    return true;
+                }
+                l = model.joints[j].parent;
+            }
+            false
+        };
+        let mut bodies = Vec::new();
+        for (li, link) in model.links.iter().enumerate() {
+            let shapes: Vec<(SharedShape, Pose)> = link
+                .collision
+                .iter()
+                .filter_map(|s| {
+                    shape_of(&s.geometry).map(|(shape, local)| (shape, s.link_from_shape * local))
+                })
+                .collect();
+            if !shapes.is_empty() {
+                bodies.push(LinkBody {
+                    link: li,
+                    name: link.name.clone(),
+                    shapes,
+                    moving: moves(li),
+                });
+            }
+        }
+        // Distance bounds from each joint to the tip, plus the largest shape beyond it
+        // (a gripper, a held object) as a margin.
+        let largest_shape = 0.3;
+        let mut motion_radius = vec![0.0; chain.dof()];
+        let mut tail = chain.tip_offset.translation.length() + largest_shape;
+        for e in chain.elements.iter().rev() {
+            motion_radius[e.var] = f64::max(motion_radius[e.var], tail * e.multiplier.abs());
+            tail += e.pre.translation.length();
+            if e.prismatic {
+                motion_radius[e.var] = motion_radius[e.var].max(e.multiplier.abs());
+            }
+        }
+        let mut world = Self {
+            anchors: Vec::new(),
+            element_joints: None,
+            world_from_chain_base: Pose::IDENTITY,
+            motion_radius,
+            model,
+            chain,
+            world_from_root,
+            values,
+            bodies,
+            allowed: HashSet::new(),
+            allowed_matrix: Vec::new(),
+            objects: Vec::new(),
+            attached: Vec::new(),
+            params,
+            checks: Cell::new(0),
+        };
+        world.compute_allowed_collisions();
+        world.rebuild_allowed_matrix();
+        world.compute_anchors()?;
+        Ok(world)
+    }
+
+    fn rebuild_allowed_matrix(&mut self) {
+        let n = self.bodies.len();
+        self.allowed_matrix = vec![false; n * n];
+        for &(a, b) in &self.allowed {
+            self.allowed_matrix[a * n + b] = true;
+            self.allowed_matrix[b * n + a] = true;
+        }
+    }
+
+    /// Anchors of every body (and the element → joint map they need).
+    fn compute_anchors(&mut self) -> Result<(), WorldError> {
+        let base = self.model.link(&self.chain.base_link)?;
+        let tip = self.model.link(&self.chain.tip_link)?;
+        // Joints from the tip up to the base; the chain descends iff the base is reached.
+        let mut path = Vec::new();
+        let mut l = tip;
+        while l != base {
+            let Some(j) = self.model.links[l].parent_joint else {
+                break;
+            };
+            path.push(j);
+            l = self.model.joints[j].parent;
+        }
+        let root_poses = self.model.forward_kinematics(&self.values)?;
+        self.world_from_chain_base = self.world_from_root * root_poses[base];
+        if l == base {
+            path.reverse();
+            let in_chain: HashSet<usize> = self.chain.joint_indices.iter().copied().collect();
+            let elements: Vec<usize> = path
+                .into_iter()
+                .filter(|&j| {
+                    let joint = &self.model.joints[j];
+                    joint.kind.is_single_axis()
+                        && joint
+                            .mimic
+                            .as_ref()
+                            .is_none_or(|m| in_chain.contains(&m.master))
+                })
+                .collect();
+            if elements.len() == self.chain.elements.len() {
+                self.element_joints = Some(elements);
+            }
+        }
+        self.anchors = (0..self.bodies.len())
+            .map(|b| self.anchor_for(self.bodies[b].link, &root_poses))
+            .collect();
+        self.tighten_motion_radius();
+        Ok(())
+    }
+
+    /// With anchors known, bound each joint's lever arm by the bodies actually beyond it
+    /// (chain offsets up to the body's element, plus the body's own extent, plus what it
+    /// holds) instead of the whole chain plus a generous margin.
+    fn tighten_motion_radius(&mut self) {
+        let Some(_) = &self.element_joints else {
+            return;
+        };
+        let elements = &self.chain.elements;
+        let mut extent = vec![0.0f64; self.bodies.len()];
+        for (b, body) in self.bodies.iter().enumerate() {
+            let a = self.anchors[b];
+            for (shape, p) in &body.shapes {
+                let sphere = shape.compute_local_bounding_sphere();
+                extent[b] =
+                    extent[b].max((a.offset * (*p * sphere.center())).length() + sphere.radius());
+            }
+        }
+        for att in &self.attached {
+            let a = self.anchors[att.body];
+            let sphere = att.shape.compute_local_bounding_sphere();
+            let reach =
+                (a.offset * (att.link_from_object * sphere.center())).length() + sphere.radius();
+            extent[att.body] = extent[att.body].max(reach);
+        }
+        let mut radius = vec![0.0f64; self.chain.dof()];
+        for (k, ek) in elements.iter().enumerate() {
+            let mut r: f64 = 0.0;
+            for (b, a) in self.anchors.iter().enumerate() {
+                let Some(m) = a.element else { continue };
+                if m < k {
+                    continue;
+                }
+                // Fixed offsets, plus the travel of any prismatic joint in between.
+                let lever: f64 = elements[k + 1..=m]
+                    .iter()
+                    .map(|e| {
+                        let travel = if e.prismatic {
+                            e.multiplier.abs()
+                                * self.chain.lower[e.var]
+                                    .abs()
+                                    .max(self.chain.upper[e.var].abs())
+                                + e.offset.abs()
+                        } else {
+                            0.0
+                        };
+                        e.pre.translation.length() + travel
+                    })
+                    .sum();
+                r = r.max(lever + extent[b]);
+            }
+            let r = if ek.prismatic {
+                1.0
+            } else {
+                r * ek.multiplier.abs()
+            };
+            radius[ek.var] = radius[ek.var].max(r);
+        }
+        self.motion_radius = radius;
+    }
+
+    fn anchor_for(&self, link: usize, root_poses: &[Pose]) -> Anchor {
+        let world = Anchor {
+            element: None,
+            offset: self.world_from_root * root_poses[link],
+        };
+        let Some(elements) = &self.element_joints else {
+            return world;
+        };
+        let mut l = link;
+        while let Some(j) = self.model.links[l].parent_joint {
+            if let Some(k) = elements.iter().position(|&e| e == j) {
+                let child = self.model.joints[j].child;
+                return Anchor {
+                    element: Some(k),
+                    offset: root_poses[child].inverse() * root_poses[link],
+                };
+            }
+            l = self.model.joints[j].parent;
+        }
+        world
+    }
+
+    /// World poses of every body's link at `q`.
+    fn body_poses(&self, q: &[f64]) -> Result<Vec<Pose>, WorldError> {
+        if self.element_joints.is_none() || self.anchors.len() != self.bodies.len() {
+            let poses = self.root_from_links(q)?;
+            return Ok(self
+                .bodies
+                .iter()
+                .map(|b| self.world_from_root * poses[b.link])
+                .collect());
+        }
+        if q.len() != self.chain.dof() {
+            return Err(WorldError::WrongLength {
+                expected: self.chain.dof(),
+                got: q.len(),
+            });
+        }
+        if q.iter().any(|v| !v.is_finite()) {
+            return Err(WorldError::NonFinite);
+        }
+        // The chain's frames after each element, in the world.
+        let mut frames = Vec::with_capacity(self.chain.elements.len());
+        let mut t = self.world_from_chain_base;
+        for e in &self.chain.elements {
+            let v = e.multiplier * q[e.var] + e.offset;
+            let motion = if e.prismatic {
+                Pose::from_translation(e.axis * v)
+            } else {
+                Pose::from_rotation(Quat::from_axis_angle(e.axis, v))
+            };
+            t = t * e.pre * motion;
+            frames.push(t);
+        }
+        Ok(self
+            .anchors
+            .iter()
+            .map(|a| match a.element {
+                Some(k) => frames[k] * a.offset,
+                None => a.offset,
+            })
+            .collect())
+    }
+
+    /// MoveIt-style allowed collision matrix: adjacent links (through fixed joints too),
+    /// pairs that never collide over many random configurations, and pairs that always do.
+    fn compute_allowed_collisions(&mut self) {
+        let n = self.bodies.len();
+        let body_of_link: std::collections::HashMap<usize, usize> = self
+            .bodies
+            .iter()
+            .enumerate()
+            .map(|(b, lb)| (lb.link, b))
+            .collect();
+        // Adjacent: the nearest ancestor with geometry.
+        for (b, lb) in self.bodies.iter().enumerate() {
+            let mut l = lb.link;
+            while let Some(j) = self.model.links[l].parent_joint {
+                l = self.model.joints[j].parent;
+                if let Some(&p) = body_of_link.get(&l) {
+                    self.allowed.insert((b.min(p), b.max(p)));
+                    break;
+                }
+            }
+        }
+        let mut collided = vec![0usize; n * n];
+        let mut rng = ChaCha8Rng::seed_from_u64(self.params.acm_seed);
+        let samples = self.params.acm_samples.max(1);
+        let active = self.model.active_joints();
+        let mut values = self.values.clone();
+        for _ in 0..samples {
+            for &j in &active {
+                let l = self.model.joints[j].limits;
+                let (lo, hi) = if l.lower.is_finite() && l.upper.is_finite() {
+                    (l.lower, l.upper)
+                } else {
+                    (-std::f64::consts::PI, std::f64::consts::PI)
+                };
+                values[j] = if hi > lo {
+                    rand::RngExt::random_range(&mut rng, lo..=hi)
+                } else {
+                    lo
+                };
+            }
+            let poses = self.model.forward_kinematics(&values).unwrap_or_default();
+            for a in 0..n {
+                for b in a + 1..n {
+                    if self.bodies_touch(&poses, a, b, self.params.padding) {
+                        collided[a * n + b] += 1;
+                    }
+                }
+            }
+        }
+        // "Always" as MoveIt's setup assistant counts it: in ≥ 95 % of the samples.
+        for a in 0..n {
+            for b in a + 1..n {
+                let c = collided[a * n + b];
+                if c == 0 || c as f64 >= self.params.always_fraction * samples as f64 {
+                    self.allowed.insert((a, b));
+                }
+            }
+        }
+    }
+
+    fn bodies_touch(&self, root_from_link: &[Pose], a: usize, b: usize, margin: f64) -> bool {
+        let (la, lb) = (&self.bodies[a], &self.bodies[b]);
+        for (sa, pa) in &la.shapes {
+            let wa = root_from_link[la.link] * *pa;
+            for (sb, pb) in &lb.shapes {
+                let wb = root_from_link[lb.link] * *pb;
+                if query::contact(&wa, sa.as_ref(), &wb, sb.as_ref(), margin)
+                    .ok()
+                    .flatten()
+                    .is_some()
+                {
+                    return true;
+                }
+            }
+        }
+        false
+    }
+
+    /// Link pairs the matrix allows, by name (for inspection and tests).
+    pub fn allowed_pairs(&self) -> Vec<(String, String)> {
+        let mut v: Vec<(String, String)> = self
+            .allowed
+            .iter()
+            .map(|&(a, b)| (self.bodies[a].name.clone(), self.bodies[b].name.clone()))
+            .collect();
+        v.sort();
+        v
+    }
+
+    /// Adds a fixed object.
+    pub fn add_object(
+        &mut self,
+        name: &str,
+        shape: SharedShape,
+        world_from_object: Pose,
+    ) -> Result<(), WorldError> {
+        if self.objects.iter().any(|o| o.name == name)
+            || self.attached.iter().any(|o| o.name == name)
+        {
+            return Err(WorldError::NameTaken(name.into()));
+        }
+        let aabb = shape.compute_aabb(&world_from_object);
+        self.objects.push(WorldObject {
+            name: name.into(),
+            shape,
+            world_from_object,
+            aabb,
+        });
+        Ok(())
+    }
+
+    /// A box (full sizes) at a pose — the common case.
+    pub fn add_box(
+        &mut self,
+        name: &str,
+        size: Vec3,
+        world_from_box: Pose,
+    ) -> Result<(), WorldError> {
+        self.add_object(
+            name,
+            SharedShape::cuboid(size.x / 2.0, size.y / 2.0, size.z / 2.0),
+            world_from_box,
+        )
+    }
+
+    pub fn remove_object(&mut self, name: &str) -> Result<(), WorldError> {
+        let before = self.objects.len() + self.attached.len();
+        self.objects.retain(|o| o.name != name);
+        self.attached.retain(|o| o.name != name);
+        if before == self.objects.len() + self.attached.len() {
+            return Err(WorldError::UnknownObject(name.into()));
+        }
+        Ok(())
+    }
+
+    /// Attaches an object to `link` (it moves with it); `touch_links` may touch it.
+    pub fn attach(
+        &mut self,
+        name: &str,
+        shape: SharedShape,
+        link: &str,
+        link_from_object: Pose,
+        touch_links: &[&str],
+    ) -> Result<(), WorldError> {
+        let li = self.model.link(link)?;
+        let body = match self.bodies.iter().position(|b| b.link == li) {
+            Some(b) => b,
+            None => {
+                self.bodies.push(LinkBody {
+                    link: li,
+                    name: link.into(),
+                    shapes: Vec::new(),
+                    moving: true,
+                });
+                let root_poses = self.model.forward_kinematics(&self.values)?;
+                self.anchors.push(self.anchor_for(li, &root_poses));
+                self.rebuild_allowed_matrix();
+                self.bodies.len() - 1
+            }
+        };
+        let mut touch = vec![body];
+        for t in touch_links {
+            let tl = self.model.link(t)?;
+            if let Some(b) = self.bodies.iter().position(|b| b.link == tl) {
+                touch.push(b);
+            }
+        }
+        self.attached.push(Attached {
+            name: name.into(),
+            shape,
+            link_from_object,
+            body,
+            touch,
+        });
+        self.tighten_motion_radius();
+        Ok(())
+    }
+
+    /// How far (m) any point of the robot can move between configurations `a` and `b` on
+    /// the straight segment joining them (an upper bound).
+    pub fn displacement_bound(&self, a: &[f64], b: &[f64]) -> f64 {
+        a.iter()
+            .zip(b)
+            .zip(&self.motion_radius)
+            .map(|((x, y), r)| (x - y).abs() * r)
+            .sum()
+    }
+
+    /// How many configurations have been checked (for collision-checks-per-second).
+    pub fn checks(&self) -> u64 {
+        self.checks.get()
+    }
+
+    fn root_from_links(&self, q: &[f64]) -> Result<Vec<Pose>, WorldError> {
+        if q.len() != self.chain.dof() {
+            return Err(WorldError::WrongLength {
+                expected: self.chain.dof(),
+                got: q.len(),
+            });
+        }
+        if q.iter().any(|v| !v.is_finite()) {
+            return Err(WorldError::NonFinite);
+        }
+        let mut values = self.values.clone();
+        for (v, &j) in q.iter().zip(&self.chain.joint_indices) {
+            values[j] = *v;
+        }
+        Ok(self.model.forward_kinematics(&values)?)
+    }
+
+    /// The first colliding pair at `q` (names), or `None` when `q` is valid. Joint limits
+    /// count: a configuration outside them is reported as `("joint limits", name)`.
+    pub fn first_collision(&self, q: &[f64]) -> Result<Option<(String, String)>, WorldError> {
+        self.checks.set(self.checks.get() + 1);
+        let poses = self.body_poses(q)?;
+        for (i, v) in q.iter().enumerate() {
+            if *v < self.chain.lower[i] - 1e-9 || *v > self.chain.upper[i] + 1e-9 {
+                return Ok(Some((
+                    "joint limits".into(),
+                    self.chain.joint_names[i].clone(),
+                )));
+            }
+        }
+        let pad = self.params.padding;
+        let n = self.bodies.len();
+        // Shapes in the world frame with their boxes, grown by the padding.
+        let mut placed: Vec<(usize, Pose, &SharedShape, Aabb)> = Vec::new();
+        for (b, lb) in self.bodies.iter().enumerate() {
+            for (s, p) in &lb.shapes {
+                let w = poses[b] * *p;
+                placed.push((b, w, s, s.compute_aabb(&w).loosened(pad)));
+            }
+        }
+        let attached: Vec<(usize, Pose, &Attached, Aabb)> = self
+            .attached
+            .iter()
+            .enumerate()
+            .map(|(i, a)| {
+                let w = poses[a.body] * a.link_from_object;
+                (i, w, a, a.shape.compute_aabb(&w).loosened(pad))
+            })
+            .collect();
+        // A yes/no question: GJK distance, not the penetration depth (EPA) `contact` computes.
+        let hits = |p1: &Pose, s1: &SharedShape, p2: &Pose, s2: &SharedShape| {
+            query::distance(p1, s1.as_ref(), p2, s2.as_ref()).is_ok_and(|d| d.distance <= pad)
+        };
+        // Robot against the world (only what moves can newly collide).
+        for (b, w, s, aabb) in &placed {
+            if !self.bodies[*b].moving {
+                continue;
+            }
+            for o in &self.objects {
+                if aabb.intersects(&o.aabb) && hits(w, s, &o.world_from_object, &o.shape) {
+                    return Ok(Some((self.bodies[*b].name.clone(), o.name.clone())));
+                }
+            }
+        }
+        // Robot against itself.
+        for i in 0..placed.len() {
+            for k in i + 1..placed.len() {
+                let (a, b) = (placed[i].0, placed[k].0);
+                if a == b
+                    || (!self.bodies[a].moving && !self.bodies[b].moving)
+                    || self.allowed_matrix[a * n + b]
+                {
+                    continue;
+                }
+                if placed[i].3.intersects(&placed[k].3)
+                    && hits(&placed[i].1, placed[i].2, &placed[k].1, placed[k].2)
+                {
+                    return Ok(Some((
+                        self.bodies[a].name.clone(),
+                        self.bodies[b].name.clone(),
+                    )));
+                }
+            }
+        }
+        // Attached objects against the world and the robot.
+        for (_, w, a, aabb) in &attached {
+            for o in &self.objects {
+                if aabb.intersects(&o.aabb) && hits(w, &a.shape, &o.world_from_object, &o.shape) {
+                    return Ok(Some((a.name.clone(), o.name.clone())));
+                }
+            }
+            for (b, bw, s, baabb) in &placed {
+                if a.touch.contains(b) || *b >= n {
+                    continue;
+                }
+                if aabb.intersects(baabb) && hits(w, &a.shape, bw, s) {
+                    return Ok(Some((a.name.clone(), self.bodies[*b].name.clone())));
+                }
+            }
+        }
+        Ok(None)
+    }
+
+    /// True when `q` is within limits and collision-free (with padding). Bad input is
+    /// not valid.
+    pub fn is_valid(&self, q: &[f64]) -> bool {
+        matches!(self.first_collision(q), Ok(None))
+    }
+
+    /// The smallest distance between the moving robot (and attached objects) and the
+    /// world objects at `q` (m; negative = penetration depth).
+    pub fn min_distance(&self, q: &[f64]) -> Result<f64, WorldError> {
+        let poses = self.root_from_links(q)?;
+        let mut best = f64::INFINITY;
+        for lb in self.bodies.iter().filter(|b| b.moving) {
+            for (s, p) in &lb.shapes {
+                let w = self.world_from_root * poses[lb.link] * *p;
+                for o in &self.objects {
+                    if let Ok(d) =
+                        query::distance(&w, s.as_ref(), &o.world_from_object, o.shape.as_ref())
+                    {
+                        best = best.min(d.distance);
+                    }
+                    if let Ok(Some(c)) =
+                        query::contact(&w, s.as_ref(), &o.world_from_object, o.shape.as_ref(), 0.0)
+                    {
+                        best = best.min(c.dist);
+                    }
+                }
+            }
+        }
+        Ok(best)
+    }
+
+    /// `world_from_tip` of the chain at `q`.
+    pub fn tip_pose(&self, q: &[f64]) -> Result<Pose, WorldError> {
+        let poses = self.root_from_links(q)?;
+        let tip = self.model.link(&self.chain.tip_link)?;
+        Ok(self.world_from_root * poses[tip])
+    }
+
+    /// `world_from_link` of the chain's base link (IK targets are in this frame).
+    pub fn world_from_chain_base(&self) -> Result<Pose, WorldError> {
+        let poses = self.model.forward_kinematics(&self.values)?;
+        Ok(self.world_from_root * poses[self.model.link(&self.chain.base_link)?])
+    }
+
+    /// `world_from_root` of the robot.
+    pub fn world_from_root(&self) -> Pose {
+        self.world_from_root
+    }
+}

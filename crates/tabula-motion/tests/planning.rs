@@ -1,0 +1,201 @@
+//! Motion planning correctness over many seeded problems, and bad input.
+
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+use tabula_geom::parry::shape::SharedShape;
+use tabula_geom::{Pose, Quat, Vec3};
+use tabula_motion::bench::{reach_configuration, robot_world, table_height, tabletop_world};
+use tabula_motion::{
+    PlanError, PlannerParams, WorldParams, cartesian_path, pose_goals, rrt_connect, segment_valid,
+    time_parameterize,
+};
+use tabula_robot::{Chain, robots};
+
+fn wam() -> (robots::NamedRobot, Chain) {
+    let r = robots::load("wam").unwrap();
+    let chain = Chain::new(&r.model, "base_link", "wam_tool").unwrap();
+    (r, chain)
+}
+
+#[test]
+fn a_thousand_plans_are_valid_at_ten_times_finer_resolution() {
+    let (robot, chain) = wam();
+    let empty = robot_world(&robot, chain.clone(), WorldParams::default()).unwrap();
+    // The re-check: no padding (real contact), configurations 10× closer.
+    let strict = robot_world(
+        &robot,
+        chain,
+        WorldParams {
+            padding: 0.0,
+            max_step_displacement: 0.001,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    let top = table_height(&robot);
+    let params = PlannerParams::default();
+    let mut plans = 0;
+    for scene in 0..50u64 {
+        let world = tabletop_world(&empty, top, scene).unwrap();
+        let recheck = tabletop_world(&strict, top, scene).unwrap();
+        let mut rng = ChaCha8Rng::seed_from_u64(scene);
+        for k in 0..20u64 {
+            let (Some(start), Some(goal)) = (
+                reach_configuration(&world, &mut rng, top),
+                reach_configuration(&world, &mut rng, top),
+            ) else {
+                continue;
+            };
+            let path = rrt_connect(
+                &world,
+                &start,
+                std::slice::from_ref(&goal),
+                &PlannerParams {
+                    seed: k,
+                    ..params.clone()
+                },
+            )
+            .expect("tabletop reach problems are solvable");
+            assert_eq!(path.waypoints.first(), Some(&start));
+            assert_eq!(path.waypoints.last(), Some(&goal));
+            for w in path.waypoints.windows(2) {
+                assert!(
+                    segment_valid(&recheck, &w[0], &w[1], params.resolution / 10.0),
+                    "scene {scene} plan {k}"
+                );
+                assert!(world.chain.within_limits(&w[1], 1e-12));
+            }
+            plans += 1;
+        }
+    }
+    assert!(plans >= 1000, "only {plans} plans");
+}
+
+#[test]
+fn padding_is_honoured_and_attached_objects_are_checked() {
+    let (robot, chain) = wam();
+    let q = vec![0.0, 0.6, 0.0, 1.6, 0.0, 0.4, 0.0];
+    let mut world = robot_world(&robot, chain.clone(), WorldParams::default()).unwrap();
+    let tip = world.tip_pose(&q).unwrap();
+    // A wall 5 mm beyond the fingertips: valid without padding, invalid with 1 cm.
+    let mut bare = robot_world(
+        &robot,
+        chain,
+        WorldParams {
+            padding: 0.0,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    let gap = 0.005;
+    let down = tip.rotation * Vec3::Z;
+    let wall_at = tip.translation + down * (0.0225 + gap + 0.01);
+    let wall = Pose::from_parts(wall_at, tip.rotation);
+    bare.add_box("wall", Vec3::new(0.5, 0.5, 0.02), wall)
+        .unwrap();
+    world
+        .add_box("wall", Vec3::new(0.5, 0.5, 0.02), wall)
+        .unwrap();
+    assert!(bare.is_valid(&q), "{:?}", bare.first_collision(&q));
+    assert!(!world.is_valid(&q));
+    assert!(bare.min_distance(&q).unwrap() > 0.0);
+    // An object held by the palm, 10 cm long past the fingertips, reaches the wall.
+    bare.attach(
+        "bar",
+        SharedShape::cuboid(0.01, 0.01, 0.06),
+        "wam_tool",
+        Pose::from_translation(Vec3::new(0.0, 0.0, 0.04)),
+        &[
+            "wam_gripper_left_finger",
+            "wam_gripper_right_finger",
+            "wam_gripper_palm",
+        ],
+    )
+    .unwrap();
+    let hit = bare.first_collision(&q).unwrap();
+    assert_eq!(hit, Some(("bar".to_string(), "wall".to_string())));
+}
+
+#[test]
+fn bad_starts_goals_and_input_get_clear_answers() {
+    let (robot, chain) = wam();
+    let empty = robot_world(&robot, chain, WorldParams::default()).unwrap();
+    let top = table_height(&robot);
+    let world = tabletop_world(&empty, top, 3).unwrap();
+    let mut rng = ChaCha8Rng::seed_from_u64(3);
+    let good = reach_configuration(&world, &mut rng, top).unwrap();
+    // Folded into the table.
+    let mut inside = good.clone();
+    inside[1] = 1.9;
+    inside[3] = 0.0;
+    let p = PlannerParams::default();
+    assert!(matches!(
+        rrt_connect(&world, &inside, std::slice::from_ref(&good), &p),
+        Err(PlanError::StartInvalid(_))
+    ));
+    assert!(matches!(
+        rrt_connect(&world, &good, std::slice::from_ref(&inside), &p),
+        Err(PlanError::GoalInvalid(_))
+    ));
+    let nan = vec![f64::NAN; 7];
+    assert!(matches!(
+        rrt_connect(&world, &nan, std::slice::from_ref(&good), &p),
+        Err(PlanError::StartInvalid(_))
+    ));
+    assert!(matches!(
+        rrt_connect(&world, &good[..3], std::slice::from_ref(&good), &p),
+        Err(PlanError::StartInvalid(_))
+    ));
+    let far = Pose::from_translation(Vec3::new(3.0, 0.0, 1.0));
+    assert!(pose_goals(&world, &far, &good, 4, 1).is_err());
+    // A pose goal over the table: the planner reaches one of its IK solutions.
+    let target = Pose::from_parts(
+        Vec3::new(0.6, 0.3, top + 0.25),
+        Quat::from_rotation_x(std::f64::consts::PI),
+    );
+    let goals = pose_goals(&world, &target, &good, 4, 1).unwrap();
+    let path = rrt_connect(&world, &good, &goals, &p).unwrap();
+    let end = world.tip_pose(path.waypoints.last().unwrap()).unwrap();
+    assert!((end.translation - target.translation).length() < 1e-5);
+}
+
+#[test]
+fn cartesian_approach_and_timing() {
+    let (robot, chain) = wam();
+    let world = robot_world(&robot, chain, WorldParams::default()).unwrap();
+    let q = vec![0.0, 0.6, 0.0, 1.6, 0.0, 0.4, 0.0];
+    let from = world.tip_pose(&q).unwrap();
+    // 10 cm straight down the tool axis, the seed's approach (SPEC §6).
+    let goal = Pose::from_parts(
+        from.translation + from.rotation * Vec3::new(0.0, 0.0, 0.1),
+        from.rotation,
+    );
+    let (waypoints, fraction) =
+        cartesian_path(&world, &q, &goal, 0.005, 0.3, &PlannerParams::default()).unwrap();
+    assert!((fraction - 1.0).abs() < 1e-12, "{fraction}");
+    for w in &waypoints {
+        let t = world.tip_pose(w).unwrap().translation;
+        let off_line = (t - from.translation)
+            .cross(goal.translation - from.translation)
+            .length()
+            / 0.1;
+        assert!(off_line < 1e-5, "{off_line}");
+    }
+    let vmax = vec![1.0; 7];
+    let amax = vec![2.0; 7];
+    let traj = time_parameterize(&waypoints, &vmax, &amax, 0.01);
+    assert!(traj.duration() > 0.0);
+    for k in 1..traj.times.len() - 1 {
+        let dt0 = traj.times[k] - traj.times[k - 1];
+        let dt1 = traj.times[k + 1] - traj.times[k];
+        for j in 0..7 {
+            let v0 = (traj.positions[k][j] - traj.positions[k - 1][j]) / dt0;
+            let v1 = (traj.positions[k + 1][j] - traj.positions[k][j]) / dt1;
+            assert!(v0.abs() <= vmax[j] * 1.001, "velocity {v0}");
+            assert!(
+                ((v1 - v0) / (0.5 * (dt0 + dt1))).abs() <= amax[j] * 1.05,
+                "acceleration"
+            );
+        }
+    }
+}
