@@ -715,6 +715,99 @@ impl CollisionWorld {
         matches!(self.first_collision(q), Ok(None))
     }
 
+    /// Clearance at `q`, capped at `cap`: the smallest distance between any pair that
+    /// [`Self::first_collision`] would test (moving links and held objects against the
+    /// world and the robot), or a negative number when `q` is out of limits. Pairs whose
+    /// boxes are farther apart than `cap` are skipped, which is what keeps it cheap.
+    pub fn clearance(&self, q: &[f64], cap: f64) -> Result<f64, WorldError> {
+        self.checks.set(self.checks.get() + 1);
+        let poses = self.body_poses(q)?;
+        for (i, v) in q.iter().enumerate() {
+            if *v < self.chain.lower[i] - 1e-9 || *v > self.chain.upper[i] + 1e-9 {
+                return Ok(-1.0);
+            }
+        }
+        let n = self.bodies.len();
+        let mut best = cap;
+        let mut placed: Vec<(usize, Pose, &SharedShape, Aabb)> = Vec::new();
+        for (b, lb) in self.bodies.iter().enumerate() {
+            for (s, p) in &lb.shapes {
+                let w = poses[b] * *p;
+                placed.push((b, w, s, s.compute_aabb(&w)));
+            }
+        }
+        let consider = |p1: &Pose,
+                        s1: &SharedShape,
+                        a1: &Aabb,
+                        p2: &Pose,
+                        s2: &SharedShape,
+                        a2: &Aabb,
+                        best: &mut f64| {
+            if a1.loosened(*best).intersects(a2)
+                && let Ok(d) = query::distance(p1, s1.as_ref(), p2, s2.as_ref())
+            {
+                *best = best.min(d.distance);
+            }
+        };
+        for (b, w, s, aabb) in &placed {
+            if !self.bodies[*b].moving {
+                continue;
+            }
+            for o in &self.objects {
+                consider(
+                    w,
+                    s,
+                    aabb,
+                    &o.world_from_object,
+                    &o.shape,
+                    &o.aabb,
+                    &mut best,
+                );
+            }
+        }
+        for i in 0..placed.len() {
+            for k in i + 1..placed.len() {
+                let (a, b) = (placed[i].0, placed[k].0);
+                if a == b
+                    || (!self.bodies[a].moving && !self.bodies[b].moving)
+                    || self.allowed_matrix[a * n + b]
+                {
+                    continue;
+                }
+                consider(
+                    &placed[i].1,
+                    placed[i].2,
+                    &placed[i].3,
+                    &placed[k].1,
+                    placed[k].2,
+                    &placed[k].3,
+                    &mut best,
+                );
+            }
+        }
+        for att in &self.attached {
+            let w = poses[att.body] * att.link_from_object;
+            let aabb = att.shape.compute_aabb(&w);
+            for o in &self.objects {
+                consider(
+                    &w,
+                    &att.shape,
+                    &aabb,
+                    &o.world_from_object,
+                    &o.shape,
+                    &o.aabb,
+                    &mut best,
+                );
+            }
+            for (b, bw, s, baabb) in &placed {
+                if !att.touch.contains(b) {
+                    consider(&w, &att.shape, &aabb, bw, s, baabb, &mut best);
+                }
+            }
+        }
+        Ok(best)
+    }
+
     /// The smallest distance between the moving robot (and attached objects) and the
     /// world objects at `q` (m; negative = penetration depth).
     pub fn min_distance(&self, q: &[f64]) -> Result<f64, WorldError> {

@@ -21,12 +21,11 @@ fn wam() -> (robots::NamedRobot, Chain) {
 fn a_thousand_plans_are_valid_at_ten_times_finer_resolution() {
     let (robot, chain) = wam();
     let empty = robot_world(&robot, chain.clone(), WorldParams::default()).unwrap();
-    // The re-check: no padding (real contact), configurations 10× closer.
+    // The re-check: the same 1 cm padding, configurations 10× closer.
     let strict = robot_world(
         &robot,
         chain,
         WorldParams {
-            padding: 0.0,
             max_step_displacement: 0.001,
             ..Default::default()
         },
