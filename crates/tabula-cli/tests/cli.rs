@@ -345,3 +345,26 @@ fn sim_scene_commands_run_in_order() {
     let bad = tabula(&["sim", "do", "--scene", scene, "--cmd", "teleport x"]);
     assert!(String::from_utf8_lossy(&bad.stderr).contains("unknown command"));
 }
+
+#[test]
+fn motion_bench_reports_json() {
+    let out = tabula(&[
+        "motion",
+        "bench",
+        "--robot",
+        "wam",
+        "--problems",
+        "5",
+        "--json",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert!(v["problems"].as_u64().unwrap() > 0);
+    assert_eq!(v["success_rate"].as_f64(), Some(1.0));
+    let bad = tabula(&["motion", "bench", "--robot", "golem3"]);
+    assert!(!bad.status.success());
+}
