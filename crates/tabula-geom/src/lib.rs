@@ -14,5 +14,6 @@ pub use parry3d_f64::glamx::{DVec2 as Vec2, DVec3 as Vec3};
 
 mod angles;
 mod cloud;
+pub mod mesh;
 pub use angles::*;
 pub use cloud::{PcdEncoding, PointCloud};

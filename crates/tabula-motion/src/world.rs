@@ -148,7 +148,11 @@ fn shape_of(g: &Geometry) -> Option<(SharedShape, Pose)> {
             Pose::IDENTITY,
         ),
         Geometry::Sphere { radius } => (SharedShape::ball(*radius), Pose::IDENTITY),
-        Geometry::Mesh { .. } => return None,
+        // A mesh becomes its convex hull (conservative for planning); unreadable → none.
+        Geometry::Mesh { path, scale } => {
+            let (points, _) = tabula_geom::mesh::load_mesh(path, scale.to_array()).ok()?;
+            (SharedShape::convex_hull(&points)?, Pose::IDENTITY)
+        }
     })
 }
 
@@ -536,6 +540,78 @@ impl CollisionWorld {
             SharedShape::cuboid(size.x / 2.0, size.y / 2.0, size.z / 2.0),
             world_from_box,
         )
+    }
+
+    /// An occupancy map from a point cloud (world frame, NaN points skipped): every
+    /// occupied `voxel`-sized cell becomes a box, all of them one compound object whose
+    /// own bounding-volume hierarchy keeps queries fast (the role of MoveIt's octomap).
+    /// Returns the number of occupied cells.
+    pub fn add_occupancy(
+        &mut self,
+        name: &str,
+        world_points: &[Vec3],
+        voxel: f64,
+    ) -> Result<usize, WorldError> {
+        if !(voxel.is_finite() && voxel > 0.0) {
+            return Err(WorldError::NonFinite);
+        }
+        let mut cells: Vec<[i64; 3]> = world_points
+            .iter()
+            .filter(|p| p.is_finite())
+            .map(|p| {
+                [
+                    (p.x / voxel).floor() as i64,
+                    (p.y / voxel).floor() as i64,
+                    (p.z / voxel).floor() as i64,
+                ]
+            })
+            .collect();
+        cells.sort_unstable();
+        cells.dedup();
+        if cells.is_empty() {
+            return Ok(0);
+        }
+        let half = voxel / 2.0;
+        let cube = SharedShape::cuboid(half, half, half);
+        let parts: Vec<(Pose, SharedShape)> = cells
+            .iter()
+            .map(|c| {
+                let centre =
+                    Vec3::new(c[0] as f64 + 0.5, c[1] as f64 + 0.5, c[2] as f64 + 0.5) * voxel;
+                (Pose::from_translation(centre), cube.clone())
+            })
+            .collect();
+        let count = parts.len();
+        self.add_object(name, SharedShape::compound(parts), Pose::IDENTITY)?;
+        Ok(count)
+    }
+
+    /// Every colliding pair at `q` (names), not only the first.
+    pub fn contacts(&self, q: &[f64]) -> Result<Vec<(String, String)>, WorldError> {
+        let mut out = Vec::new();
+        let mut probe = self.clone();
+        // Remove each reported object (or allow the reported link pair) and ask again.
+        while let Some((a, b)) = probe.first_collision(q)? {
+            out.push((a.clone(), b.clone()));
+            if a == "joint limits" {
+                break;
+            }
+            if probe.objects.iter().any(|o| o.name == b) {
+                probe.objects.retain(|o| o.name != b);
+            } else if let (Some(x), Some(y)) = (
+                probe.bodies.iter().position(|l| l.name == a),
+                probe.bodies.iter().position(|l| l.name == b),
+            ) {
+                let n = probe.bodies.len();
+                probe.allowed_matrix[x * n + y] = true;
+                probe.allowed_matrix[y * n + x] = true;
+            } else if probe.attached.iter().any(|o| o.name == a) {
+                probe.attached.retain(|o| o.name != a);
+            } else {
+                break;
+            }
+        }
+        Ok(out)
     }
 
     pub fn remove_object(&mut self, name: &str) -> Result<(), WorldError> {

@@ -198,3 +198,27 @@ fn cartesian_approach_and_timing() {
         }
     }
 }
+
+#[test]
+fn point_cloud_occupancy_and_contact_lists() {
+    let (robot, chain) = wam();
+    let mut world = robot_world(&robot, chain, WorldParams::default()).unwrap();
+    let q = vec![0.0, 0.6, 0.0, 1.6, 0.0, 0.4, 0.0];
+    let tip = world.tip_pose(&q).unwrap().translation;
+    // A dense blob of points around the tool, with NaN points that must be skipped.
+    let mut points = vec![Vec3::NAN; 10];
+    for i in 0..20 {
+        for j in 0..20 {
+            points.push(tip + Vec3::new(i as f64 * 0.005 - 0.05, j as f64 * 0.005 - 0.05, 0.0));
+        }
+    }
+    let cells = world.add_occupancy("scan", &points, 0.02).unwrap();
+    assert!(cells > 10 && cells < 100, "{cells}");
+    assert!(!world.is_valid(&q));
+    let contacts = world.contacts(&q).unwrap();
+    assert!(contacts.iter().any(|(_, b)| b == "scan"), "{contacts:?}");
+    assert_eq!(world.add_occupancy("empty", &[Vec3::NAN], 0.02).unwrap(), 0);
+    world.remove_object("scan").unwrap();
+    assert!(world.is_valid(&q));
+    assert!(world.contacts(&q).unwrap().is_empty());
+}
