@@ -23,15 +23,28 @@ pub fn load_mesh(path: &Path, scale: [f64; 3]) -> Result<(Vec<Vec3>, Vec<[u32; 3
         .and_then(|e| e.to_str())
         .unwrap_or("")
         .to_ascii_lowercase();
+    parse_mesh(&bytes, &ext, scale).map_err(|m| fail(m.message))
+}
+
+/// [`load_mesh`] on bytes already read; `ext` is `obj` or `stl`.
+pub fn parse_mesh(
+    bytes: &[u8],
+    ext: &str,
+    scale: [f64; 3],
+) -> Result<(Vec<Vec3>, Vec<[u32; 3]>), MeshError> {
+    let fail = |m: String| MeshError {
+        path: String::new(),
+        message: m,
+    };
     let mut points = Vec::new();
     let mut triangles: Vec<[u32; 3]> = Vec::new();
     let parse3 = |w: &mut std::str::SplitWhitespace| -> Option<Vec3> {
         let v: Vec<f64> = w.take(3).filter_map(|x| x.parse().ok()).collect();
         (v.len() == 3).then(|| Vec3::new(v[0], v[1], v[2]))
     };
-    match ext.as_str() {
+    match ext {
         "obj" => {
-            let text = String::from_utf8_lossy(&bytes);
+            let text = String::from_utf8_lossy(bytes);
             for line in text.lines() {
                 let mut w = line.split_whitespace();
                 match w.next() {
@@ -64,7 +77,7 @@ pub fn load_mesh(path: &Path, scale: [f64; 3]) -> Result<(Vec<Vec3>, Vec<[u32; 3
             }
         }
         "stl" => {
-            let text = String::from_utf8_lossy(&bytes);
+            let text = String::from_utf8_lossy(bytes);
             if bytes.starts_with(b"solid") && text.contains("facet") {
                 for line in text.lines() {
                     let mut w = line.split_whitespace();
@@ -115,4 +128,66 @@ pub fn load_mesh(path: &Path, scale: [f64; 3]) -> Result<(Vec<Vec3>, Vec<[u32; 3
     }
     let s = Vec3::from_array(scale);
     Ok((points.into_iter().map(|p| p * s).collect(), triangles))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn obj_and_stl_read_and_bad_files_are_errors() {
+        let (v, t) = parse_mesh(
+            b"v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3 4\nf -1 -2 -3\n",
+            "obj",
+            [2.0; 3],
+        )
+        .unwrap();
+        assert_eq!((v.len(), t.len()), (4, 3));
+        assert_eq!(v[1], Vec3::new(2.0, 0.0, 0.0));
+        assert!(parse_mesh(b"v 0 0 0\nf 1 2 3\n", "obj", [1.0; 3]).is_err());
+        assert!(parse_mesh(b"v 0 0\n", "obj", [1.0; 3]).is_err());
+        assert!(parse_mesh(&[0u8; 10], "stl", [1.0; 3]).is_err());
+        let mut stl = vec![0u8; 80];
+        stl.extend_from_slice(&u32::MAX.to_le_bytes());
+        assert!(
+            parse_mesh(&stl, "stl", [1.0; 3]).is_err(),
+            "a lying triangle count"
+        );
+        assert!(parse_mesh(b"", "ply", [1.0; 3]).is_err());
+    }
+
+    #[test]
+    fn arbitrary_bytes_never_panic() {
+        // A small deterministic fuzz: mutations of valid files and random bytes.
+        let mut seed = 0x2545F4914F6CDD1Du64;
+        let mut next = || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            seed
+        };
+        let base_obj = b"v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1/1/1 3 4\n".to_vec();
+        let mut base_stl = vec![0u8; 80];
+        base_stl.extend_from_slice(&2u32.to_le_bytes());
+        base_stl.extend(std::iter::repeat_n(0u8, 100));
+        for round in 0..4000 {
+            let (mut bytes, ext) = if round % 2 == 0 {
+                (base_obj.clone(), "obj")
+            } else {
+                (base_stl.clone(), "stl")
+            };
+            for _ in 0..(next() % 6) {
+                let i = (next() as usize) % bytes.len().max(1);
+                match next() % 3 {
+                    0 if !bytes.is_empty() => {
+                        bytes.remove(i);
+                    }
+                    1 => bytes.insert(i.min(bytes.len()), (next() % 256) as u8),
+                    _ if !bytes.is_empty() => bytes[i] = (next() % 256) as u8,
+                    _ => {}
+                }
+            }
+            let _ = parse_mesh(&bytes, ext, [1.0; 3]);
+        }
+    }
 }
