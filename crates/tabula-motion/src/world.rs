@@ -385,15 +385,7 @@ impl CollisionWorld {
                 .map(|b| self.world_from_root * poses[b.link])
                 .collect());
         }
-        if q.len() != self.chain.dof() {
-            return Err(WorldError::WrongLength {
-                expected: self.chain.dof(),
-                got: q.len(),
-            });
-        }
-        if q.iter().any(|v| !v.is_finite()) {
-            return Err(WorldError::NonFinite);
-        }
+        self.check_length_and_finite(q)?;
         // The chain's frames after each element, in the world.
         let mut frames = Vec::with_capacity(self.chain.elements.len());
         let mut t = self.world_from_chain_base;
@@ -682,7 +674,7 @@ impl CollisionWorld {
         self.checks.get()
     }
 
-    fn root_from_links(&self, q: &[f64]) -> Result<Vec<Pose>, WorldError> {
+    fn check_length_and_finite(&self, q: &[f64]) -> Result<(), WorldError> {
         if q.len() != self.chain.dof() {
             return Err(WorldError::WrongLength {
                 expected: self.chain.dof(),
@@ -692,6 +684,11 @@ impl CollisionWorld {
         if q.iter().any(|v| !v.is_finite()) {
             return Err(WorldError::NonFinite);
         }
+        Ok(())
+    }
+
+    fn root_from_links(&self, q: &[f64]) -> Result<Vec<Pose>, WorldError> {
+        self.check_length_and_finite(q)?;
         let mut values = self.values.clone();
         for (v, &j) in q.iter().zip(&self.chain.joint_indices) {
             values[j] = *v;

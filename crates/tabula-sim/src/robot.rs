@@ -244,15 +244,22 @@ impl SimWorld {
     fn touching_object(&self, entity: &str) -> Option<String> {
         let e = self.entity(entity)?;
         let body = &self.physics.bodies[self.entities[e].body];
-        let world_from_body = *body.position();
+        self.first_contact(body, *body.position(), EntityKind::Object, 1e-4)
+    }
+
+    /// The first entity of `kind` that `body` placed at `world_from_body` comes within
+    /// `max_distance` of (negative: penetrates by more than that).
+    fn first_contact(
+        &self,
+        body: &RigidBody,
+        world_from_body: Pose,
+        kind: EntityKind,
+        max_distance: f64,
+    ) -> Option<String> {
         for &ch in body.colliders() {
             let c = &self.physics.colliders[ch];
             let pose = world_from_body * *c.position_wrt_parent().unwrap_or(&Pose::IDENTITY);
-            for other in self
-                .entities
-                .iter()
-                .filter(|o| o.kind == EntityKind::Object)
-            {
+            for other in self.entities.iter().filter(|o| o.kind == kind) {
                 let ob = &self.physics.bodies[other.body];
                 for &oc in ob.colliders() {
                     let occ = &self.physics.colliders[oc];
@@ -267,7 +274,7 @@ impl SimWorld {
                     )
                     .ok()
                     .flatten();
-                    if contact.is_some_and(|k| k.dist <= 1e-4) {
+                    if contact.is_some_and(|k| k.dist <= max_distance) {
                         return Some(other.name.clone());
                     }
                 }
@@ -282,43 +289,13 @@ impl SimWorld {
     /// and walls (not the floor).
     fn robot_blocked(&self, robot: &str) -> Option<String> {
         let prefix = format!("{robot}/");
-        let links = self
-            .entities
+        self.entities
             .iter()
-            .filter(|e| e.kind == EntityKind::RobotLink && e.name.starts_with(&prefix));
-        for link in links {
-            let lb = &self.physics.bodies[link.body];
-            let world_from_link = lb.next_position();
-            for &lc in lb.colliders() {
-                let c = &self.physics.colliders[lc];
-                let pose = *world_from_link * *c.position_wrt_parent().unwrap_or(&Pose::IDENTITY);
-                for other in self
-                    .entities
-                    .iter()
-                    .filter(|o| o.kind == EntityKind::Furniture)
-                {
-                    let ob = &self.physics.bodies[other.body];
-                    for &oc in ob.colliders() {
-                        let occ = &self.physics.colliders[oc];
-                        let opose =
-                            *ob.position() * *occ.position_wrt_parent().unwrap_or(&Pose::IDENTITY);
-                        let contact = rapier3d_f64::parry::query::contact(
-                            &pose,
-                            c.shape(),
-                            &opose,
-                            occ.shape(),
-                            0.0,
-                        )
-                        .ok()
-                        .flatten();
-                        if contact.is_some_and(|k| k.dist < -1e-3) {
-                            return Some(other.name.clone());
-                        }
-                    }
-                }
-            }
-        }
-        None
+            .filter(|e| e.kind == EntityKind::RobotLink && e.name.starts_with(&prefix))
+            .find_map(|link| {
+                let body = &self.physics.bodies[link.body];
+                self.first_contact(body, *body.next_position(), EntityKind::Furniture, -1e-3)
+            })
     }
 
     /// Drives a planar mobile base to (x, y, θ) in the world the way seed 000 did
