@@ -7,6 +7,7 @@ use rand_chacha::ChaCha8Rng;
 use std::cell::Cell;
 use std::collections::HashSet;
 use tabula_geom::parry::bounding_volume::{Aabb, BoundingVolume};
+use tabula_geom::parry::partitioning::{Bvh, BvhBuildStrategy};
 use tabula_geom::parry::query;
 use tabula_geom::parry::shape::SharedShape;
 use tabula_geom::{Pose, Quat, Vec3};
@@ -109,6 +110,8 @@ pub struct CollisionWorld {
     /// `allowed` as a dense symmetric matrix (bodies × bodies), for the hot loop.
     allowed_matrix: Vec<bool>,
     objects: Vec<WorldObject>,
+    /// Broad phase over the world objects' boxes.
+    objects_bvh: Bvh,
     attached: Vec<Attached>,
     pub params: WorldParams,
     checks: Cell<u64>,
@@ -233,6 +236,7 @@ impl CollisionWorld {
             allowed: HashSet::new(),
             allowed_matrix: Vec::new(),
             objects: Vec::new(),
+            objects_bvh: Bvh::new(),
             attached: Vec::new(),
             params,
             checks: Cell::new(0),
@@ -517,7 +521,20 @@ impl CollisionWorld {
             world_from_object,
             aabb,
         });
+        self.rebuild_bvh();
         Ok(())
+    }
+
+    fn rebuild_bvh(&mut self) {
+        let boxes: Vec<Aabb> = self.objects.iter().map(|o| o.aabb).collect();
+        self.objects_bvh = Bvh::from_leaves(BvhBuildStrategy::default(), &boxes);
+    }
+
+    /// World objects whose boxes meet `aabb` (through the BVH).
+    fn objects_near<'a>(&'a self, aabb: &'a Aabb) -> impl Iterator<Item = &'a WorldObject> + 'a {
+        self.objects_bvh
+            .intersect_aabb(aabb)
+            .filter_map(|i| self.objects.get(i as usize))
     }
 
     /// A box (full sizes) at a pose — the common case.
@@ -610,6 +627,7 @@ impl CollisionWorld {
         let before = self.objects.len() + self.attached.len();
         self.objects.retain(|o| o.name != name);
         self.attached.retain(|o| o.name != name);
+        self.rebuild_bvh();
         if before == self.objects.len() + self.attached.len() {
             return Err(WorldError::UnknownObject(name.into()));
         }
@@ -737,8 +755,8 @@ impl CollisionWorld {
             if !self.bodies[*b].moving {
                 continue;
             }
-            for o in &self.objects {
-                if aabb.intersects(&o.aabb) && hits(w, s, &o.world_from_object, &o.shape) {
+            for o in self.objects_near(aabb) {
+                if hits(w, s, &o.world_from_object, &o.shape) {
                     return Ok(Some((self.bodies[*b].name.clone(), o.name.clone())));
                 }
             }
@@ -765,8 +783,8 @@ impl CollisionWorld {
         }
         // Attached objects against the world and the robot.
         for (_, w, a, aabb) in &attached {
-            for o in &self.objects {
-                if aabb.intersects(&o.aabb) && hits(w, &a.shape, &o.world_from_object, &o.shape) {
+            for o in self.objects_near(aabb) {
+                if hits(w, &a.shape, &o.world_from_object, &o.shape) {
                     return Ok(Some((a.name.clone(), o.name.clone())));
                 }
             }
@@ -826,7 +844,8 @@ impl CollisionWorld {
             if !self.bodies[*b].moving {
                 continue;
             }
-            for o in &self.objects {
+            let reach = aabb.loosened(best);
+            for o in self.objects_near(&reach) {
                 consider(
                     w,
                     s,
@@ -861,7 +880,8 @@ impl CollisionWorld {
         for att in &self.attached {
             let w = poses[att.body] * att.link_from_object;
             let aabb = att.shape.compute_aabb(&w);
-            for o in &self.objects {
+            let reach = aabb.loosened(best);
+            for o in self.objects_near(&reach) {
                 consider(
                     &w,
                     &att.shape,
