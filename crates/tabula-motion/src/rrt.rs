@@ -99,9 +99,11 @@ pub fn segment_valid_advancing(
     b: &[f64],
     resolution: f64,
 ) -> bool {
-    let pad = world.params.padding;
+    let pad = world.max_padding();
     let total = world.displacement_bound(a, b);
-    let cap = 0.25;
+    // Clearances beyond 10 cm buy little step length but cost many distance queries
+    // (measured: 0.07–0.1 m is the sweet spot on tabletop scenes).
+    let cap = 0.1;
     let mut q = a.to_vec();
     let mut t = 0.0f64;
     loop {

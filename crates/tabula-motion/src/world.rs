@@ -49,6 +49,9 @@ pub struct WorldParams {
     /// Pairs colliding in at least this fraction of the samples count as "always in
     /// collision" (MoveIt setup assistant's 95 %).
     pub always_fraction: f64,
+    /// Padding of particular links (by name), instead of `padding` — e.g. more around a
+    /// gripper that must not brush the table.
+    pub link_padding: std::collections::BTreeMap<String, f64>,
     /// Edges are checked at configurations so close that no point of the robot moves
     /// more than this between two (m). With the padding at least this large, a path
     /// whose checked configurations are all valid cannot touch anything in between.
@@ -62,6 +65,7 @@ impl Default for WorldParams {
             acm_samples: 5000,
             acm_seed: 0,
             always_fraction: 0.95,
+            link_padding: Default::default(),
             max_step_displacement: 0.01,
         }
     }
@@ -71,6 +75,7 @@ impl Default for WorldParams {
 struct LinkBody {
     link: usize,
     name: String,
+    padding: f64,
     shapes: Vec<(SharedShape, Pose)>,
     /// Moves with the planning joints.
     moving: bool,
@@ -205,6 +210,11 @@ impl CollisionWorld {
             if !shapes.is_empty() {
                 bodies.push(LinkBody {
                     link: li,
+                    padding: params
+                        .link_padding
+                        .get(&link.name)
+                        .copied()
+                        .unwrap_or(params.padding),
                     name: link.name.clone(),
                     shapes,
                     moving: moves(li),
@@ -537,6 +547,34 @@ impl CollisionWorld {
             .filter_map(|i| self.objects.get(i as usize))
     }
 
+    /// A mesh file (OBJ or STL) as a world object: its convex hull, or with `decompose`
+    /// a V-HACD convex decomposition that keeps its concavities (a shelf, a bin).
+    pub fn add_mesh(
+        &mut self,
+        name: &str,
+        path: &std::path::Path,
+        scale: Vec3,
+        world_from_mesh: Pose,
+        decompose: bool,
+    ) -> Result<(), WorldError> {
+        let (points, triangles) = tabula_geom::mesh::load_mesh(path, scale.to_array())
+            .map_err(|e| WorldError::Robot(e.to_string()))?;
+        let shape = if decompose && !triangles.is_empty() {
+            let (p, t) = (points.clone(), triangles.clone());
+            std::panic::catch_unwind(move || SharedShape::convex_decomposition(&p, &t)).map_err(
+                |_| WorldError::Robot(format!("{}: convex decomposition failed", path.display())),
+            )?
+        } else {
+            SharedShape::convex_hull(&points).ok_or_else(|| {
+                WorldError::Robot(format!(
+                    "{}: degenerate mesh, no convex hull",
+                    path.display()
+                ))
+            })?
+        };
+        self.add_object(name, shape, world_from_mesh)
+    }
+
     /// A box (full sizes) at a pose — the common case.
     pub fn add_box(
         &mut self,
@@ -649,6 +687,12 @@ impl CollisionWorld {
             None => {
                 self.bodies.push(LinkBody {
                     link: li,
+                    padding: self
+                        .params
+                        .link_padding
+                        .get(link)
+                        .copied()
+                        .unwrap_or(self.params.padding),
                     name: link.into(),
                     shapes: Vec::new(),
                     moving: true,
@@ -675,6 +719,14 @@ impl CollisionWorld {
         });
         self.tighten_motion_radius();
         Ok(())
+    }
+
+    /// The largest padding of any link (what conservative advancement must keep).
+    pub fn max_padding(&self) -> f64 {
+        self.bodies
+            .iter()
+            .map(|b| b.padding)
+            .fold(self.params.padding, f64::max)
     }
 
     /// How far (m) any point of the robot can move between configurations `a` and `b` on
@@ -727,14 +779,13 @@ impl CollisionWorld {
                 )));
             }
         }
-        let pad = self.params.padding;
         let n = self.bodies.len();
-        // Shapes in the world frame with their boxes, grown by the padding.
+        // Shapes in the world frame with their boxes, grown by their link's padding.
         let mut placed: Vec<(usize, Pose, &SharedShape, Aabb)> = Vec::new();
         for (b, lb) in self.bodies.iter().enumerate() {
             for (s, p) in &lb.shapes {
                 let w = poses[b] * *p;
-                placed.push((b, w, s, s.compute_aabb(&w).loosened(pad)));
+                placed.push((b, w, s, s.compute_aabb(&w).loosened(lb.padding)));
             }
         }
         let attached: Vec<(usize, Pose, &Attached, Aabb)> = self
@@ -743,11 +794,18 @@ impl CollisionWorld {
             .enumerate()
             .map(|(i, a)| {
                 let w = poses[a.body] * a.link_from_object;
-                (i, w, a, a.shape.compute_aabb(&w).loosened(pad))
+                (
+                    i,
+                    w,
+                    a,
+                    a.shape
+                        .compute_aabb(&w)
+                        .loosened(self.bodies[a.body].padding),
+                )
             })
             .collect();
         // A yes/no question: GJK distance, not the penetration depth (EPA) `contact` computes.
-        let hits = |p1: &Pose, s1: &SharedShape, p2: &Pose, s2: &SharedShape| {
+        let hits = |p1: &Pose, s1: &SharedShape, p2: &Pose, s2: &SharedShape, pad: f64| {
             query::distance(p1, s1.as_ref(), p2, s2.as_ref()).is_ok_and(|d| d.distance <= pad)
         };
         // Robot against the world (only what moves can newly collide).
@@ -756,7 +814,13 @@ impl CollisionWorld {
                 continue;
             }
             for o in self.objects_near(aabb) {
-                if hits(w, s, &o.world_from_object, &o.shape) {
+                if hits(
+                    w,
+                    s,
+                    &o.world_from_object,
+                    &o.shape,
+                    self.bodies[*b].padding,
+                ) {
                     return Ok(Some((self.bodies[*b].name.clone(), o.name.clone())));
                 }
             }
@@ -772,7 +836,13 @@ impl CollisionWorld {
                     continue;
                 }
                 if placed[i].3.intersects(&placed[k].3)
-                    && hits(&placed[i].1, placed[i].2, &placed[k].1, placed[k].2)
+                    && hits(
+                        &placed[i].1,
+                        placed[i].2,
+                        &placed[k].1,
+                        placed[k].2,
+                        self.bodies[a].padding.max(self.bodies[b].padding),
+                    )
                 {
                     return Ok(Some((
                         self.bodies[a].name.clone(),
@@ -783,8 +853,9 @@ impl CollisionWorld {
         }
         // Attached objects against the world and the robot.
         for (_, w, a, aabb) in &attached {
+            let pad = self.bodies[a.body].padding;
             for o in self.objects_near(aabb) {
-                if hits(w, &a.shape, &o.world_from_object, &o.shape) {
+                if hits(w, &a.shape, &o.world_from_object, &o.shape, pad) {
                     return Ok(Some((a.name.clone(), o.name.clone())));
                 }
             }
@@ -792,7 +863,7 @@ impl CollisionWorld {
                 if a.touch.contains(b) || *b >= n {
                     continue;
                 }
-                if aabb.intersects(baabb) && hits(w, &a.shape, bw, s) {
+                if aabb.intersects(baabb) && hits(w, &a.shape, bw, s, pad) {
                     return Ok(Some((a.name.clone(), self.bodies[*b].name.clone())));
                 }
             }

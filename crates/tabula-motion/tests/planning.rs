@@ -97,6 +97,24 @@ fn padding_is_honoured_and_attached_objects_are_checked() {
         .unwrap();
     assert!(bare.is_valid(&q), "{:?}", bare.first_collision(&q));
     assert!(!world.is_valid(&q));
+    // Padding per link: only the fingers padded, 1 cm, reach the wall 5 mm away.
+    let mut fingers_only = WorldParams {
+        padding: 0.0,
+        ..Default::default()
+    };
+    for f in ["wam_gripper_left_finger", "wam_gripper_right_finger"] {
+        fingers_only.link_padding.insert(f.to_string(), 0.01);
+    }
+    let (_, chain2) = wam();
+    let mut padded = robot_world(&robot, chain2, fingers_only).unwrap();
+    padded
+        .add_box("wall", Vec3::new(0.5, 0.5, 0.02), wall)
+        .unwrap();
+    let hit = padded
+        .first_collision(&q)
+        .unwrap()
+        .expect("a padded finger touches the wall");
+    assert!(hit.0.contains("finger") && hit.1 == "wall", "{hit:?}");
     assert!(bare.min_distance(&q).unwrap() > 0.0);
     // An object held by the palm, 10 cm long past the fingertips, reaches the wall.
     bare.attach(
@@ -218,6 +236,35 @@ fn point_cloud_occupancy_and_contact_lists() {
     let contacts = world.contacts(&q).unwrap();
     assert!(contacts.iter().any(|(_, b)| b == "scan"), "{contacts:?}");
     assert_eq!(world.add_occupancy("empty", &[Vec3::NAN], 0.02).unwrap(), 0);
+    // A mesh obstacle at the tool, as a hull; a missing file is an error.
+    let dir = std::env::temp_dir().join(format!("tabula-motion-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let obj = dir.join("block.obj");
+    std::fs::write(&obj, "v -1 -1 -1\nv 1 -1 -1\nv -1 1 -1\nv 1 1 -1\nv -1 -1 1\nv 1 -1 1\nv -1 1 1\nv 1 1 1\nf 1 2 3\n").unwrap();
+    let mut meshy = world.clone();
+    meshy.remove_object("scan").unwrap();
+    meshy
+        .add_mesh(
+            "block",
+            &obj,
+            Vec3::splat(0.03),
+            Pose::from_translation(tip),
+            false,
+        )
+        .unwrap();
+    assert!(!meshy.is_valid(&q));
+    assert!(
+        meshy
+            .add_mesh(
+                "ghost",
+                &dir.join("missing.obj"),
+                Vec3::ONE,
+                Pose::IDENTITY,
+                false
+            )
+            .is_err()
+    );
+    std::fs::remove_dir_all(&dir).ok();
     world.remove_object("scan").unwrap();
     assert!(world.is_valid(&q));
     assert!(world.contacts(&q).unwrap().is_empty());
