@@ -41,12 +41,8 @@ pub fn run(cmd: MotionCommand) -> Result<()> {
                 bail!("--timeout must be a positive number of seconds");
             }
             let r = robots::load(&robot)?;
-            let base = if robot == "pr2" {
-                "base_link"
-            } else {
-                r.default_base.as_str()
-            };
-            let chain = Chain::new(&r.model, base, &r.default_tip)?;
+            // The arm planning group (for the PR2 MoveIt's right_arm: 7 joints, torso fixed).
+            let chain = Chain::new(&r.model, &r.default_base, &r.default_tip)?;
             let params = PlannerParams {
                 timeout_s: timeout,
                 ..PlannerParams::default()
