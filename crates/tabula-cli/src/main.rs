@@ -3,6 +3,7 @@
 mod demo;
 mod ik;
 mod motion;
+mod perceive;
 mod plan;
 mod sim;
 
@@ -30,6 +31,8 @@ enum Command {
         #[command(subcommand)]
         command: motion::MotionCommand,
     },
+    /// Perception: find the table and the objects on it in a depth frame (PCD).
+    Perceive(perceive::PerceiveArgs),
     /// Task planning in PDDL: plan, validate, benchmark (Fast Downward's role).
     Plan(plan::PlanArgs),
     /// The built-in simulator: settle scenes, capture depth frames, render snapshots.
@@ -46,6 +49,7 @@ fn main() {
         Command::Ik { command } => ik::run(command),
         Command::Plan(args) => plan::run(args),
         Command::Motion { command } => motion::run(command),
+        Command::Perceive(args) => perceive::run(args),
         Command::Sim { command } => sim::run(command),
     };
     if let Err(e) = result {

@@ -279,7 +279,7 @@ pub fn run(cmd: SimCommand) -> Result<()> {
             let p = frame.world_from_camera;
             let [r, pi, y] = rpy_from_quat(p.rotation);
             println!(
-                "{}×{} frame, {} valid points, {ms:.1} ms; world_from_camera (optical) xyz {:.4} {:.4} {:.4} rpy {:.4} {:.4} {:.4}; wrote {}",
+                "{}×{} frame, {} valid points, {ms:.1} ms; world_from_camera (optical) xyz {:.4} {:.4} {:.4} rpy {:.4} {:.4} {:.4} (--world-from-camera {} {} {} {} {} {} {}); wrote {}",
                 frame.width,
                 frame.height,
                 frame.cloud.finite_count(),
@@ -289,6 +289,13 @@ pub fn run(cmd: SimCommand) -> Result<()> {
                 r,
                 pi,
                 y,
+                p.translation.x,
+                p.translation.y,
+                p.translation.z,
+                p.rotation.x,
+                p.rotation.y,
+                p.rotation.z,
+                p.rotation.w,
                 a.out.display()
             );
         }
