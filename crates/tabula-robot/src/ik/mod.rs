@@ -146,9 +146,11 @@ pub(crate) fn sort_and_dedup(
     });
     let mut out: Vec<IkSolution> = Vec::with_capacity(sols.len());
     for s in sols {
+        // Within a micro-radian two branches are one configuration (a stretched elbow
+        // gives θ = ±4e-8 for the same target).
         if !out
             .iter()
-            .any(|o| joint_distance(chain, &o.joints, &s.joints) < 1e-9)
+            .any(|o| joint_distance(chain, &o.joints, &s.joints) < 1e-6)
         {
             out.push(s);
         }
