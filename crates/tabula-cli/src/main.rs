@@ -43,6 +43,13 @@ enum Command {
 }
 
 fn main() {
+    // `tabula … | head` should end quietly when the pipe closes, as Unix tools do,
+    // rather than panic on the next print.
+    #[cfg(unix)]
+    // SAFETY: resetting a signal disposition to its default before any thread starts.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+    }
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Demo => demo::run(),

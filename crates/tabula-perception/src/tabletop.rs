@@ -172,13 +172,37 @@ pub fn extract(
     let u = plane.normal.any_orthonormal_vector();
     let v = plane.normal.cross(u);
     let to2 = |q: Vec3| (q.dot(u), q.dot(v));
-    let table_2d: Vec<(f64, f64)> = table.iter().map(|&i| to2(world_points[i])).collect();
+    // Hull candidates: the first and last table pixel of every image row. A row of rays
+    // is a plane through the camera, which meets the table in a line, so the row's table
+    // points lie between those two: the hull of all of them is the hull of these.
+    let rows = height.max(1);
+    let mut first = vec![usize::MAX; rows];
+    let mut last = vec![0usize; rows];
+    for &i in &table {
+        let row = (i / width.max(1)).min(rows - 1);
+        first[row] = first[row].min(i);
+        last[row] = last[row].max(i);
+    }
+    let mut row_ends: Vec<usize> = Vec::with_capacity(2 * rows);
+    if rows == 1 {
+        // Not organized: every table point is a candidate.
+        row_ends.extend(table.iter().copied());
+    }
+    for row in (0..rows).filter(|_| rows > 1) {
+        if first[row] != usize::MAX {
+            row_ends.push(first[row]);
+            if last[row] != first[row] {
+                row_ends.push(last[row]);
+            }
+        }
+    }
+    let table_2d: Vec<(f64, f64)> = row_ends.iter().map(|&i| to2(world_points[i])).collect();
     let hull_idx = hull_2d(&table_2d);
     let poly: Vec<(f64, f64)> = hull_idx.iter().map(|&k| table_2d[k]).collect();
     let hull: Vec<Vec3> = hull_idx
         .iter()
         .map(|&k| {
-            let q = world_points[table[k]];
+            let q = world_points[row_ends[k]];
             q - plane.normal * plane.distance(q)
         })
         .collect();
