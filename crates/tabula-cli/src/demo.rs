@@ -13,12 +13,91 @@ pub fn run() -> Result<()> {
     println!("tabula demo\n===========\n");
     kinematics()?;
     planning()?;
-    simulator()?;
+    let frame = simulator()?;
+    perception(&frame)?;
+    motion()?;
+    Ok(())
+}
+
+/// Seed 002's perception on the simulator's frame: the table and the objects on it.
+fn perception(frame: &tabula_sim::DepthFrame) -> Result<()> {
+    use tabula_perception::{TabletopParams, extract, to_world};
+    println!("4. Perception (PCL's role, in progress): the table and its objects in that frame\n");
+    let t0 = Instant::now();
+    let points = to_world(&frame.world_from_camera, &frame.cloud.points);
+    let t = extract(
+        &points,
+        frame.width,
+        frame.height,
+        &TabletopParams::default(),
+    )?;
+    println!(
+        "  table at {:.3} m ({} points, hull of {} corners), {} objects, {:.1} ms",
+        -t.plane.d,
+        t.table_indices.len(),
+        t.hull.len(),
+        t.objects.len(),
+        t0.elapsed().as_secs_f64() * 1e3
+    );
+    for o in &t.objects {
+        println!(
+            "    centre ({:.3}, {:.3}, {:.3}), {:.0} × {:.0} × {:.0} mm box, {} points",
+            o.obb_center.x,
+            o.obb_center.y,
+            o.obb_center.z,
+            2000.0 * o.obb_half.x,
+            2000.0 * o.obb_half.y,
+            2000.0 * o.obb_half.z,
+            o.indices.len()
+        );
+    }
+    println!();
+    Ok(())
+}
+
+/// MoveIt's role: a collision-free reach for the WAM over a cluttered table.
+fn motion() -> Result<()> {
+    use tabula_motion::bench::{reach_configuration, robot_world, table_height, tabletop_world};
+    use tabula_motion::{PlannerParams, WorldParams, rrt_connect, time_parameterize};
+    println!("5. Motion planning (MoveIt/OMPL's role): WAM reaches over a cluttered table\n");
+    let robot = robots::load("wam")?;
+    let chain = Chain::new(&robot.model, &robot.default_base, &robot.default_tip)?;
+    let empty = robot_world(&robot, chain, WorldParams::default())?;
+    let top = table_height(&robot);
+    let world = tabletop_world(&empty, top, 4)?;
+    let mut rng = <rand_chacha::ChaCha8Rng as rand::SeedableRng>::seed_from_u64(4);
+    for k in 0..3 {
+        let (Some(start), Some(goal)) = (
+            reach_configuration(&world, &mut rng, top),
+            reach_configuration(&world, &mut rng, top),
+        ) else {
+            continue;
+        };
+        let path = rrt_connect(
+            &world,
+            &start,
+            std::slice::from_ref(&goal),
+            &PlannerParams {
+                seed: k,
+                ..PlannerParams::default()
+            },
+        )?;
+        let traj = time_parameterize(&path.waypoints, &world.chain.velocity, &vec![2.0; 7], 0.01);
+        println!(
+            "  reach {}: {} waypoints, {:.2} rad, planned in {:.2} ms, {:.2} s to execute at the joints' limits",
+            k + 1,
+            path.waypoints.len(),
+            path.length(),
+            path.planning_time * 1e3,
+            traj.duration()
+        );
+    }
+    println!("\n  Benchmarks: `tabula motion bench --robot wam` (see BENCHMARKS.md)\n");
     Ok(())
 }
 
 /// The built-in simulator: settle seed 002's clutter, capture a frame, render a picture.
-fn simulator() -> Result<()> {
+fn simulator() -> Result<tabula_sim::DepthFrame> {
     use tabula_sim::camera::{Camera, capture};
     use tabula_sim::{PhysicsParams, Scene, SimWorld};
     println!("3. Simulator (Gazebo's role): seed 002's cluttered table\n");
@@ -61,7 +140,7 @@ fn simulator() -> Result<()> {
         png.display(),
         pcd.display()
     );
-    Ok(())
+    Ok(frame)
 }
 
 /// Seed 002's decision step: plan which objects to push or grasp, in process.
