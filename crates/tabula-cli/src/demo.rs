@@ -82,7 +82,7 @@ fn motion() -> Result<()> {
                 ..PlannerParams::default()
             },
         )?;
-        let traj = time_parameterize(&path.waypoints, &world.chain.velocity, &vec![2.0; 7], 0.01);
+        let traj = time_parameterize(&path.waypoints, &world.chain.velocity, &[2.0; 7], 0.01);
         println!(
             "  reach {}: {} waypoints, {:.2} rad, planned in {:.2} ms, {:.2} s to execute at the joints' limits",
             k + 1,
