@@ -24,30 +24,32 @@ fn perception(frame: &tabula_sim::DepthFrame) -> Result<()> {
     use tabula_perception::{TabletopParams, extract, to_world};
     println!("4. Perception (PCL's role, in progress): the table and its objects in that frame\n");
     let t0 = Instant::now();
-    let points = to_world(&frame.world_from_camera, &frame.cloud.points);
+    let cloud = to_world(&frame.world_from_camera, &frame.cloud);
     let t = extract(
-        &points,
-        frame.width,
-        frame.height,
+        &cloud,
+        frame.world_from_camera.translation,
         &TabletopParams::default(),
     )?;
     println!(
-        "  table at {:.3} m ({} points, hull of {} corners), {} objects, {:.1} ms",
+        "  table at {:.3} m ({} points, {:.2} m² seen, hull of {} corners), {} objects, {:.1} ms",
         -t.plane.d,
-        t.table_indices.len(),
-        t.hull.len(),
+        t.table.inliers.len(),
+        t.table.area,
+        t.table.hull.len(),
         t.objects.len(),
         t0.elapsed().as_secs_f64() * 1e3
     );
     for o in &t.objects {
+        let c = o.obb.center;
+        let s = o.obb.half_extents * 2000.0;
         println!(
             "    centre ({:.3}, {:.3}, {:.3}), {:.0} × {:.0} × {:.0} mm box, {} points",
-            o.obb_center.x,
-            o.obb_center.y,
-            o.obb_center.z,
-            2000.0 * o.obb_half.x,
-            2000.0 * o.obb_half.y,
-            2000.0 * o.obb_half.z,
+            c.x,
+            c.y,
+            c.z,
+            s.x,
+            s.y,
+            s.z,
             o.indices.len()
         );
     }

@@ -1,81 +1,442 @@
-//! `tabula perceive`: seed 002's tabletop pipeline on a PCD frame.
+//! `tabula perceive`: surfaces, the table, its objects and its free space in a PCD or
+//! PLY frame, with an optional robot self-filter and a top-view report.
 
 use anyhow::{Context, Result, bail};
 use clap::Args;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
-use tabula_geom::{Pose, Quat, Vec3};
-use tabula_perception::{TabletopParams, extract, read_pcd, to_world};
+use tabula_geom::{PointCloud, Pose, Quat, Vec2, Vec3};
+use tabula_perception::freespace::{Cell, FreeSpaceMap, FreeSpaceParams, Placement};
+use tabula_perception::selffilter::{PlacedSolid, SelfFilterParams, Solid, self_filter};
+use tabula_perception::surfaces::find_surfaces;
+use tabula_perception::tabletop::Tabletop;
+use tabula_perception::{TabletopParams, extract, read_pcd, read_ply, to_world};
 
 #[derive(Args)]
 pub struct PerceiveArgs {
-    /// Organized PCD frame in the camera's optical frame.
+    /// Frame in the camera's optical frame: .pcd (ascii, binary, binary_compressed) or .ply.
     #[arg(long)]
     cloud: PathBuf,
     /// world_from_camera as x y z qx qy qz qw (default: identity, cloud already in world).
     #[arg(long, num_args = 7, allow_negative_numbers = true, value_names = ["X", "Y", "Z", "QX", "QY", "QZ", "QW"])]
     world_from_camera: Option<Vec<f64>>,
+    /// Pipeline parameters (TOML, keys of `TabletopParams`; defaults from SPEC §6).
+    #[arg(long)]
+    params: Option<PathBuf>,
+    /// Remove the points of this robot (`golem3`, `wam`, `pr2` or a URDF path) first.
+    #[arg(long)]
+    robot: Option<String>,
+    /// world_from_base of that robot: x y z qx qy qz qw.
+    #[arg(long, num_args = 7, allow_negative_numbers = true, value_names = ["X", "Y", "Z", "QX", "QY", "QZ", "QW"])]
+    robot_base: Option<Vec<f64>>,
+    /// Joint values of that robot, `name=value` (others at 0).
+    #[arg(long = "joint", value_name = "NAME=VALUE")]
+    joints: Vec<String>,
+    /// Find a place for a footprint of this size (m, x and y) on the table …
+    #[arg(long, num_args = 2, value_names = ["X", "Y"])]
+    place: Option<Vec<f64>>,
+    /// … this far (m) from objects, unseen patches and the edge …
+    #[arg(long, default_value_t = 0.02)]
+    margin: f64,
+    /// … nearest to this world point (default: the table's centroid).
+    #[arg(long, num_args = 3, allow_negative_numbers = true, value_names = ["X", "Y", "Z"])]
+    near: Option<Vec<f64>>,
     #[arg(long)]
     json: bool,
+    /// Write a top view of the table (top.png, top.svg) into this folder.
+    #[arg(long)]
+    report: Option<PathBuf>,
+}
+
+fn pose_arg(v: &[f64], what: &str) -> Result<Pose> {
+    let q = Quat::from_xyzw(v[3], v[4], v[5], v[6]);
+    if !v.iter().all(|x| x.is_finite()) || q.length() < 1e-9 {
+        bail!("--{what} must be finite with a non-zero quaternion");
+    }
+    Ok(Pose::from_parts(Vec3::new(v[0], v[1], v[2]), q.normalize()))
+}
+
+/// Reads a PCD or PLY file (by its first bytes, whatever the extension).
+pub fn read_cloud(path: &Path) -> Result<PointCloud> {
+    let bytes = std::fs::read(path).with_context(|| format!("cannot read {}", path.display()))?;
+    let cloud = if bytes.starts_with(b"ply") {
+        read_ply(&bytes).map_err(anyhow::Error::from)
+    } else {
+        read_pcd(&bytes).map_err(anyhow::Error::from)
+    };
+    cloud.with_context(|| format!("{}", path.display()))
+}
+
+/// The robot's collision shapes placed by forward kinematics.
+fn robot_solids(name: &str, world_from_base: Pose, joints: &[String]) -> Result<Vec<PlacedSolid>> {
+    use tabula_robot::model::Geometry;
+    let robot = tabula_robot::robots::load(name)?;
+    let model = &robot.model;
+    let mut values = vec![0.0; model.joints.len()];
+    for j in joints {
+        let (n, v) = j
+            .split_once('=')
+            .with_context(|| format!("--joint `{j}` is not NAME=VALUE"))?;
+        let idx = model
+            .joint(n)
+            .with_context(|| format!("{name} has no joint `{n}`"))?;
+        values[idx] = v
+            .parse()
+            .with_context(|| format!("--joint `{j}`: bad value"))?;
+    }
+    let root_from_link = model.forward_kinematics(&values)?;
+    let mut out = Vec::new();
+    for (l, link) in model.links.iter().enumerate() {
+        for shape in &link.collision {
+            let world_from_solid = world_from_base * root_from_link[l] * shape.link_from_shape;
+            let solid = match &shape.geometry {
+                Geometry::Box { half_extents } => Solid::Box {
+                    half_extents: *half_extents,
+                },
+                Geometry::Sphere { radius } => Solid::Sphere { radius: *radius },
+                Geometry::Cylinder { radius, length } => Solid::Cylinder {
+                    radius: *radius,
+                    half_length: length / 2.0,
+                },
+                Geometry::Capsule { radius, length } => Solid::Capsule {
+                    radius: *radius,
+                    half_length: length / 2.0,
+                },
+                Geometry::Mesh { path, scale } => {
+                    let (pts, _) = tabula_geom::mesh::load_mesh(path, scale.to_array())
+                        .with_context(|| format!("{}", path.display()))?;
+                    match Solid::convex_hull(&pts) {
+                        Some(s) => s,
+                        None => continue,
+                    }
+                }
+            };
+            out.push(PlacedSolid {
+                world_from_solid,
+                solid,
+            });
+        }
+    }
+    Ok(out)
 }
 
 pub fn run(a: PerceiveArgs) -> Result<()> {
-    let bytes =
-        std::fs::read(&a.cloud).with_context(|| format!("cannot read {}", a.cloud.display()))?;
-    let cloud = read_pcd(&bytes).with_context(|| format!("{}", a.cloud.display()))?;
-    let pose = match &a.world_from_camera {
-        Some(v) => {
-            let q = Quat::from_xyzw(v[3], v[4], v[5], v[6]);
-            if !v.iter().all(|x| x.is_finite()) || q.length() < 1e-9 {
-                bail!("--world-from-camera must be finite with a non-zero quaternion");
-            }
-            Pose::from_parts(Vec3::new(v[0], v[1], v[2]), q.normalize())
-        }
+    let camera_cloud = read_cloud(&a.cloud)?;
+    let world_from_camera = match &a.world_from_camera {
+        Some(v) => pose_arg(v, "world-from-camera")?,
         None => Pose::IDENTITY,
     };
+    let params: TabletopParams = match &a.params {
+        Some(p) => {
+            let text = std::fs::read_to_string(p)
+                .with_context(|| format!("cannot read {}", p.display()))?;
+            toml::from_str(&text).with_context(|| format!("{}", p.display()))?
+        }
+        None => TabletopParams::default(),
+    };
     let t0 = Instant::now();
-    let points = to_world(&pose, &cloud.points);
-    let result = extract(
-        &points,
-        cloud.width,
-        cloud.height,
-        &TabletopParams::default(),
-    )?;
+    let mut cloud = to_world(&world_from_camera, &camera_cloud);
+    let mut removed = 0;
+    if let Some(robot) = &a.robot {
+        let base = match &a.robot_base {
+            Some(v) => pose_arg(v, "robot-base")?,
+            None => Pose::IDENTITY,
+        };
+        let solids = robot_solids(robot, base, &a.joints)?;
+        let keep = self_filter(&cloud.points, &solids, &SelfFilterParams::default());
+        for (p, k) in cloud.points.iter_mut().zip(&keep) {
+            if !k && p.is_finite() {
+                *p = Vec3::NAN;
+                removed += 1;
+            }
+        }
+    }
+    let viewpoint = world_from_camera.translation;
+    let result = extract(&cloud, viewpoint, &params)?;
     let ms = t0.elapsed().as_secs_f64() * 1e3;
+    let surfaces = find_surfaces(&cloud, None, &params.surfaces, false);
+    let objects: Vec<Vec<Vec3>> = result
+        .objects
+        .iter()
+        .map(|o| o.indices.iter().map(|&i| cloud.points[i]).collect())
+        .collect();
+    let map = FreeSpaceMap::build(
+        &result.table,
+        &cloud.points,
+        &objects,
+        &FreeSpaceParams::default(),
+    )?;
+    let placement = match &a.place {
+        Some(size) => {
+            if !(size.iter().all(|s| s.is_finite() && *s > 0.0)) {
+                bail!("--place sizes must be positive");
+            }
+            let (x, y) = (size[0] / 2.0, size[1] / 2.0);
+            let footprint = [
+                Vec2::new(-x, -y),
+                Vec2::new(x, -y),
+                Vec2::new(x, y),
+                Vec2::new(-x, y),
+            ];
+            let near = a
+                .near
+                .as_ref()
+                .map_or(result.table.centroid, |n| Vec3::new(n[0], n[1], n[2]));
+            Some(map.find_place(&footprint, a.margin, near))
+        }
+        None => None,
+    };
+    if let Some(dir) = &a.report {
+        std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
+        let footprint = placement.flatten().zip(a.place.as_ref());
+        write_report(dir, &result, &map, footprint)?;
+    }
     if a.json {
-        let objects: Vec<_> = result
-            .objects
-            .iter()
-            .map(|o| serde_json::json!({"points": o.indices.len(), "centroid": o.centroid.to_array(), "obb_center": o.obb_center.to_array(), "obb_half": o.obb_half.to_array(), "axes": o.axes.map(|a| a.to_array()), "height": o.height}))
-            .collect();
         println!(
             "{}",
-            serde_json::json!({"table": {"normal": result.plane.normal.to_array(), "d": result.plane.d, "points": result.table_indices.len(), "hull": result.hull.iter().map(|p| p.to_array()).collect::<Vec<_>>()}, "objects": objects, "ms": ms})
+            serde_json::to_string_pretty(&to_json(
+                &result,
+                &surfaces.surfaces,
+                &map,
+                placement,
+                removed,
+                ms
+            ))?
         );
         return Ok(());
     }
     println!(
-        "table: {} points, normal ({:.3}, {:.3}, {:.3}), height {:.3} m, hull of {} corners; {ms:.1} ms",
-        result.table_indices.len(),
+        "table: {} points, normal ({:.3}, {:.3}, {:.3}), height {:.3} m, {:.2} m² seen, hull {:.2} m² ({} corners); free {:.2} m²",
+        result.table.inliers.len(),
         result.plane.normal.x,
         result.plane.normal.y,
         result.plane.normal.z,
         -result.plane.d,
-        result.hull.len()
+        result.table.area,
+        result.table.hull_area,
+        result.table.hull.len(),
+        map.free_area()
     );
-    for (i, o) in result.objects.iter().enumerate() {
+    if removed > 0 {
+        println!("self-filter: {removed} robot points removed");
+    }
+    println!("surfaces (all horizontal surfaces in reach):");
+    for s in &surfaces.surfaces {
         println!(
-            "  object {}: {} points, centre ({:.3}, {:.3}, {:.3}), box {:.3} × {:.3} × {:.3} m, {:.3} m tall",
-            i + 1,
-            o.indices.len(),
-            o.obb_center.x,
-            o.obb_center.y,
-            o.obb_center.z,
-            2.0 * o.obb_half.x,
-            2.0 * o.obb_half.y,
-            2.0 * o.obb_half.z,
-            o.height
+            "  at {:.3} m: {} points, {:.2} m², centroid ({:.3}, {:.3}, {:.3})",
+            -s.plane.d,
+            s.inliers.len(),
+            s.area,
+            s.centroid.x,
+            s.centroid.y,
+            s.centroid.z
         );
     }
+    println!("objects:");
+    for (i, o) in result.objects.iter().enumerate() {
+        let (c, s) = (o.obb.center, o.obb.half_extents * 2.0);
+        println!(
+            "  {}: {} points, box centre ({:.3}, {:.3}, {:.3}), {:.3} × {:.3} × {:.3} m{}",
+            i + 1,
+            o.indices.len(),
+            c.x,
+            c.y,
+            c.z,
+            s.x,
+            s.y,
+            s.z,
+            o.top.as_ref().map_or(String::new(), |t| format!(
+                ", flat top {:.0} cm²",
+                t.area * 1e4
+            ))
+        );
+    }
+    match placement {
+        Some(Some(p)) => println!(
+            "place: ({:.3}, {:.3}, {:.3}) yaw {:.0}°, {:.3} m clear",
+            p.position.x,
+            p.position.y,
+            p.position.z,
+            p.yaw.to_degrees(),
+            p.clearance
+        ),
+        Some(None) => println!("place: the footprint fits nowhere on the table with that margin"),
+        None => {}
+    }
+    println!(
+        "{ms:.1} ms (outliers {:.1}, planes {:.1}, prism {:.1}, normals {:.1}, segmentation {:.1}, objects {:.1})",
+        result.times.outliers,
+        result.times.planes,
+        result.times.prism,
+        result.times.normals,
+        result.times.segmentation,
+        result.times.objects
+    );
+    Ok(())
+}
+
+fn arr(v: Vec3) -> [f64; 3] {
+    v.to_array()
+}
+
+fn to_json(
+    t: &Tabletop,
+    surfaces: &[tabula_perception::Surface],
+    map: &FreeSpaceMap,
+    placement: Option<Option<Placement>>,
+    removed: usize,
+    ms: f64,
+) -> serde_json::Value {
+    use serde_json::json;
+    let objects: Vec<_> = t
+        .objects
+        .iter()
+        .map(|o| {
+            json!({
+                "points": o.indices.len(),
+                "centroid": arr(o.centroid),
+                "axes": o.axes.map(arr),
+                "table_axes": o.table_axes.map(arr),
+                "obb": {"center": arr(o.obb.center), "axes": o.obb.axes.map(arr), "half_extents": arr(o.obb.half_extents)},
+                "height": o.height,
+                "footprint": o.footprint.iter().map(|p| arr(*p)).collect::<Vec<_>>(),
+                "hull": {"vertices": o.hull_vertices.iter().map(|p| arr(*p)).collect::<Vec<_>>(), "triangles": o.hull_triangles},
+                "top": o.top.as_ref().map(|s| json!({"height": s.height, "area": s.area, "centroid": arr(s.centroid), "hull": s.hull.iter().map(|p| arr(*p)).collect::<Vec<_>>()})),
+            })
+        })
+        .collect();
+    let surfaces: Vec<_> = surfaces
+        .iter()
+        .map(|s| json!({"normal": arr(s.plane.normal), "d": s.plane.d, "points": s.inliers.len(), "area": s.area, "hull_area": s.hull_area, "centroid": arr(s.centroid), "hull": s.hull.iter().map(|p| arr(*p)).collect::<Vec<_>>()}))
+        .collect();
+    json!({
+        "table": {"normal": arr(t.plane.normal), "d": t.plane.d, "points": t.table.inliers.len(), "area": t.table.area, "hull_area": t.table.hull_area, "centroid": arr(t.table.centroid), "hull": t.table.hull.iter().map(|p| arr(*p)).collect::<Vec<_>>()},
+        "surfaces": surfaces,
+        "objects": objects,
+        "free_area": map.free_area(),
+        "placement": placement.map(|p| p.map(|p| json!({"position": arr(p.position), "yaw": p.yaw, "clearance": p.clearance}))),
+        "self_filtered_points": removed,
+        "kept_after_outlier_removal": t.kept,
+        "times_ms": t.times,
+        "ms": ms,
+    })
+}
+
+/// Top view of the table: the occupancy grid (free green, objects red, unseen grey),
+/// object outlines and boxes, and the placement if one was asked for.
+fn write_report(
+    dir: &Path,
+    t: &Tabletop,
+    map: &FreeSpaceMap,
+    placement: Option<(Placement, &Vec<f64>)>,
+) -> Result<()> {
+    const SCALE: usize = 4;
+    let (w, h) = (map.nx * SCALE, map.ny * SCALE);
+    let mut img = image::RgbImage::from_pixel(w as u32, h as u32, image::Rgb([255, 255, 255]));
+    let px = |q: Vec2| -> (f64, f64) {
+        let c = (q - map.lo) / map.resolution * SCALE as f64;
+        // Image rows go down; the plane's v axis goes up.
+        (c.x, h as f64 - c.y)
+    };
+    for (k, cell) in map.cells.iter().enumerate() {
+        let colour = match cell {
+            Cell::Outside => continue,
+            Cell::Free => [200, 235, 200],
+            Cell::Occupied => [225, 120, 110],
+            Cell::Unknown => [190, 190, 190],
+        };
+        let (i, j) = (k % map.nx, k / map.nx);
+        for dy in 0..SCALE {
+            for dx in 0..SCALE {
+                img.put_pixel(
+                    (i * SCALE + dx) as u32,
+                    (h - 1 - (j * SCALE + dy)) as u32,
+                    image::Rgb(colour),
+                );
+            }
+        }
+    }
+    let line = |img: &mut image::RgbImage, a: Vec2, b: Vec2, colour: [u8; 3]| {
+        let (pa, pb) = (px(a), px(b));
+        let n = ((pb.0 - pa.0).abs().max((pb.1 - pa.1).abs()).ceil() as usize).max(1);
+        for s in 0..=n {
+            let f = s as f64 / n as f64;
+            let (x, y) = (pa.0 + (pb.0 - pa.0) * f, pa.1 + (pb.1 - pa.1) * f);
+            if x >= 0.0 && y >= 0.0 && (x as usize) < w && (y as usize) < h {
+                img.put_pixel(x as u32, y as u32, image::Rgb(colour));
+            }
+        }
+    };
+    let mut svg = format!(
+        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{w}\" height=\"{h}\" viewBox=\"0 0 {w} {h}\">\n<rect width=\"{w}\" height=\"{h}\" fill=\"white\"/>\n"
+    );
+    let poly = |svg: &mut String,
+                img: &mut image::RgbImage,
+                pts: &[Vec3],
+                fill: &str,
+                stroke: [u8; 3]| {
+        let q: Vec<Vec2> = pts.iter().map(|p| map.to_plane(*p)).collect();
+        let coords: Vec<String> = q
+            .iter()
+            .map(|p| {
+                let (x, y) = px(*p);
+                format!("{x:.1},{y:.1}")
+            })
+            .collect();
+        svg.push_str(&format!(
+            "<polygon points=\"{}\" fill=\"{fill}\" stroke=\"rgb({},{},{})\" stroke-width=\"2\"/>\n",
+            coords.join(" "),
+            stroke[0],
+            stroke[1],
+            stroke[2]
+        ));
+        for i in 0..q.len() {
+            line(img, q[i], q[(i + 1) % q.len()], stroke);
+        }
+    };
+    poly(
+        &mut svg,
+        &mut img,
+        &t.table.hull,
+        "rgb(200,235,200)",
+        [60, 60, 60],
+    );
+    for (n, o) in t.objects.iter().enumerate() {
+        poly(
+            &mut svg,
+            &mut img,
+            &o.footprint,
+            "rgb(225,120,110)",
+            [150, 30, 30],
+        );
+        let b = o.obb;
+        let corner = |sx: f64, sy: f64| {
+            b.center + b.axes[0] * (sx * b.half_extents.x) + b.axes[1] * (sy * b.half_extents.y)
+        };
+        let rect = [
+            corner(-1.0, -1.0),
+            corner(1.0, -1.0),
+            corner(1.0, 1.0),
+            corner(-1.0, 1.0),
+        ];
+        poly(&mut svg, &mut img, &rect, "none", [40, 40, 40]);
+        let (x, y) = px(map.to_plane(o.centroid));
+        svg.push_str(&format!("<text x=\"{x:.1}\" y=\"{y:.1}\" font-size=\"12\" font-family=\"sans-serif\">{}</text>\n", n + 1));
+    }
+    if let Some((p, size)) = placement {
+        let f = p.world_from_footprint;
+        let (x, y) = (size[0] / 2.0, size[1] / 2.0);
+        let rect = [
+            f * Vec3::new(-x, -y, 0.0),
+            f * Vec3::new(x, -y, 0.0),
+            f * Vec3::new(x, y, 0.0),
+            f * Vec3::new(-x, y, 0.0),
+        ];
+        poly(&mut svg, &mut img, &rect, "rgb(120,160,240)", [20, 40, 160]);
+    }
+    svg.push_str("</svg>\n");
+    std::fs::write(dir.join("top.svg"), svg).context("cannot write top.svg")?;
+    img.save(dir.join("top.png"))
+        .context("cannot write top.png")?;
     Ok(())
 }

@@ -1,6 +1,7 @@
-//! RANSAC planes with a seed, adaptive iteration count and least-squares refinement.
+//! RANSAC planes with a seed, adaptive iteration count, least-squares refinement and
+//! optional normal agreement.
 
-use nalgebra::{Matrix3, SymmetricEigen, Vector3};
+use crate::filters::{scatter, smallest_eigenvector};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use tabula_geom::Vec3;
@@ -19,27 +20,25 @@ impl Plane {
 
     /// Least-squares plane of points (smallest-eigenvalue direction of the scatter).
     pub fn fit(points: &[Vec3]) -> Option<Self> {
-        if points.len() < 3 {
-            return None;
-        }
-        let c = points.iter().copied().sum::<Vec3>() / points.len() as f64;
-        let mut m = Matrix3::zeros();
-        for p in points {
-            let d = Vector3::new(p.x - c.x, p.y - c.y, p.z - c.z);
-            m += d * d.transpose();
-        }
-        let eig = SymmetricEigen::new(m);
-        let (i, _) = eig
-            .eigenvalues
-            .iter()
-            .enumerate()
-            .min_by(|a, b| a.1.total_cmp(b.1))?;
-        let v = eig.eigenvectors.column(i);
-        let normal = Vec3::new(v[0], v[1], v[2]).try_normalize()?;
+        Self::fit_iter(points.iter().copied())
+    }
+
+    /// As [`Plane::fit`], from any re-iterable sequence of points.
+    pub fn fit_iter(points: impl Iterator<Item = Vec3> + Clone) -> Option<Self> {
+        let (c, m) = scatter(points)?;
+        let (normal, _) = smallest_eigenvector(m)?;
         Some(Plane {
             normal,
             d: -normal.dot(c),
         })
+    }
+
+    /// The same plane with its normal pointing the other way.
+    pub fn flipped(&self) -> Self {
+        Plane {
+            normal: -self.normal,
+            d: -self.d,
+        }
     }
 }
 
@@ -54,6 +53,9 @@ pub struct RansacParams {
     pub max_iterations: usize,
     /// Least-squares refits on the inliers.
     pub refinements: usize,
+    /// With normals given: inliers' normals must be within this angle (rad) of the
+    /// plane's (either direction).
+    pub max_normal_angle: f64,
     pub seed: u64,
 }
 
@@ -64,6 +66,7 @@ impl Default for RansacParams {
             confidence: 0.999,
             max_iterations: 1000,
             refinements: 2,
+            max_normal_angle: 0.35,
             seed: 0,
         }
     }
@@ -78,14 +81,33 @@ pub fn ransac_plane(
     candidates: &[usize],
     p: &RansacParams,
 ) -> Option<(Plane, Vec<usize>)> {
+    ransac_plane_with_normals(points, None, candidates, p)
+}
+
+/// [`ransac_plane`] where, if `normals` are given, a point only counts as an inlier
+/// when its normal agrees with the plane's (points without a normal are judged by
+/// distance alone) — so the rim of an object standing on a table is not table.
+pub fn ransac_plane_with_normals(
+    points: &[Vec3],
+    normals: Option<&[Vec3]>,
+    candidates: &[usize],
+    p: &RansacParams,
+) -> Option<(Plane, Vec<usize>)> {
     let usable: Vec<usize> = candidates
         .iter()
         .copied()
         .filter(|&i| points.get(i).is_some_and(|q| q.is_finite()))
         .collect();
-    if usable.len() < 3 {
+    if usable.len() < 3 || p.threshold.is_nan() || p.threshold <= 0.0 {
         return None;
     }
+    let cos_normal = p.max_normal_angle.cos();
+    let agrees = |plane: &Plane, i: usize| {
+        plane.distance(points[i]).abs() <= p.threshold
+            && normals
+                .and_then(|n| n.get(i))
+                .is_none_or(|n| !n.is_finite() || n.dot(plane.normal).abs() >= cos_normal)
+    };
     let mut rng = ChaCha8Rng::seed_from_u64(p.seed);
     let sample: Vec<usize> = if usable.len() > 4000 {
         (0..4000)
@@ -109,10 +131,7 @@ pub fn ransac_plane(
             normal,
             d: -normal.dot(a),
         };
-        let count = sample
-            .iter()
-            .filter(|&&i| plane.distance(points[i]).abs() <= p.threshold)
-            .count();
+        let count = sample.iter().filter(|&&i| agrees(&plane, i)).count();
         if count > best_count {
             best_count = count;
             best = Some(plane);
@@ -124,22 +143,86 @@ pub fn ransac_plane(
         }
     }
     let mut plane = best?;
-    let mut inliers: Vec<usize> = usable
+    for _ in 0..p.refinements {
+        let inliers = usable
+            .iter()
+            .filter(|&&i| agrees(&plane, i))
+            .map(|&i| points[i]);
+        match Plane::fit_iter(inliers) {
+            Some(f) => plane = f,
+            None => break,
+        }
+    }
+    let inliers = usable
         .iter()
         .copied()
-        .filter(|&i| plane.distance(points[i]).abs() <= p.threshold)
+        .filter(|&i| agrees(&plane, i))
         .collect();
-    for _ in 0..p.refinements {
-        let pts: Vec<Vec3> = inliers.iter().map(|&i| points[i]).collect();
-        let Some(refined) = Plane::fit(&pts) else {
-            break;
-        };
-        plane = refined;
-        inliers = usable
-            .iter()
-            .copied()
-            .filter(|&i| plane.distance(points[i]).abs() <= p.threshold)
-            .collect();
-    }
     Some((plane, inliers))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn finds_the_dominant_plane_among_outliers_deterministically() {
+        let mut rng = ChaCha8Rng::seed_from_u64(3);
+        let mut pts: Vec<Vec3> = (0..2000)
+            .map(|_| {
+                let (x, y) = (rng.random_range(-1.0..1.0), rng.random_range(-1.0..1.0));
+                Vec3::new(x, y, 0.5 + 0.1 * x + rng.random_range(-0.003..0.003))
+            })
+            .collect();
+        // 50 % outliers.
+        pts.extend((0..2000).map(|_| {
+            Vec3::new(
+                rng.random_range(-1.0..1.0),
+                rng.random_range(-1.0..1.0),
+                rng.random_range(-1.0..2.0),
+            )
+        }));
+        pts.push(Vec3::NAN);
+        let all: Vec<usize> = (0..pts.len()).collect();
+        let p = RansacParams::default();
+        let (plane, inliers) = ransac_plane(&pts, &all, &p).unwrap();
+        let truth = Vec3::new(-0.1, 0.0, 1.0).normalize();
+        assert!(plane.normal.dot(truth).abs() > 0.9999, "{plane:?}");
+        assert!(inliers.len() >= 2000 && inliers.len() < 2100);
+        assert_eq!(ransac_plane(&pts, &all, &p).unwrap().1, inliers);
+    }
+
+    #[test]
+    fn normal_agreement_rejects_points_whose_surface_crosses_the_plane() {
+        // A floor and a wall meeting it: wall points within 1 cm of the floor are
+        // distance-inliers but their normals are horizontal.
+        let mut pts = Vec::new();
+        let mut normals = Vec::new();
+        for i in 0..50 {
+            for j in 0..50 {
+                pts.push(Vec3::new(i as f64 * 0.01, j as f64 * 0.01, 0.0));
+                normals.push(Vec3::Z);
+                pts.push(Vec3::new(0.6, i as f64 * 0.01, j as f64 * 0.004));
+                normals.push(Vec3::X);
+            }
+        }
+        let all: Vec<usize> = (0..pts.len()).collect();
+        let p = RansacParams::default();
+        let (_, plain) = ransac_plane(&pts, &all, &p).unwrap();
+        let (_, agreeing) = ransac_plane_with_normals(&pts, Some(&normals), &all, &p).unwrap();
+        assert!(plain.len() > agreeing.len());
+        assert!(agreeing.iter().all(|&i| normals[i] == Vec3::Z));
+    }
+
+    #[test]
+    fn degenerate_input_gives_none_or_a_plane_without_panicking() {
+        let p = RansacParams::default();
+        assert!(ransac_plane(&[], &[], &p).is_none());
+        assert!(ransac_plane(&[Vec3::ONE], &[0], &p).is_none());
+        assert!(ransac_plane(&[Vec3::NAN; 10], &(0..10).collect::<Vec<_>>(), &p).is_none());
+        let line: Vec<Vec3> = (0..100).map(|i| Vec3::new(i as f64, 0.0, 0.0)).collect();
+        assert!(ransac_plane(&line, &(0..100).collect::<Vec<_>>(), &p).is_none());
+        // Out-of-range candidates are ignored.
+        assert!(ransac_plane(&line, &[500, 600, 700], &p).is_none());
+    }
 }

@@ -1,67 +1,145 @@
-//! Seed 002's tabletop pipeline (SPEC §3.1) on an organized frame: the table plane (a
-//! horizontal plane found by peeling off others), its 2D convex hull, the prism of points
-//! above it, and connected objects, each with centroid, principal directions and an
-//! oriented box.
+//! Seed 002's tabletop pipeline (SPEC §3.1): outlier removal, the table (first
+//! accepted surface of the surface search), its hull, the prism of points above it, and
+//! the objects in the prism, segmented by geometry alone so touching and stacked objects
+//! come apart.
+//!
+//! Segmentation is region growing with a convexity cut in the spirit of LCCP, done on
+//! points rather than supervoxels: a point lies on a *concave crease* when two points a
+//! few neighbours away on either side have normals that differ by more than the
+//! concavity tolerance and face each other ((n_a − n_b)·(p_a − p_b) < 0). Objects are
+//! convex, so creases are where one object meets another (a box on a box, a box
+//! against a taller one). Regions grow over neighbours closer than the cluster
+//! tolerance without crossing crease points; crease points then join the region that
+//! reaches them first. Depth jumps cut regions apart on their own.
 
-use crate::plane::{Plane, RansacParams, ransac_plane};
-use tabula_geom::{Pose, Vec3};
+use crate::filters::{NormalParams, OutlierParams, local_planes_at, scatter, statistical_outliers};
+use crate::kd::KdTree;
+use crate::plane::Plane;
+use crate::surfaces::{Surface, SurfaceParams, find_surfaces, plane_basis};
+use std::collections::VecDeque;
+use std::time::Instant;
+use tabula_geom::polygon::{convex_hull_2d, inside_convex, polygon_area};
+use tabula_geom::{PointCloud, Pose, Vec2, Vec3};
 
-/// Parameters; defaults from SPEC §6.
+/// Parameters; defaults from SPEC §6 (seed 002's repository) where it has them.
 #[derive(Debug, Clone, serde::Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct TabletopParams {
-    pub ransac: RansacParams,
-    /// Largest tilt of a table's normal from vertical (rad), SPEC §6.
-    pub max_tilt: f64,
-    /// A surface needs this fraction of the cloud's points, SPEC §6 (5 %).
-    pub min_surface_fraction: f64,
-    /// Objects start this far above the table (m).
+    /// Run statistical outlier removal first (SPEC §3.1).
+    pub remove_outliers: bool,
+    /// SPEC §6: mean-K 10, std multiplier 1.0.
+    pub outliers: OutlierParams,
+    /// Table search: SPEC §1.3/§6 (1 cm RANSAC, 0.09 rad tilt).
+    pub surfaces: SurfaceParams,
+    pub normals: NormalParams,
+    /// Prism points start this far above the table (m).
     pub min_height: f64,
-    /// Neighbouring pixels join one object if closer than this (m).
+    /// Neighbours closer than this (m) can be one object.
     pub cluster_tolerance: f64,
-    /// Smallest object (points), SPEC §6 (200).
+    /// Normals differing by more than this (rad) across a concave crease cut objects
+    /// apart (SPEC §6: 15°).
+    pub concavity_tolerance: f64,
+    /// How far (pixels, or cluster tolerances when unorganized) on either side of a
+    /// point its crease test looks.
+    pub concavity_step: usize,
+    /// Parallel surfaces on either side of a point offset by more than this (m) along
+    /// their normal are a step between two objects (organized clouds).
+    pub step_tolerance: f64,
+    /// Smallest object (points), SPEC §6: 200.
     pub min_object_points: usize,
-    /// Lowest and highest table height accepted (world z, m).
-    pub height_range: [f64; 2],
+    /// Objects must reach this high above the table (m), SPEC §6: 2.5 cm.
+    pub min_object_height: f64,
+    /// A top surface is the object's points within this distance (m) of its highest
+    /// level whose normals are within `max_tilt` of the table's.
+    pub top_band: f64,
 }
 
 impl Default for TabletopParams {
     fn default() -> Self {
         Self {
-            ransac: RansacParams::default(),
-            max_tilt: 0.09,
-            min_surface_fraction: 0.05,
-            min_height: 0.005,
+            remove_outliers: true,
+            outliers: OutlierParams::default(),
+            surfaces: SurfaceParams::default(),
+            normals: NormalParams::default(),
+            min_height: 0.01,
             cluster_tolerance: 0.01,
+            concavity_tolerance: 15f64.to_radians(),
+            concavity_step: 4,
+            step_tolerance: 0.004,
             min_object_points: 200,
-            height_range: [0.2, 1.6],
+            min_object_height: 0.025,
+            top_band: 0.01,
         }
     }
 }
 
-/// A found object.
+/// An oriented box.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Obb {
+    pub center: Vec3,
+    /// Unit axes (right-handed), largest extent first.
+    pub axes: [Vec3; 3],
+    pub half_extents: Vec3,
+}
+
+/// A flat top of an object, parallel to the table.
+#[derive(Debug, Clone)]
+pub struct TopSurface {
+    /// Height above the table (m).
+    pub height: f64,
+    pub centroid: Vec3,
+    /// Convex outline on the top's level (world points).
+    pub hull: Vec<Vec3>,
+    pub area: f64,
+}
+
+/// A segmented object.
 #[derive(Debug, Clone)]
 pub struct TableObject {
-    /// Pixel indices into the cloud.
+    /// Point indices into the cloud.
     pub indices: Vec<usize>,
     pub centroid: Vec3,
-    /// Principal directions (largest variance first), world frame.
+    /// Principal directions (largest variance first, right-handed).
     pub axes: [Vec3; 3],
-    /// Oriented box: centre, axes as above, half sizes.
-    pub obb_center: Vec3,
-    pub obb_half: Vec3,
+    /// The first two principal directions of the points projected onto the table
+    /// (pushing directions, SPEC §3.1), unit vectors in the table plane.
+    pub table_axes: [Vec3; 2],
+    /// Oriented box of the points and their projection onto the table, aligned with
+    /// the table: the camera sees tops, the object stands on the table.
+    pub obb: Obb,
+    /// Convex hull of the points plus their projection onto the table (SPEC §3.1):
+    /// vertices and triangles.
+    pub hull_vertices: Vec<Vec3>,
+    pub hull_triangles: Vec<[u32; 3]>,
+    /// Footprint on the table: convex outline of the projected points (world points).
+    pub footprint: Vec<Vec3>,
     /// Highest point above the table (m).
     pub height: f64,
+    pub top: Option<TopSurface>,
+}
+
+/// Wall-clock time of each stage (ms).
+#[derive(Debug, Clone, Default, serde::Serialize)]
+pub struct StageTimes {
+    pub outliers: f64,
+    pub planes: f64,
+    pub prism: f64,
+    pub normals: f64,
+    pub segmentation: f64,
+    pub objects: f64,
 }
 
 /// The result of the pipeline.
 #[derive(Debug, Clone)]
 pub struct Tabletop {
+    /// The table as found by the surface search.
+    pub table: Surface,
+    /// Upward normal facing the camera.
     pub plane: Plane,
-    pub table_indices: Vec<usize>,
-    /// Convex hull of the table in the plane (world points on the plane).
-    pub hull: Vec<Vec3>,
     pub objects: Vec<TableObject>,
+    /// Points kept by outlier removal.
+    pub kept: usize,
+    pub times: StageTimes,
 }
 
 /// Why no table was found.
@@ -71,253 +149,454 @@ pub enum TabletopError {
     Empty,
     #[error("no horizontal surface with enough points in the height range")]
     NoTable,
+    #[error(transparent)]
+    Filter(#[from] crate::filters::FilterError),
 }
 
-/// 2D convex hull (monotone chain) of points given in a plane basis; returns indices.
-fn hull_2d(pts: &[(f64, f64)]) -> Vec<usize> {
-    let mut idx: Vec<usize> = (0..pts.len()).collect();
-    idx.sort_by(|&a, &b| {
-        pts[a]
-            .0
-            .total_cmp(&pts[b].0)
-            .then(pts[a].1.total_cmp(&pts[b].1))
-    });
-    if idx.len() < 3 {
-        return idx;
+fn ms(t: Instant) -> f64 {
+    t.elapsed().as_secs_f64() * 1e3
+}
+
+/// Runs the pipeline on a cloud in the world frame (z up); `viewpoint` is the camera's
+/// position in the world (it orients normals and scales outlier statistics).
+pub fn extract(
+    cloud: &PointCloud,
+    viewpoint: Vec3,
+    p: &TabletopParams,
+) -> Result<Tabletop, TabletopError> {
+    let pts = &cloud.points;
+    if !pts.iter().any(|q| q.is_finite()) {
+        return Err(TabletopError::Empty);
     }
-    let cross = |o: usize, a: usize, b: usize| {
-        (pts[a].0 - pts[o].0) * (pts[b].1 - pts[o].1)
-            - (pts[a].1 - pts[o].1) * (pts[b].0 - pts[o].0)
+    let mut times = StageTimes::default();
+    let t = Instant::now();
+    let keep = if p.remove_outliers {
+        statistical_outliers(cloud, Some(viewpoint), &p.outliers)?
+    } else {
+        pts.iter().map(|q| q.is_finite()).collect()
     };
-    let mut lower: Vec<usize> = Vec::new();
-    for &i in &idx {
-        while lower.len() >= 2 && cross(lower[lower.len() - 2], lower[lower.len() - 1], i) <= 0.0 {
-            lower.pop();
-        }
-        lower.push(i);
-    }
-    let mut upper: Vec<usize> = Vec::new();
-    for &i in idx.iter().rev() {
-        while upper.len() >= 2 && cross(upper[upper.len() - 2], upper[upper.len() - 1], i) <= 0.0 {
-            upper.pop();
-        }
-        upper.push(i);
-    }
-    lower.pop();
-    upper.pop();
-    lower.extend(upper);
-    lower
-}
+    let kept = keep.iter().filter(|k| **k).count();
+    times.outliers = ms(t);
 
-fn inside(poly: &[(f64, f64)], p: (f64, f64)) -> bool {
-    let n = poly.len();
-    if n < 3 {
-        return false;
+    let t = Instant::now();
+    let search = find_surfaces(cloud, Some(&keep), &p.surfaces, true);
+    let table = search
+        .surfaces
+        .into_iter()
+        .next()
+        .ok_or(TabletopError::NoTable)?;
+    times.planes = ms(t);
+
+    // The prism: the side of the plane the camera is on, inside the table's hull.
+    let t = Instant::now();
+    let plane = if table.plane.distance(viewpoint) < 0.0 {
+        Plane {
+            normal: -table.plane.normal,
+            d: -table.plane.d,
+        }
+    } else {
+        table.plane
+    };
+    let (u, v) = plane_basis(plane.normal);
+    let to2 = |q: Vec3| Vec2::new(q.dot(u), q.dot(v));
+    let mut poly: Vec<Vec2> = table.hull.iter().map(|&q| to2(q)).collect();
+    if polygon_area(&poly) < 0.0 {
+        poly.reverse();
     }
-    (0..n).all(|i| {
-        let (a, b) = (poly[i], poly[(i + 1) % n]);
-        (b.0 - a.0) * (p.1 - a.1) - (b.1 - a.1) * (p.0 - a.0) >= 0.0
+    let threshold = p.surfaces.ransac.threshold;
+    let floor = p.min_height.max(threshold);
+    // Outlier removal decides what may seed an object, not what may belong to one:
+    // points it dropped join an object if they touch it (a real stray point touches
+    // nothing), so objects keep their edges.
+    let above: Vec<bool> = (0..pts.len())
+        .map(|i| {
+            pts[i].is_finite()
+                && plane.distance(pts[i]) > floor
+                && inside_convex(&poly, to2(pts[i]))
+        })
+        .collect();
+    times.prism = ms(t);
+
+    let t = Instant::now();
+    let organized = cloud.is_organized();
+    let prism: Vec<usize> = (0..pts.len()).filter(|&i| above[i]).collect();
+    let mut slot = vec![u32::MAX; pts.len()];
+    for (k, &i) in prism.iter().enumerate() {
+        slot[i] = k as u32;
+    }
+    let locals = Locals {
+        planes: local_planes_at(cloud, viewpoint, &above, &prism, &p.normals),
+        slot,
+    };
+    times.normals = ms(t);
+
+    let t = Instant::now();
+    let labels = if organized {
+        segment_organized(cloud, &above, &keep, &locals, p)
+    } else {
+        segment_unorganized(pts, &above, &prism, &keep, &locals, p)
+    };
+    times.segmentation = ms(t);
+
+    let t = Instant::now();
+    let objects = labels
+        .into_iter()
+        .filter(|m| m.len() >= p.min_object_points)
+        .map(|indices| describe(pts, &locals, &plane, indices, p))
+        .filter(|o| o.height >= p.min_object_height)
+        .collect();
+    times.objects = ms(t);
+    Ok(Tabletop {
+        table,
+        plane,
+        objects,
+        kept,
+        times,
     })
 }
 
-/// Runs the pipeline on an organized cloud given in the world frame (`world_points`,
-/// NaN = no return).
-pub fn extract(
-    world_points: &[Vec3],
-    width: usize,
-    height: usize,
-    p: &TabletopParams,
-) -> Result<Tabletop, TabletopError> {
-    let finite: Vec<usize> = (0..world_points.len())
-        .filter(|&i| world_points[i].is_finite())
-        .collect();
-    if finite.is_empty() {
-        return Err(TabletopError::Empty);
-    }
-    let min_points = (p.min_surface_fraction * finite.len() as f64) as usize;
-    let mut remaining = finite.clone();
-    let mut found = None;
-    for round in 0..8 {
-        let params = RansacParams {
-            seed: p.ransac.seed.wrapping_add(round),
-            ..p.ransac.clone()
-        };
-        let Some((plane, inliers)) = ransac_plane(world_points, &remaining, &params) else {
-            break;
-        };
-        if inliers.len() < min_points.max(3) {
-            break;
-        }
-        let up = if plane.normal.z < 0.0 {
-            Plane {
-                normal: -plane.normal,
-                d: -plane.d,
-            }
-        } else {
-            plane
-        };
-        let tilt = up.normal.angle_between(Vec3::Z);
-        let centre_z =
-            inliers.iter().map(|&i| world_points[i].z).sum::<f64>() / inliers.len() as f64;
-        if tilt <= p.max_tilt && centre_z >= p.height_range[0] && centre_z <= p.height_range[1] {
-            found = Some((up, inliers));
-            break;
-        }
-        // Floor, walls, anything else: peel it off and look again (SPEC §1.3, Alg. 9).
-        let drop: std::collections::HashSet<usize> = inliers.into_iter().collect();
-        remaining.retain(|i| !drop.contains(i));
-    }
-    let (plane, table) = found.ok_or(TabletopError::NoTable)?;
-    // The plane's own 2D basis.
-    let u = plane.normal.any_orthonormal_vector();
-    let v = plane.normal.cross(u);
-    let to2 = |q: Vec3| (q.dot(u), q.dot(v));
-    // Hull candidates: the first and last table pixel of every image row. A row of rays
-    // is a plane through the camera, which meets the table in a line, so the row's table
-    // points lie between those two: the hull of all of them is the hull of these.
-    let rows = height.max(1);
-    let mut first = vec![usize::MAX; rows];
-    let mut last = vec![0usize; rows];
-    for &i in &table {
-        let row = (i / width.max(1)).min(rows - 1);
-        first[row] = first[row].min(i);
-        last[row] = last[row].max(i);
-    }
-    let mut row_ends: Vec<usize> = Vec::with_capacity(2 * rows);
-    if rows == 1 {
-        // Not organized: every table point is a candidate.
-        row_ends.extend(table.iter().copied());
-    }
-    for row in (0..rows).filter(|_| rows > 1) {
-        if first[row] != usize::MAX {
-            row_ends.push(first[row]);
-            if last[row] != first[row] {
-                row_ends.push(last[row]);
-            }
-        }
-    }
-    let table_2d: Vec<(f64, f64)> = row_ends.iter().map(|&i| to2(world_points[i])).collect();
-    let hull_idx = hull_2d(&table_2d);
-    let poly: Vec<(f64, f64)> = hull_idx.iter().map(|&k| table_2d[k]).collect();
-    let hull: Vec<Vec3> = hull_idx
-        .iter()
-        .map(|&k| {
-            let q = world_points[row_ends[k]];
-            q - plane.normal * plane.distance(q)
-        })
-        .collect();
-    // The prism: above the plane, inside the hull.
-    let mut above = vec![false; world_points.len()];
-    for &i in &finite {
-        let q = world_points[i];
-        let h = plane.distance(q);
-        if h > p.min_height.max(p.ransac.threshold) && inside(&poly, to2(q)) {
-            above[i] = true;
-        }
-    }
-    // Connected components over the pixel grid (4-neighbours closer than the tolerance).
-    let mut label = vec![usize::MAX; world_points.len()];
-    let mut objects = Vec::new();
-    for start in 0..world_points.len() {
-        if !above[start] || label[start] != usize::MAX {
+/// Concave-crease test between two points with normals.
+fn concave(pa: Vec3, na: Vec3, pb: Vec3, nb: Vec3, cos_tol: f64) -> bool {
+    na.is_finite() && nb.is_finite() && na.dot(nb) < cos_tol && (na - nb).dot(pa - pb) < 0.0
+}
+
+/// Step test: parallel local planes offset along their normal (two flat tops at
+/// different heights, side by side). Local-plane centroids average the sensor noise.
+fn step(ca: Vec3, na: Vec3, cb: Vec3, nb: Vec3, cos_tol: f64, tolerance: f64) -> bool {
+    na.is_finite()
+        && nb.is_finite()
+        && na.dot(nb) >= cos_tol
+        && (na + nb).normalize_or_zero().dot(ca - cb).abs() > tolerance
+}
+
+/// Grows regions over `neighbours` from non-crease seeds, then lets crease points join
+/// the region that reaches them first (breadth-first, so they split half-way), then
+/// merges regions smaller than `min_size` into their best-connected neighbour.
+fn grow(
+    n: usize,
+    member: &[bool],
+    seedable: &[bool],
+    crease: &[bool],
+    min_size: usize,
+    neighbours: impl Fn(usize, &mut Vec<usize>),
+) -> Vec<Vec<usize>> {
+    let mut label = vec![usize::MAX; n];
+    let mut regions: Vec<Vec<usize>> = Vec::new();
+    let mut nb = Vec::new();
+    for start in 0..n {
+        if !member[start] || !seedable[start] || crease[start] || label[start] != usize::MAX {
             continue;
         }
-        let id = objects.len();
-        let mut stack = vec![start];
+        let id = regions.len();
         label[start] = id;
+        let mut stack = vec![start];
         let mut members = Vec::new();
         while let Some(i) = stack.pop() {
             members.push(i);
-            let (x, y) = (i % width, i / width);
-            let mut visit = |j: usize| {
-                if above[j]
-                    && label[j] == usize::MAX
-                    && (world_points[j] - world_points[i]).length() <= p.cluster_tolerance
-                {
+            nb.clear();
+            neighbours(i, &mut nb);
+            for &j in &nb {
+                if member[j] && seedable[j] && !crease[j] && label[j] == usize::MAX {
                     label[j] = id;
                     stack.push(j);
                 }
-            };
-            if x > 0 {
-                visit(i - 1);
-            }
-            if x + 1 < width {
-                visit(i + 1);
-            }
-            if y > 0 {
-                visit(i - width);
-            }
-            if y + 1 < height {
-                visit(i + width);
             }
         }
-        objects.push(members);
+        regions.push(members);
     }
-    let objects = objects
-        .into_iter()
-        .filter(|m| m.len() >= p.min_object_points)
-        .map(|indices| describe(world_points, &plane, indices))
+    let mut queue: VecDeque<usize> = regions.iter().flatten().copied().collect();
+    while let Some(i) = queue.pop_front() {
+        nb.clear();
+        neighbours(i, &mut nb);
+        for &j in &nb {
+            if member[j] && label[j] == usize::MAX {
+                label[j] = label[i];
+                regions[label[i]].push(j);
+                queue.push_back(j);
+            }
+        }
+    }
+    // Fragments (a strip of a side face cut off by a crease band) join the neighbouring
+    // region they share most links with, smallest first — LCCP's minimum segment size.
+    let mut order: Vec<usize> = (0..regions.len())
+        .filter(|&r| regions[r].len() < min_size)
         .collect();
-    Ok(Tabletop {
-        plane,
-        table_indices: table,
-        hull,
-        objects,
-    })
+    order.sort_by_key(|&r| (regions[r].len(), r));
+    for r in order {
+        if regions[r].len() >= min_size || regions[r].is_empty() {
+            continue;
+        }
+        let mut links: Vec<(usize, usize)> = Vec::new();
+        for &i in &regions[r] {
+            nb.clear();
+            neighbours(i, &mut nb);
+            for &j in &nb {
+                let l = label[j];
+                if member[j] && l != usize::MAX && l != r {
+                    match links.iter_mut().find(|x| x.0 == l) {
+                        Some(x) => x.1 += 1,
+                        None => links.push((l, 1)),
+                    }
+                }
+            }
+        }
+        if let Some(&(into, _)) = links.iter().max_by_key(|x| (x.1, std::cmp::Reverse(x.0))) {
+            let moved = std::mem::take(&mut regions[r]);
+            for &i in &moved {
+                label[i] = into;
+            }
+            regions[into].extend(moved);
+        }
+    }
+    regions.retain(|r| !r.is_empty());
+    for r in &mut regions {
+        r.sort_unstable();
+    }
+    regions
 }
 
-fn describe(points: &[Vec3], plane: &Plane, indices: Vec<usize>) -> TableObject {
-    let pts: Vec<Vec3> = indices.iter().map(|&i| points[i]).collect();
-    let centroid = pts.iter().copied().sum::<Vec3>() / pts.len() as f64;
-    let mut m = nalgebra::Matrix3::zeros();
-    for q in &pts {
-        let d = nalgebra::Vector3::new(q.x - centroid.x, q.y - centroid.y, q.z - centroid.z);
-        m += d * d.transpose();
+/// Normals and local-plane centroids of the prism's points.
+struct Locals {
+    planes: Vec<(Vec3, Vec3)>,
+    /// Point index → position in `planes` (`u32::MAX`: not in the prism).
+    slot: Vec<u32>,
+}
+
+impl Locals {
+    fn get(&self, i: usize) -> (Vec3, Vec3) {
+        match self.slot.get(i) {
+            Some(&k) if k != u32::MAX => self.planes[k as usize],
+            _ => (Vec3::NAN, Vec3::NAN),
+        }
     }
-    let eig = nalgebra::SymmetricEigen::new(m);
+}
+
+fn segment_organized(
+    cloud: &PointCloud,
+    above: &[bool],
+    keep: &[bool],
+    locals: &Locals,
+    p: &TabletopParams,
+) -> Vec<Vec<usize>> {
+    let (w, h) = (cloud.width, cloud.height);
+    let pts = &cloud.points;
+    let s = p.concavity_step.max(1) as isize;
+    let cos_tol = p.concavity_tolerance.cos();
+    let reach = p.cluster_tolerance * 2.0 * s as f64;
+    let at = |x: isize, y: isize| -> Option<usize> {
+        (x >= 0 && y >= 0 && (x as usize) < w && (y as usize) < h)
+            .then(|| y as usize * w + x as usize)
+    };
+    let crease: Vec<bool> = (0..pts.len())
+        .map(|i| {
+            if !above[i] {
+                return false;
+            }
+            let (x, y) = ((i % w) as isize, (i / w) as isize);
+            [(1, 0), (0, 1), (1, 1), (1, -1)].iter().any(|&(dx, dy)| {
+                let (Some(a), Some(b)) = (at(x - s * dx, y - s * dy), at(x + s * dx, y + s * dy))
+                else {
+                    return false;
+                };
+                let ((na, ca), (nb, cb)) = (locals.get(a), locals.get(b));
+                above[a]
+                    && above[b]
+                    && pts[a].distance(pts[b]) <= reach
+                    && (concave(pts[a], na, pts[b], nb, cos_tol)
+                        || step(ca, na, cb, nb, cos_tol, p.step_tolerance))
+            })
+        })
+        .collect();
+    let tol2 = p.cluster_tolerance * p.cluster_tolerance;
+    grow(
+        pts.len(),
+        above,
+        keep,
+        &crease,
+        p.min_object_points,
+        |i, out| {
+            let (x, y) = ((i % w) as isize, (i / w) as isize);
+            for (dx, dy) in [(1, 0), (-1, 0), (0, 1), (0, -1)] {
+                if let Some(j) = at(x + dx, y + dy)
+                    && pts[i].distance_squared(pts[j]) <= tol2
+                {
+                    out.push(j);
+                }
+            }
+        },
+    )
+}
+
+fn segment_unorganized(
+    pts: &[Vec3],
+    above: &[bool],
+    members: &[usize],
+    keep: &[bool],
+    locals: &Locals,
+    p: &TabletopParams,
+) -> Vec<Vec<usize>> {
+    let coords: Vec<[f64; 3]> = members.iter().map(|&i| pts[i].to_array()).collect();
+    let Some(tree) = KdTree::build(&coords) else {
+        return Vec::new();
+    };
+    let cos_tol = p.concavity_tolerance.cos();
+    let r = p.cluster_tolerance * p.concavity_step.max(1) as f64 / 2.0;
+    let mut crease = vec![false; pts.len()];
+    for &i in members {
+        let near = tree.within(&pts[i].to_array(), r * r);
+        let ni = locals.get(i).0;
+        crease[i] = near.iter().any(|&a| {
+            let a = members[a];
+            concave(pts[a], locals.get(a).0, pts[i], ni, cos_tol)
+        });
+    }
+    let tol2 = p.cluster_tolerance * p.cluster_tolerance;
+    grow(
+        pts.len(),
+        above,
+        keep,
+        &crease,
+        p.min_object_points,
+        |i, out| {
+            out.extend(
+                tree.within(&pts[i].to_array(), tol2)
+                    .into_iter()
+                    .map(|j| members[j]),
+            );
+        },
+    )
+}
+
+/// Centroid, principal axes, table-aligned box, hull with the table projection, and
+/// top surface of one object.
+fn describe(
+    pts: &[Vec3],
+    locals: &Locals,
+    plane: &Plane,
+    indices: Vec<usize>,
+    p: &TabletopParams,
+) -> TableObject {
+    let points: Vec<Vec3> = indices.iter().map(|&i| pts[i]).collect();
+    let (centroid, m) = scatter(points.iter().copied()).unwrap_or((points[0], [0.0; 6]));
+    let axes = principal_axes(m);
+    let up = plane.normal;
+    let (u, v) = plane_basis(up);
+    // PCA of the projection onto the table: a 2×2 eigenproblem in the plane basis.
+    let (mut suu, mut suv, mut svv) = (0.0, 0.0, 0.0);
+    for q in &points {
+        let d = *q - centroid;
+        let (a, b) = (d.dot(u), d.dot(v));
+        suu += a * a;
+        suv += a * b;
+        svv += b * b;
+    }
+    let angle = 0.5 * (2.0 * suv).atan2(suu - svv);
+    let major = u * angle.cos() + v * angle.sin();
+    let minor = up.cross(major);
+    // Footprint and box in the (major, minor, up) frame.
+    let projected: Vec<Vec2> = points
+        .iter()
+        .map(|q| Vec2::new(q.dot(major), q.dot(minor)))
+        .collect();
+    let hull2: Vec<usize> = convex_hull_2d(&projected);
+    let heights: Vec<f64> = points.iter().map(|q| plane.distance(*q)).collect();
+    let height = heights.iter().copied().fold(0.0, f64::max);
+    let (mut lo, mut hi) = (Vec2::splat(f64::INFINITY), Vec2::splat(f64::NEG_INFINITY));
+    for &k in &hull2 {
+        lo = lo.min(projected[k]);
+        hi = hi.max(projected[k]);
+    }
+    let on_table = |q: Vec3| q - up * plane.distance(q);
+    let mid = (lo + hi) / 2.0;
+    let base = on_table(centroid);
+    let base = base + major * (mid.x - base.dot(major)) + minor * (mid.y - base.dot(minor));
+    let (size, box_axes) = if hi.x - lo.x >= hi.y - lo.y {
+        (
+            Vec3::new((hi.x - lo.x) / 2.0, (hi.y - lo.y) / 2.0, height / 2.0),
+            [major, minor, up],
+        )
+    } else {
+        (
+            Vec3::new((hi.y - lo.y) / 2.0, (hi.x - lo.x) / 2.0, height / 2.0),
+            [minor, -major, up],
+        )
+    };
+    let obb = Obb {
+        center: base + up * (height / 2.0),
+        axes: box_axes,
+        half_extents: size,
+    };
+    let footprint: Vec<Vec3> = hull2.iter().map(|&k| on_table(points[k])).collect();
+    // 3D hull of the points and their shadow on the table: the hull of the points'
+    // own hull vertices and the footprint is the same body, from far fewer points.
+    let mut body: Vec<Vec3> = footprint.clone();
+    body.extend(points.iter().copied());
+    let (hull_vertices, hull_triangles) =
+        tabula_geom::parry::transformation::try_convex_hull(&body).unwrap_or_default();
+    // Top: points near the highest level with table-parallel normals.
+    let cos_tilt = p.surfaces.max_tilt.max(0.2).cos();
+    let top_idx: Vec<usize> = (0..points.len())
+        .filter(|&k| {
+            heights[k] >= height - p.top_band && locals.get(indices[k]).0.dot(up).abs() >= cos_tilt
+        })
+        .collect();
+    let top = (top_idx.len() >= 10).then(|| {
+        let level = top_idx.iter().map(|&k| heights[k]).sum::<f64>() / top_idx.len() as f64;
+        let flat: Vec<Vec2> = top_idx.iter().map(|&k| projected[k]).collect();
+        let h: Vec<usize> = convex_hull_2d(&flat);
+        let outline: Vec<Vec2> = h.iter().map(|&k| flat[k]).collect();
+        let at_level = |k: usize| on_table(points[top_idx[k]]) + up * level;
+        TopSurface {
+            height: level,
+            centroid: top_idx.iter().map(|&k| points[k]).sum::<Vec3>() / top_idx.len() as f64,
+            hull: h.iter().map(|&k| at_level(k)).collect(),
+            area: polygon_area(&outline).abs(),
+        }
+    });
+    TableObject {
+        indices,
+        centroid,
+        axes,
+        table_axes: [major, minor],
+        obb,
+        hull_vertices,
+        hull_triangles,
+        footprint,
+        height,
+        top,
+    }
+}
+
+/// Unit principal directions of a scatter matrix, largest variance first,
+/// right-handed.
+fn principal_axes(m: [f64; 6]) -> [Vec3; 3] {
+    let a = nalgebra::Matrix3::new(m[0], m[1], m[2], m[1], m[3], m[4], m[2], m[4], m[5]);
+    let eig = nalgebra::SymmetricEigen::new(a);
     let mut order = [0usize, 1, 2];
-    order.sort_by(|&a, &b| eig.eigenvalues[b].total_cmp(&eig.eigenvalues[a]));
+    order.sort_by(|&x, &y| eig.eigenvalues[y].total_cmp(&eig.eigenvalues[x]));
     let axis = |k: usize| {
         let c = eig.eigenvectors.column(order[k]);
         Vec3::new(c[0], c[1], c[2]).normalize_or(Vec3::X)
     };
     let (a0, a1) = (axis(0), axis(1));
-    let a2 = a0.cross(a1).normalize_or(Vec3::Z);
-    let axes = [a0, a1, a2];
-    let mut lo = Vec3::splat(f64::INFINITY);
-    let mut hi = Vec3::splat(f64::NEG_INFINITY);
-    for q in &pts {
-        let l = Vec3::new(
-            (*q - centroid).dot(a0),
-            (*q - centroid).dot(a1),
-            (*q - centroid).dot(a2),
-        );
-        lo = lo.min(l);
-        hi = hi.max(l);
-    }
-    let mid = (lo + hi) / 2.0;
-    let obb_center = centroid + a0 * mid.x + a1 * mid.y + a2 * mid.z;
-    let height = pts.iter().map(|q| plane.distance(*q)).fold(0.0, f64::max);
-    TableObject {
-        indices,
-        centroid,
-        axes,
-        obb_center,
-        obb_half: (hi - lo) / 2.0,
-        height,
-    }
+    [a0, a1, a0.cross(a1).normalize_or(Vec3::Z)]
 }
 
-/// Transforms an organized camera-frame cloud into the world frame.
-pub fn to_world(world_from_camera: &Pose, camera_points: &[Vec3]) -> Vec<Vec3> {
-    camera_points
-        .iter()
-        .map(|p| {
-            if p.is_finite() {
-                *world_from_camera * *p
-            } else {
-                Vec3::NAN
-            }
-        })
-        .collect()
+/// Transforms a camera-frame cloud into the world frame, keeping its grid.
+pub fn to_world(world_from_camera: &Pose, camera: &PointCloud) -> PointCloud {
+    PointCloud {
+        width: camera.width,
+        height: camera.height,
+        points: camera
+            .points
+            .iter()
+            .map(|p| {
+                if p.is_finite() {
+                    *world_from_camera * *p
+                } else {
+                    Vec3::NAN
+                }
+            })
+            .collect(),
+    }
 }

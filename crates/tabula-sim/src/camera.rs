@@ -31,6 +31,9 @@ pub struct Camera {
     /// Returns where the ray meets the surface more obliquely than this (rad from the
     /// normal) are missing, as on a real structured-light sensor.
     pub max_incidence: f64,
+    /// Fraction of returns replaced by spurious ones at a random depth along the ray
+    /// (labelled 0), like a real sensor's flying pixels. 0 = none.
+    pub outlier_fraction: f64,
 }
 
 /// `world_from_camera` (optical frame) looking from `eye` at `target`, world z up.
@@ -59,6 +62,7 @@ impl Camera {
             max_range: 4.0,
             noise_coefficient: 0.0015,
             max_incidence: 80f64.to_radians(),
+            outlier_fraction: 0.0,
         }
     }
 
@@ -88,6 +92,7 @@ impl Camera {
             max_range: spec.max_range,
             noise_coefficient: spec.noise_coefficient,
             max_incidence: 80f64.to_radians(),
+            outlier_fraction: spec.outlier_fraction,
         })
     }
 
@@ -420,6 +425,17 @@ pub fn capture(world: &SimWorld, camera: &Camera, seed: u64) -> DepthFrame {
                     z + camera.noise_coefficient * z * z * gaussian(&mut rng)
                 } else {
                     z
+                };
+                let (z, label) = if camera.outlier_fraction > 0.0
+                    && rng.random_range(0.0..1.0) < camera.outlier_fraction
+                {
+                    let far = if z.is_finite() { z } else { camera.max_range };
+                    (
+                        rng.random_range(camera.min_range..far.max(camera.min_range + 0.01)),
+                        0,
+                    )
+                } else {
+                    (z, label)
                 };
                 depth.push(z);
                 labels.push(label);

@@ -4,6 +4,7 @@
 //! tells by physics whether an object really rests where a plan said.
 
 pub mod camera;
+pub mod generate;
 pub mod robot;
 pub mod scene;
 pub mod world;

@@ -174,6 +174,9 @@ pub struct CameraSpec {
     /// σ = noise_coefficient · z² (m); 0.0015 ≈ a Kinect.
     #[serde(default = "default_noise")]
     pub noise_coefficient: f64,
+    /// Fraction of spurious returns (0 = none).
+    #[serde(default)]
+    pub outlier_fraction: f64,
 }
 
 fn default_width() -> usize {
@@ -440,6 +443,13 @@ impl Scene {
                     &c.name,
                     key("noise_coefficient"),
                     "noise must be non-negative".into(),
+                ));
+            }
+            if !(0.0..=1.0).contains(&c.outlier_fraction) {
+                return Err(err(
+                    &c.name,
+                    key("outlier_fraction"),
+                    "outlier_fraction must be in [0, 1]".into(),
                 ));
             }
             if let Some(l) = &c.look_at

@@ -49,6 +49,8 @@ pub enum SimError {
     NonFinite,
     #[error("`{robot}` stopped: it would drive into `{by}`")]
     Blocked { robot: String, by: String },
+    #[error(transparent)]
+    Scene(#[from] crate::scene::SceneError),
 }
 
 impl From<tabula_geom::mesh::MeshError> for SimError {
@@ -361,20 +363,40 @@ impl SimWorld {
                     [0.7, 0.7, 0.72],
                 )
             }
-            FurnitureKind::Drum | FurnitureKind::SignDrum => {
+            FurnitureKind::Drum => {
                 let [sx, _, h] = f.size.unwrap_or([0.58, 0.58, 0.88]);
                 let shape = SharedShape::cylinder(h / 2.0, sx / 2.0);
-                let color = if f.kind == FurnitureKind::Drum {
-                    [0.2, 0.35, 0.7]
-                } else {
-                    [0.95, 0.5, 0.1]
-                };
                 (
                     vec![(
                         shape,
                         Pose::from_translation(Vec3::new(0.0, 0.0, h / 2.0)) * y_to_z(),
                     )],
-                    color,
+                    [0.2, 0.35, 0.7],
+                )
+            }
+            FurnitureKind::SignDrum => {
+                // A traffic channelizer drum: a barrel whose top tapers to a handle and
+                // carries a vertical sign — nothing on it is a flat place to put things.
+                let [sx, _, h] = f.size.unwrap_or([0.58, 0.58, 1.0]);
+                let body = 0.8 * h;
+                (
+                    vec![
+                        (
+                            SharedShape::cylinder(body / 2.0, sx / 2.0),
+                            Pose::from_translation(Vec3::new(0.0, 0.0, body / 2.0)) * y_to_z(),
+                        ),
+                        (
+                            SharedShape::cone(0.1 * h, sx / 2.0),
+                            Pose::from_translation(Vec3::new(0.0, 0.0, body + 0.1 * h)) * y_to_z(),
+                        ),
+                        boxed(
+                            0.3 * sx,
+                            0.01,
+                            0.15,
+                            Vec3::new(0.0, 0.0, body + 0.12 * h + 0.15),
+                        ),
+                    ],
+                    [0.95, 0.5, 0.1],
                 )
             }
             FurnitureKind::TrafficCone => {

@@ -93,7 +93,8 @@ pub struct IkBenchReport {
     pub mean_solutions_per_pose: f64,
 }
 
-fn thread_cpu_seconds() -> f64 {
+/// CPU time of the calling thread (s), for benchmarks that report CPU rather than wall time.
+pub fn thread_cpu_seconds() -> f64 {
     let mut ts = libc::timespec {
         tv_sec: 0,
         tv_nsec: 0,

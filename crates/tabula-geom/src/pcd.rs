@@ -3,7 +3,7 @@
 //! Only the x, y, z fields are kept; any other fields (rgb, normals, labels) are skipped
 //! by their declared size. Every malformed header or short body is a [`PcdError`].
 
-use tabula_geom::{PointCloud, Vec3};
+use crate::{PointCloud, Vec3};
 
 /// Why a PCD file cannot be read.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -273,7 +273,7 @@ pub fn read_pcd(bytes: &[u8]) -> Result<PointCloud, PcdError> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use tabula_geom::PcdEncoding;
+    use crate::PcdEncoding;
 
     #[test]
     fn round_trips_with_the_writer_and_rejects_junk() {

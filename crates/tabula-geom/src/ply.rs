@@ -1,0 +1,409 @@
+//! PLY point clouds (ascii, binary little- and big-endian), read and written.
+//!
+//! The reader keeps the `x y z` properties of the `vertex` element (any numeric type)
+//! and skips every other property and element, lists included, so meshes and coloured
+//! clouds read as their points. Organized clouds carry PCL's `obj_info num_cols` /
+//! `num_rows` lines. Every malformed header or short body is a [`PlyError`]; sizes are
+//! checked against the file before anything is allocated.
+
+use crate::{PointCloud, Vec3};
+use std::io::Write;
+
+/// Why a PLY file cannot be read.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("PLY: {0}")]
+pub struct PlyError(pub String);
+
+fn err<T>(m: impl Into<String>) -> Result<T, PlyError> {
+    Err(PlyError(m.into()))
+}
+
+/// How to write a PLY body.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PlyEncoding {
+    Ascii,
+    BinaryLittleEndian,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Scalar {
+    I8,
+    U8,
+    I16,
+    U16,
+    I32,
+    U32,
+    F32,
+    F64,
+}
+
+impl Scalar {
+    fn parse(name: &str) -> Option<Self> {
+        Some(match name {
+            "char" | "int8" => Scalar::I8,
+            "uchar" | "uint8" => Scalar::U8,
+            "short" | "int16" => Scalar::I16,
+            "ushort" | "uint16" => Scalar::U16,
+            "int" | "int32" => Scalar::I32,
+            "uint" | "uint32" => Scalar::U32,
+            "float" | "float32" => Scalar::F32,
+            "double" | "float64" => Scalar::F64,
+            _ => return None,
+        })
+    }
+
+    fn size(self) -> usize {
+        match self {
+            Scalar::I8 | Scalar::U8 => 1,
+            Scalar::I16 | Scalar::U16 => 2,
+            Scalar::I32 | Scalar::U32 | Scalar::F32 => 4,
+            Scalar::F64 => 8,
+        }
+    }
+
+    fn read(self, b: &[u8], little: bool) -> f64 {
+        macro_rules! get {
+            ($t:ty, $n:expr) => {{
+                let mut a = [0u8; $n];
+                a.copy_from_slice(&b[..$n]);
+                (if little {
+                    <$t>::from_le_bytes(a)
+                } else {
+                    <$t>::from_be_bytes(a)
+                }) as f64
+            }};
+        }
+        match self {
+            Scalar::I8 => b[0] as i8 as f64,
+            Scalar::U8 => b[0] as f64,
+            Scalar::I16 => get!(i16, 2),
+            Scalar::U16 => get!(u16, 2),
+            Scalar::I32 => get!(i32, 4),
+            Scalar::U32 => get!(u32, 4),
+            Scalar::F32 => get!(f32, 4),
+            Scalar::F64 => get!(f64, 8),
+        }
+    }
+}
+
+#[derive(Debug)]
+enum Property {
+    Scalar(String, Scalar),
+    /// A list: count type, item type.
+    List(Scalar, Scalar),
+}
+
+#[derive(Debug)]
+struct Element {
+    name: String,
+    count: usize,
+    props: Vec<Property>,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Format {
+    Ascii,
+    Binary { little: bool },
+}
+
+/// Reads a PLY file's vertices into a cloud (organized when the header says so).
+pub fn read_ply(bytes: &[u8]) -> Result<PointCloud, PlyError> {
+    // The header is ASCII lines up to `end_header`.
+    let end = find(bytes, b"end_header").ok_or(PlyError("no end_header".into()))?;
+    let mut body_start = end + b"end_header".len();
+    if bytes.get(body_start) == Some(&b'\r') {
+        body_start += 1;
+    }
+    if bytes.get(body_start) == Some(&b'\n') {
+        body_start += 1;
+    }
+    let header =
+        std::str::from_utf8(&bytes[..end]).map_err(|_| PlyError("header is not text".into()))?;
+    let mut lines = header.lines().map(str::trim).filter(|l| !l.is_empty());
+    if lines.next() != Some("ply") {
+        return err("missing `ply` magic");
+    }
+    let mut format = None;
+    let mut elements: Vec<Element> = Vec::new();
+    let (mut cols, mut rows) = (None, None);
+    for line in lines {
+        let words: Vec<&str> = line.split_whitespace().collect();
+        match words.as_slice() {
+            ["format", f, _version] => {
+                format = Some(match *f {
+                    "ascii" => Format::Ascii,
+                    "binary_little_endian" => Format::Binary { little: true },
+                    "binary_big_endian" => Format::Binary { little: false },
+                    other => return err(format!("unknown format `{other}`")),
+                })
+            }
+            ["comment", ..] => {}
+            ["obj_info", "num_cols", n] => cols = n.parse::<usize>().ok(),
+            ["obj_info", "num_rows", n] => rows = n.parse::<usize>().ok(),
+            ["obj_info", ..] => {}
+            ["element", name, count] => elements.push(Element {
+                name: name.to_string(),
+                count: count
+                    .parse()
+                    .map_err(|_| PlyError(format!("bad element count `{count}`")))?,
+                props: Vec::new(),
+            }),
+            ["property", "list", c, t, _name] => {
+                let (Some(c), Some(t)) = (Scalar::parse(c), Scalar::parse(t)) else {
+                    return err(format!("bad list types in `{line}`"));
+                };
+                elements
+                    .last_mut()
+                    .ok_or(PlyError("property before any element".into()))?
+                    .props
+                    .push(Property::List(c, t));
+            }
+            ["property", t, name] => {
+                let t = Scalar::parse(t).ok_or(PlyError(format!("unknown type in `{line}`")))?;
+                elements
+                    .last_mut()
+                    .ok_or(PlyError("property before any element".into()))?
+                    .props
+                    .push(Property::Scalar(name.to_string(), t));
+            }
+            _ => return err(format!("unexpected header line `{line}`")),
+        }
+    }
+    let format = format.ok_or(PlyError("missing format line".into()))?;
+    let body = &bytes[body_start..];
+    let mut points: Vec<Vec3> = Vec::new();
+    let mut found_vertex = false;
+    let mut ascii_tokens = match format {
+        Format::Ascii => Some(
+            std::str::from_utf8(body)
+                .map_err(|_| PlyError("ascii body is not text".into()))?
+                .split_ascii_whitespace(),
+        ),
+        Format::Binary { .. } => None,
+    };
+    let mut offset = 0usize;
+    for e in &elements {
+        let is_vertex = e.name == "vertex";
+        let xyz: [Option<usize>; 3] = ["x", "y", "z"].map(|axis| {
+            e.props
+                .iter()
+                .position(|p| matches!(p, Property::Scalar(n, _) if n == axis))
+        });
+        if is_vertex {
+            if xyz.iter().any(|k| k.is_none()) {
+                return err("vertex element lacks x, y or z");
+            }
+            found_vertex = true;
+            // Each vertex takes at least one byte per property in any format.
+            if e.count > body.len() {
+                return err(format!(
+                    "{} vertices cannot fit in {} bytes",
+                    e.count,
+                    body.len()
+                ));
+            }
+            points.reserve(e.count);
+        }
+        for _ in 0..e.count {
+            let mut v = [f64::NAN; 3];
+            for (k, prop) in e.props.iter().enumerate() {
+                match (prop, &mut ascii_tokens, format) {
+                    (Property::Scalar(_, t), Some(tokens), _) => {
+                        let tok = tokens
+                            .next()
+                            .ok_or(PlyError("ascii body ends early".into()))?;
+                        let value: f64 = parse_number(tok, *t)?;
+                        if let Some(axis) = xyz.iter().position(|&a| a == Some(k)) {
+                            v[axis] = value;
+                        }
+                    }
+                    (Property::List(_, _), Some(tokens), _) => {
+                        let tok = tokens
+                            .next()
+                            .ok_or(PlyError("ascii body ends early".into()))?;
+                        let n: usize = tok
+                            .parse()
+                            .map_err(|_| PlyError(format!("bad list length `{tok}`")))?;
+                        for _ in 0..n {
+                            tokens
+                                .next()
+                                .ok_or(PlyError("ascii body ends early".into()))?;
+                        }
+                    }
+                    (Property::Scalar(_, t), None, Format::Binary { little }) => {
+                        let b = body
+                            .get(offset..offset + t.size())
+                            .ok_or(PlyError("binary body ends early".into()))?;
+                        offset += t.size();
+                        if let Some(axis) = xyz.iter().position(|&a| a == Some(k)) {
+                            v[axis] = t.read(b, little);
+                        }
+                    }
+                    (Property::List(c, t), None, Format::Binary { little }) => {
+                        let b = body
+                            .get(offset..offset + c.size())
+                            .ok_or(PlyError("binary body ends early".into()))?;
+                        offset += c.size();
+                        let n = c.read(b, little);
+                        if !(n >= 0.0 && n.fract() == 0.0) {
+                            return err("bad list length");
+                        }
+                        let skip = (n as usize)
+                            .checked_mul(t.size())
+                            .ok_or(PlyError("list too long".into()))?;
+                        if offset.checked_add(skip).is_none_or(|end| end > body.len()) {
+                            return err("binary body ends early");
+                        }
+                        offset += skip;
+                    }
+                    (_, None, Format::Ascii) => unreachable!("ascii bodies have a tokenizer"),
+                }
+            }
+            if is_vertex {
+                points.push(Vec3::new(v[0], v[1], v[2]));
+            }
+        }
+    }
+    if !found_vertex {
+        return err("no vertex element");
+    }
+    match (cols, rows) {
+        (Some(w), Some(h)) if w.checked_mul(h) == Some(points.len()) && h > 1 => {
+            PointCloud::organized(w, h, points).ok_or(PlyError("bad organized size".into()))
+        }
+        _ => Ok(PointCloud::unorganized(points)),
+    }
+}
+
+fn parse_number(tok: &str, t: Scalar) -> Result<f64, PlyError> {
+    match t {
+        Scalar::F32 | Scalar::F64 => tok
+            .parse::<f64>()
+            .map_err(|_| PlyError(format!("bad number `{tok}`"))),
+        _ => tok
+            .parse::<i64>()
+            .map(|v| v as f64)
+            .map_err(|_| PlyError(format!("bad integer `{tok}`"))),
+    }
+}
+
+fn find(hay: &[u8], needle: &[u8]) -> Option<usize> {
+    hay.windows(needle.len()).position(|w| w == needle)
+}
+
+/// Writes a cloud as PLY (float x y z; NaN where a pixel has no point).
+pub fn write_ply(
+    cloud: &PointCloud,
+    out: &mut impl Write,
+    encoding: PlyEncoding,
+) -> std::io::Result<()> {
+    let format = match encoding {
+        PlyEncoding::Ascii => "ascii",
+        PlyEncoding::BinaryLittleEndian => "binary_little_endian",
+    };
+    writeln!(out, "ply\nformat {format} 1.0\ncomment written by tabula")?;
+    if cloud.is_organized() {
+        writeln!(
+            out,
+            "obj_info num_cols {}\nobj_info num_rows {}",
+            cloud.width, cloud.height
+        )?;
+    }
+    writeln!(
+        out,
+        "element vertex {}\nproperty float x\nproperty float y\nproperty float z\nend_header",
+        cloud.points.len()
+    )?;
+    match encoding {
+        PlyEncoding::Ascii => {
+            for p in &cloud.points {
+                writeln!(out, "{} {} {}", p.x as f32, p.y as f32, p.z as f32)?;
+            }
+        }
+        PlyEncoding::BinaryLittleEndian => {
+            let mut buf = Vec::with_capacity(cloud.points.len() * 12);
+            for p in &cloud.points {
+                for v in [p.x, p.y, p.z] {
+                    buf.extend_from_slice(&(v as f32).to_le_bytes());
+                }
+            }
+            out.write_all(&buf)?;
+        }
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn sample() -> PointCloud {
+        PointCloud::organized(
+            2,
+            2,
+            vec![
+                Vec3::new(1.0, 2.0, 3.0),
+                Vec3::NAN,
+                Vec3::new(-1.0, 0.5, 2.0),
+                Vec3::new(0.25, 0.0, -4.0),
+            ],
+        )
+        .unwrap()
+    }
+
+    #[test]
+    fn round_trips_both_encodings() {
+        for enc in [PlyEncoding::Ascii, PlyEncoding::BinaryLittleEndian] {
+            let mut bytes = Vec::new();
+            write_ply(&sample(), &mut bytes, enc).unwrap();
+            let back = read_ply(&bytes).unwrap();
+            assert_eq!((back.width, back.height), (2, 2));
+            for (a, b) in back.points.iter().zip(&sample().points) {
+                assert!(a == b || (a.is_nan() && b.is_nan()), "{a:?} vs {b:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn reads_meshes_with_extra_properties_and_big_endian() {
+        let ascii = b"ply\nformat ascii 1.0\nelement vertex 3\nproperty double x\nproperty double y\nproperty double z\nproperty uchar red\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0 255\n1 0 0 0\n0 1 0 7\n3 0 1 2\n";
+        let c = read_ply(ascii).unwrap();
+        assert_eq!(c.points.len(), 3);
+        assert_eq!(c.points[1], Vec3::X);
+        // A face element before the vertices, big-endian shorts.
+        let mut be = b"ply\nformat binary_big_endian 1.0\nelement face 1\nproperty list uchar int vertex_indices\nelement vertex 1\nproperty short x\nproperty short y\nproperty short z\nend_header\n".to_vec();
+        be.extend_from_slice(&[2, 0, 0, 0, 1, 0, 0, 0, 2]);
+        be.extend_from_slice(&[0, 1, 0xff, 0xfe, 0, 3]);
+        let c = read_ply(&be).unwrap();
+        assert_eq!(c.points, vec![Vec3::new(1.0, -2.0, 3.0)]);
+    }
+
+    #[test]
+    fn malformed_files_are_errors_not_panics() {
+        let mut good = Vec::new();
+        write_ply(&sample(), &mut good, PlyEncoding::BinaryLittleEndian).unwrap();
+        let cases: Vec<&[u8]> = vec![
+            b"",
+            b"ply",
+            b"ply\nend_header\n",
+            b"ply\nformat ascii 1.0\nend_header\n",
+            b"ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nend_header\n1\n2\n",
+            b"ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\nproperty float z\nend_header\n1 2 3\n",
+            b"ply\nformat ascii 1.0\nelement vertex 99999999999\nproperty float x\nproperty float y\nproperty float z\nend_header\n",
+            b"ply\nformat binary_little_endian 1.0\nelement vertex 1\nproperty list uint float x\nproperty float y\nproperty float z\nend_header\n\xff\xff\xff\xff",
+            b"ply\nformat nonsense 1.0\nend_header\n",
+            b"ply\nproperty float x\nend_header\n",
+            &good[..good.len() - 3],
+        ];
+        for c in cases {
+            assert!(read_ply(c).is_err(), "{:?}", String::from_utf8_lossy(c));
+        }
+        // Every truncation and every single-byte change of a good file.
+        for n in 0..good.len() {
+            let _ = read_ply(&good[..n]);
+            let mut bad = good.clone();
+            bad[n] ^= 0x5a;
+            let _ = read_ply(&bad);
+        }
+    }
+}

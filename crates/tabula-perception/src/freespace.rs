@@ -1,0 +1,526 @@
+//! Free space on a surface (seed 000's biggest failure, SPEC §1.3: total area says
+//! nothing about free space). A 2D occupancy grid in the surface's plane marks what is
+//! seen free, what objects cover (their whole footprint, also the hidden part), what
+//! nobody saw (shadows behind objects), and what is off the surface; a Euclidean
+//! distance transform then answers "where does this footprint fit with this margin,
+//! nearest to that point?" in one scan.
+
+use crate::surfaces::{Surface, plane_basis};
+use tabula_geom::polygon::{
+    convex_hull_2d, distance_to_boundary, inside_convex, inside_polygon, polygon_area,
+};
+use tabula_geom::{Pose, Quat, Vec2, Vec3};
+
+/// Parameters.
+#[derive(Debug, Clone, serde::Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct FreeSpaceParams {
+    /// Cell size (m).
+    pub resolution: f64,
+    /// Orientations tried for a footprint over a full turn.
+    pub yaw_samples: usize,
+    /// Cells inside the surface's hull where the camera saw nothing (occluded) count
+    /// as free. Off by default: an unseen patch may hold an unseen object.
+    pub unknown_is_free: bool,
+}
+
+impl Default for FreeSpaceParams {
+    fn default() -> Self {
+        Self {
+            resolution: 0.01,
+            yaw_samples: 16,
+            unknown_is_free: false,
+        }
+    }
+}
+
+/// One grid cell.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Cell {
+    /// Not on the surface.
+    Outside,
+    /// On the surface, seen, nothing on it.
+    Free,
+    /// Under an object.
+    Occupied,
+    /// On the surface (inside its hull) but not seen.
+    Unknown,
+}
+
+/// A place for a footprint.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Placement {
+    /// Where the footprint's origin goes, on the surface (world frame).
+    pub position: Vec3,
+    /// Rotation of the footprint about the surface normal, relative to the map's `u`.
+    pub yaw: f64,
+    /// Pose of the footprint frame (x, y in the surface, z along its normal).
+    pub world_from_footprint: Pose,
+    /// Distance from the footprint's centre to the nearest obstacle or edge (m).
+    pub clearance: f64,
+}
+
+/// Why a map cannot be built.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum FreeSpaceError {
+    #[error("resolution must be positive and finite")]
+    BadResolution,
+    #[error("the surface has no area")]
+    EmptySurface,
+    #[error("a {0} × {1} grid is too large; use a coarser resolution")]
+    TooLarge(usize, usize),
+}
+
+/// The occupancy map of one surface.
+#[derive(Debug, Clone)]
+pub struct FreeSpaceMap {
+    pub normal: Vec3,
+    /// In-plane axes: a cell (i, j) has its centre at `origin + u·(lo.x + (i + ½)·res) + …`.
+    pub u: Vec3,
+    pub v: Vec3,
+    /// The plane's offset along the normal (`normal · p = offset` on the plane).
+    pub offset: f64,
+    pub resolution: f64,
+    pub lo: Vec2,
+    pub nx: usize,
+    pub ny: usize,
+    pub cells: Vec<Cell>,
+    /// Distance (m) from each cell centre to the nearest cell that is not free.
+    pub clearance: Vec<f64>,
+    yaw_samples: usize,
+}
+
+impl FreeSpaceMap {
+    /// Builds the map of `surface` from the cloud it was found in and the objects on it
+    /// (each as its points; their projections and convex footprints are occupied).
+    pub fn build(
+        surface: &Surface,
+        points: &[Vec3],
+        objects: &[Vec<Vec3>],
+        p: &FreeSpaceParams,
+    ) -> Result<Self, FreeSpaceError> {
+        if !(p.resolution.is_finite() && p.resolution > 0.0) {
+            return Err(FreeSpaceError::BadResolution);
+        }
+        let normal = surface.plane.normal;
+        let (u, v) = plane_basis(normal);
+        let to2 = |q: Vec3| Vec2::new(q.dot(u), q.dot(v));
+        let mut hull: Vec<Vec2> = surface.hull.iter().map(|&q| to2(q)).collect();
+        if hull.len() < 3 || polygon_area(&hull).abs() < 1e-9 {
+            return Err(FreeSpaceError::EmptySurface);
+        }
+        if polygon_area(&hull) < 0.0 {
+            hull.reverse();
+        }
+        let res = p.resolution;
+        let (mut lo, mut hi) = (Vec2::splat(f64::INFINITY), Vec2::splat(f64::NEG_INFINITY));
+        for q in &hull {
+            lo = lo.min(*q);
+            hi = hi.max(*q);
+        }
+        // One cell of border so the edge is always an obstacle.
+        lo -= Vec2::splat(res);
+        hi += Vec2::splat(res);
+        let nx = ((hi.x - lo.x) / res).ceil() as usize;
+        let ny = ((hi.y - lo.y) / res).ceil() as usize;
+        if nx.saturating_mul(ny) > 16_000_000 {
+            return Err(FreeSpaceError::TooLarge(nx, ny));
+        }
+        let centre =
+            |i: usize, j: usize| lo + Vec2::new((i as f64 + 0.5) * res, (j as f64 + 0.5) * res);
+        let mut cells: Vec<Cell> = (0..nx * ny)
+            .map(|k| {
+                if inside_convex(&hull, centre(k % nx, k / nx)) {
+                    Cell::Unknown
+                } else {
+                    Cell::Outside
+                }
+            })
+            .collect();
+        let cell_of = |q: Vec2| -> Option<usize> {
+            let c = ((q - lo) / res).floor();
+            (c.x >= 0.0 && c.y >= 0.0 && (c.x as usize) < nx && (c.y as usize) < ny)
+                .then(|| c.y as usize * nx + c.x as usize)
+        };
+        // Seen surface: the cell of each inlier and its 8 neighbours (points are
+        // sparser than cells far from the camera).
+        let mut seen = vec![false; nx * ny];
+        for &i in &surface.inliers {
+            if let Some(q) = points.get(i)
+                && let Some(c) = cell_of(to2(*q))
+            {
+                seen[c] = true;
+            }
+        }
+        let mut grown = seen.clone();
+        for (c, _) in seen.iter().enumerate().filter(|(_, s)| **s) {
+            {
+                let (i, j) = ((c % nx) as isize, (c / nx) as isize);
+                for (di, dj) in [
+                    (-1, -1),
+                    (0, -1),
+                    (1, -1),
+                    (-1, 0),
+                    (1, 0),
+                    (-1, 1),
+                    (0, 1),
+                    (1, 1),
+                ] {
+                    let (a, b) = (i + di, j + dj);
+                    if a >= 0 && b >= 0 && (a as usize) < nx && (b as usize) < ny {
+                        grown[b as usize * nx + a as usize] = true;
+                    }
+                }
+            }
+        }
+        for c in 0..nx * ny {
+            if cells[c] == Cell::Unknown && (grown[c] || p.unknown_is_free) {
+                cells[c] = Cell::Free;
+            }
+        }
+        // Objects: their convex footprint, plus every projected point.
+        for object in objects {
+            let flat: Vec<Vec2> = object
+                .iter()
+                .filter(|q| q.is_finite())
+                .map(|&q| to2(q))
+                .collect();
+            let h: Vec<Vec2> = convex_hull_2d(&flat).into_iter().map(|k| flat[k]).collect();
+            for q in &flat {
+                if let Some(c) = cell_of(*q) {
+                    cells[c] = Cell::Occupied;
+                }
+            }
+            if h.len() >= 3 {
+                let (mut a, mut b) = (Vec2::splat(f64::INFINITY), Vec2::splat(f64::NEG_INFINITY));
+                for q in &h {
+                    a = a.min(*q);
+                    b = b.max(*q);
+                }
+                let (Some(c0), Some(c1)) =
+                    (cell_of(a.max(lo)), cell_of(b.min(hi - Vec2::splat(1e-9))))
+                else {
+                    continue;
+                };
+                for j in c0 / nx..=c1 / nx {
+                    for i in c0 % nx..=c1 % nx {
+                        let k = j * nx + i;
+                        if inside_convex(&h, centre(i, j))
+                            || distance_to_boundary(&h, centre(i, j)) < res * 0.5
+                        {
+                            cells[k] = Cell::Occupied;
+                        }
+                    }
+                }
+            }
+        }
+        let blocked: Vec<bool> = cells.iter().map(|c| *c != Cell::Free).collect();
+        let clearance = distance_transform(&blocked, nx, ny)
+            .into_iter()
+            .map(|d2| d2.sqrt() * res)
+            .collect();
+        Ok(Self {
+            normal,
+            u,
+            v,
+            offset: -surface.plane.d,
+            resolution: res,
+            lo,
+            nx,
+            ny,
+            cells,
+            clearance,
+            yaw_samples: p.yaw_samples.max(1),
+        })
+    }
+
+    /// Centre of cell `k` in the plane's 2D frame.
+    pub fn cell_centre(&self, k: usize) -> Vec2 {
+        self.lo
+            + Vec2::new(
+                ((k % self.nx) as f64 + 0.5) * self.resolution,
+                ((k / self.nx) as f64 + 0.5) * self.resolution,
+            )
+    }
+
+    /// A 2D plane point back in the world.
+    pub fn to_world(&self, q: Vec2) -> Vec3 {
+        self.u * q.x + self.v * q.y + self.normal * self.offset
+    }
+
+    /// A world point in the plane's 2D frame.
+    pub fn to_plane(&self, p: Vec3) -> Vec2 {
+        Vec2::new(p.dot(self.u), p.dot(self.v))
+    }
+
+    /// Area of free cells (m²).
+    pub fn free_area(&self) -> f64 {
+        self.cells.iter().filter(|c| **c == Cell::Free).count() as f64
+            * self.resolution
+            * self.resolution
+    }
+
+    /// The place nearest to `near` (projected onto the surface) where `footprint` (a
+    /// polygon in its own frame, metres, origin = the point that is placed) fits with
+    /// at least `margin` to every object, unseen patch and edge; `None` if it fits
+    /// nowhere. Orientations are tried in `yaw_samples` steps.
+    pub fn find_place(&self, footprint: &[Vec2], margin: f64, near: Vec3) -> Option<Placement> {
+        if footprint.len() < 3
+            || !footprint.iter().all(|q| q.is_finite())
+            || margin.is_nan()
+            || margin < 0.0
+            || !near.is_finite()
+        {
+            return None;
+        }
+        let h: Vec<Vec2> = convex_hull_2d(footprint)
+            .into_iter()
+            .map(|k| footprint[k])
+            .collect();
+        if h.len() < 3 {
+            return None;
+        }
+        let res = self.resolution;
+        // Cell centres are up to half a diagonal from the true boundary of a cell.
+        let slack = res * std::f64::consts::FRAC_1_SQRT_2;
+        let need = margin + slack;
+        let reach = h.iter().map(|q| q.length()).fold(0.0, f64::max);
+        let r = (reach / res).ceil() as isize + 1;
+        // Cells each orientation covers (centres inside the footprint or within a
+        // half-diagonal of its outline).
+        let shapes: Vec<(f64, Vec<(isize, isize)>)> = (0..self.yaw_samples)
+            .map(|k| {
+                let yaw = std::f64::consts::TAU * k as f64 / self.yaw_samples as f64;
+                let rot: Vec<Vec2> = h.iter().map(|q| Vec2::from_angle(yaw).rotate(*q)).collect();
+                let cover = (-r..=r)
+                    .flat_map(|dj| (-r..=r).map(move |di| (di, dj)))
+                    .filter(|&(di, dj)| {
+                        let c = Vec2::new(di as f64 * res, dj as f64 * res);
+                        inside_polygon(&rot, c) || distance_to_boundary(&rot, c) <= slack
+                    })
+                    .collect();
+                (yaw, cover)
+            })
+            .collect();
+        let target = self.to_plane(near);
+        let mut order: Vec<(f64, usize)> = (0..self.cells.len())
+            .filter(|&k| self.cells[k] == Cell::Free)
+            .map(|k| (self.cell_centre(k).distance_squared(target), k))
+            .collect();
+        order.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        for (_, k) in order {
+            if self.clearance[k] < need {
+                continue;
+            }
+            let (i, j) = ((k % self.nx) as isize, (k / self.nx) as isize);
+            let fits = |cover: &[(isize, isize)]| {
+                cover.iter().all(|&(di, dj)| {
+                    let (a, b) = (i + di, j + dj);
+                    a >= 0
+                        && b >= 0
+                        && (a as usize) < self.nx
+                        && (b as usize) < self.ny
+                        && self.clearance[b as usize * self.nx + a as usize] >= need
+                })
+            };
+            // Far from everything: any orientation fits.
+            let found = if self.clearance[k] >= reach + need {
+                Some(0.0)
+            } else {
+                shapes
+                    .iter()
+                    .find(|(_, cover)| fits(cover))
+                    .map(|(yaw, _)| *yaw)
+            };
+            if let Some(yaw) = found {
+                let position = self.to_world(self.cell_centre(k));
+                let x = self.u * yaw.cos() + self.v * yaw.sin();
+                let y = self.normal.cross(x);
+                let rotation = Quat::from_mat3(&tabula_geom::Mat3::from_cols(x, y, self.normal));
+                return Some(Placement {
+                    position,
+                    yaw,
+                    world_from_footprint: Pose::from_parts(position, rotation),
+                    clearance: self.clearance[k],
+                });
+            }
+        }
+        None
+    }
+}
+
+/// Squared Euclidean distance (in cells) from every cell to the nearest blocked cell
+/// (Felzenszwalb & Huttenlocher's exact transform: two passes of 1D lower envelopes).
+pub fn distance_transform(blocked: &[bool], nx: usize, ny: usize) -> Vec<f64> {
+    let inf = 1e20;
+    let mut d: Vec<f64> = blocked.iter().map(|&b| if b { 0.0 } else { inf }).collect();
+    let mut f = vec![0.0; nx.max(ny)];
+    let mut out = vec![0.0; nx.max(ny)];
+    let mut vtx = vec![0usize; nx.max(ny)];
+    let mut z = vec![0.0; nx.max(ny) + 1];
+    let mut pass =
+        |d: &mut Vec<f64>, n: usize, count: usize, at: &dyn Fn(usize, usize) -> usize| {
+            for line in 0..count {
+                for q in 0..n {
+                    f[q] = d[at(line, q)];
+                }
+                envelope(&f[..n], &mut out[..n], &mut vtx, &mut z);
+                for q in 0..n {
+                    d[at(line, q)] = out[q];
+                }
+            }
+        };
+    pass(&mut d, nx, ny, &|row, q| row * nx + q);
+    pass(&mut d, ny, nx, &|col, q| q * nx + col);
+    d
+}
+
+/// 1D squared distance transform of sampled function `f` (lower envelope of parabolas).
+fn envelope(f: &[f64], out: &mut [f64], v: &mut [usize], z: &mut [f64]) {
+    let n = f.len();
+    if n == 0 {
+        return;
+    }
+    let mut k = 0usize;
+    v[0] = 0;
+    z[0] = f64::NEG_INFINITY;
+    z[1] = f64::INFINITY;
+    for q in 1..n {
+        loop {
+            let p = v[k];
+            let s = ((f[q] + (q * q) as f64) - (f[p] + (p * p) as f64))
+                / (2.0 * q as f64 - 2.0 * p as f64);
+            // z[0] = −∞, so k never goes below 0.
+            if s <= z[k] {
+                k -= 1;
+            } else {
+                k += 1;
+                v[k] = q;
+                z[k] = s;
+                z[k + 1] = f64::INFINITY;
+                break;
+            }
+        }
+    }
+    k = 0;
+    for (q, o) in out.iter_mut().enumerate() {
+        while z[k + 1] < q as f64 {
+            k += 1;
+        }
+        let p = v[k];
+        *o = (q as f64 - p as f64).powi(2) + f[p];
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::plane::Plane;
+
+    fn square_table(size: f64) -> (Surface, Vec<Vec3>) {
+        let n = (size / 0.005) as usize;
+        let points: Vec<Vec3> = (0..n * n)
+            .map(|k| Vec3::new((k % n) as f64 * 0.005, (k / n) as f64 * 0.005, 0.7))
+            .collect();
+        let hull = vec![
+            Vec3::new(0.0, 0.0, 0.7),
+            Vec3::new(size, 0.0, 0.7),
+            Vec3::new(size, size, 0.7),
+            Vec3::new(0.0, size, 0.7),
+        ];
+        let surface = Surface {
+            plane: Plane {
+                normal: Vec3::Z,
+                d: -0.7,
+            },
+            inliers: (0..points.len()).collect(),
+            hull,
+            area: size * size,
+            hull_area: size * size,
+            centroid: Vec3::new(size / 2.0, size / 2.0, 0.7),
+        };
+        (surface, points)
+    }
+
+    fn rect(w: f64, h: f64) -> Vec<Vec2> {
+        vec![
+            Vec2::new(-w / 2.0, -h / 2.0),
+            Vec2::new(w / 2.0, -h / 2.0),
+            Vec2::new(w / 2.0, h / 2.0),
+            Vec2::new(-w / 2.0, h / 2.0),
+        ]
+    }
+
+    #[test]
+    fn brute_force_distance_transform_agrees() {
+        let (nx, ny) = (13, 9);
+        let blocked: Vec<bool> = (0..nx * ny).map(|k| (k * 7) % 11 == 0).collect();
+        let d = distance_transform(&blocked, nx, ny);
+        for (k, dk) in d.iter().enumerate() {
+            let (x, y) = ((k % nx) as f64, (k / nx) as f64);
+            let best = (0..nx * ny)
+                .filter(|&b| blocked[b])
+                .map(|b| ((b % nx) as f64 - x).powi(2) + ((b / nx) as f64 - y).powi(2))
+                .fold(f64::INFINITY, f64::min);
+            assert_eq!(*dk, best, "cell {k}");
+        }
+    }
+
+    #[test]
+    fn a_box_goes_next_to_the_clutter_not_on_it() {
+        let (surface, points) = square_table(0.6);
+        // An object covering the middle of the table.
+        let object: Vec<Vec3> = (0..400)
+            .map(|k| {
+                Vec3::new(
+                    0.2 + (k % 20) as f64 * 0.01,
+                    0.2 + (k / 20) as f64 * 0.01,
+                    0.75,
+                )
+            })
+            .collect();
+        let map =
+            FreeSpaceMap::build(&surface, &points, &[object], &FreeSpaceParams::default()).unwrap();
+        assert!(map.free_area() < 0.36 - 0.03 && map.free_area() > 0.25);
+        let fp = rect(0.1, 0.06);
+        let place = map.find_place(&fp, 0.02, Vec3::new(0.3, 0.3, 0.7)).unwrap();
+        let q = place.position;
+        // Outside the object's square grown by the footprint's half size and margin.
+        let gap = (q.x - 0.295).abs().max((q.y - 0.295).abs());
+        assert!(gap >= 0.095 + 0.03 + 0.02 - 0.015, "{place:?}");
+        // Inside the table by at least half the short side and the margin.
+        assert!(
+            q.x >= 0.05 && q.x <= 0.55 && q.y >= 0.05 && q.y <= 0.55,
+            "{place:?}"
+        );
+        assert!((q.z - 0.7).abs() < 1e-9);
+        // Nothing fits when the margin is as large as the table.
+        assert!(map.find_place(&fp, 0.3, Vec3::new(0.3, 0.3, 0.7)).is_none());
+        // Bad footprints are no answer, not a panic.
+        assert!(map.find_place(&[], 0.0, Vec3::ZERO).is_none());
+        assert!(
+            map.find_place(&rect(0.1, f64::NAN), 0.0, Vec3::ZERO)
+                .is_none()
+        );
+    }
+
+    #[test]
+    fn long_footprints_turn_to_fit_a_corridor() {
+        let (surface, points) = square_table(0.6);
+        // Two walls of objects leaving a corridor 8 cm wide along y at x = 0.3.
+        let wall = |x0: f64| -> Vec<Vec3> {
+            (0..60 * 25)
+                .map(|k| Vec3::new(x0 + (k % 25) as f64 * 0.01, (k / 25) as f64 * 0.01, 0.72))
+                .collect()
+        };
+        let objects = vec![wall(0.0), wall(0.35)];
+        let map =
+            FreeSpaceMap::build(&surface, &points, &objects, &FreeSpaceParams::default()).unwrap();
+        // 20 cm long, 4 cm wide: fits only along the corridor (yaw ≈ ±90°).
+        let place = map
+            .find_place(&rect(0.2, 0.04), 0.0, Vec3::new(0.3, 0.3, 0.7))
+            .unwrap();
+        let axis = map.u * place.yaw.cos() + map.v * place.yaw.sin();
+        assert!(axis.y.abs() > 0.9, "{place:?}");
+    }
+}

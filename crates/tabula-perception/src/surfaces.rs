@@ -1,0 +1,366 @@
+//! Surface search (SPEC §1.3, Alg. 9): fit planes one after another, accept the
+//! horizontal ones at a reachable height, peel everything else (floor, walls, ramps)
+//! off and look again. Unlike the seed, coplanar but disjoint surfaces (two tables at
+//! one height, shelves of a bookshelf) come out as separate surfaces, and each surface
+//! reports the area it really covers, not its hull's.
+
+use crate::plane::{Plane, RansacParams, ransac_plane};
+use tabula_geom::polygon::{convex_hull_2d, polygon_area};
+use tabula_geom::{PointCloud, Vec2, Vec3};
+
+/// Parameters; defaults from SPEC §6 (seed 000's repository).
+#[derive(Debug, Clone, serde::Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct SurfaceParams {
+    /// Plane fitting (1 cm inlier threshold, SPEC §6).
+    pub ransac: RansacParams,
+    /// Largest tilt of a surface's normal from vertical (rad), SPEC §6.
+    pub max_tilt: f64,
+    /// A plane needs this fraction of the cloud's points to count (SPEC §6: 5 %).
+    pub min_plane_fraction: f64,
+    /// Stop when less than this fraction of the cloud is left (SPEC §6: 10 %).
+    pub stop_fraction: f64,
+    /// Heights (world z, m) where a surface is reachable.
+    pub height_range: [f64; 2],
+    /// Smallest surface area (m²); the seed's tests used 100 cm².
+    pub min_area: f64,
+    /// Refinement: points this close (m) to the plane are refitted (SPEC §6: 0.02 m) …
+    pub refine_threshold: f64,
+    /// … this many times (SPEC §6: 3).
+    pub refine_iterations: usize,
+    /// Grid cell (m) that decides which inliers are one connected surface.
+    pub cell: f64,
+    /// Most planes tried.
+    pub max_planes: usize,
+    /// Organized clouds are searched on every `stride`-th pixel of every `stride`-th
+    /// row (SPEC §1.3 downsamples first); accepted surfaces then collect their points
+    /// at full resolution.
+    pub stride: usize,
+}
+
+impl Default for SurfaceParams {
+    fn default() -> Self {
+        Self {
+            ransac: RansacParams::default(),
+            max_tilt: 0.09,
+            min_plane_fraction: 0.05,
+            stop_fraction: 0.10,
+            height_range: [0.2, 1.6],
+            min_area: 0.01,
+            refine_threshold: 0.02,
+            refine_iterations: 3,
+            cell: 0.02,
+            max_planes: 12,
+            stride: 2,
+        }
+    }
+}
+
+/// A horizontal surface.
+#[derive(Debug, Clone)]
+pub struct Surface {
+    /// Upward-facing plane.
+    pub plane: Plane,
+    /// Indices of its points in the cloud.
+    pub inliers: Vec<usize>,
+    /// Convex hull on the plane (world points, counter-clockwise seen from above).
+    pub hull: Vec<Vec3>,
+    /// Area covered by its points (occupied grid cells, m²).
+    pub area: f64,
+    /// Area of the hull (m²).
+    pub hull_area: f64,
+    pub centroid: Vec3,
+}
+
+/// A plane that was looked at, accepted or not, and why (for reports and tests).
+#[derive(Debug, Clone)]
+pub struct PlaneTrial {
+    pub plane: Plane,
+    pub points: usize,
+    pub tilt: f64,
+    pub height: f64,
+    pub verdict: Verdict,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Verdict {
+    Accepted,
+    TooTilted,
+    OutOfReach,
+    TooSmall,
+}
+
+/// Everything the search found.
+#[derive(Debug, Clone, Default)]
+pub struct SurfaceSearch {
+    pub surfaces: Vec<Surface>,
+    pub trials: Vec<PlaneTrial>,
+}
+
+/// A basis of the plane: `u`, `v` and the normal form a right-handed frame.
+pub fn plane_basis(normal: Vec3) -> (Vec3, Vec3) {
+    let u = normal.any_orthonormal_vector();
+    (u, normal.cross(u))
+}
+
+/// Searches a cloud in the world frame (z up; NaN = none), restricted to `keep` if
+/// given while fitting. Each accepted surface's `inliers` are then every finite point
+/// within the RANSAC threshold of its plane in its connected region — outlier removal
+/// protects the fit, it does not decide what is table. With `first_only` the search
+/// stops at the first accepted plane (the tabletop pipeline).
+pub fn find_surfaces(
+    cloud: &PointCloud,
+    keep: Option<&[bool]>,
+    p: &SurfaceParams,
+    first_only: bool,
+) -> SurfaceSearch {
+    let points = &cloud.points;
+    let usable = |i: usize| points[i].is_finite() && keep.is_none_or(|k| k.get(i) == Some(&true));
+    let stride = p.stride.max(1);
+    let mut remaining: Vec<usize> = if cloud.is_organized() && stride > 1 {
+        (0..cloud.height)
+            .step_by(stride)
+            .flat_map(|y| {
+                (0..cloud.width)
+                    .step_by(stride)
+                    .map(move |x| y * cloud.width + x)
+            })
+            .filter(|&i| usable(i))
+            .collect()
+    } else {
+        (0..points.len()).filter(|&i| usable(i)).collect()
+    };
+    let total = remaining.len();
+    let mut out = SurfaceSearch::default();
+    let mut taken = vec![false; points.len()];
+    for round in 0..p.max_planes {
+        if remaining.len() < 3 || (remaining.len() as f64) < p.stop_fraction * total as f64 {
+            break;
+        }
+        let params = RansacParams {
+            seed: p.ransac.seed.wrapping_add(round as u64),
+            ..p.ransac.clone()
+        };
+        let Some((plane, inliers)) = ransac_plane(points, &remaining, &params) else {
+            break;
+        };
+        if (inliers.len() as f64) < p.min_plane_fraction * total as f64 || inliers.len() < 3 {
+            break;
+        }
+        let up = if plane.normal.z < 0.0 {
+            plane.flipped()
+        } else {
+            plane
+        };
+        let tilt = up.normal.angle_between(Vec3::Z);
+        let height = inliers.iter().map(|&i| points[i].z).sum::<f64>() / inliers.len() as f64;
+        let mut verdict = if tilt > p.max_tilt {
+            Verdict::TooTilted
+        } else if height < p.height_range[0] || height > p.height_range[1] {
+            Verdict::OutOfReach
+        } else {
+            Verdict::Accepted
+        };
+        let mut peeled = inliers;
+        if verdict == Verdict::Accepted {
+            let (plane, inliers) = refine(points, &remaining, up, p);
+            let found = split(points, &plane, &inliers, p);
+            if found.is_empty() {
+                verdict = Verdict::TooSmall;
+            }
+            peeled = inliers;
+            out.surfaces.extend(found);
+        }
+        out.trials.push(PlaneTrial {
+            plane: up,
+            points: peeled.len(),
+            tilt,
+            height,
+            verdict,
+        });
+        if first_only && !out.surfaces.is_empty() {
+            break;
+        }
+        for &i in &peeled {
+            taken[i] = true;
+        }
+        remaining.retain(|&i| !taken[i]);
+    }
+    out
+}
+
+/// Seed 000's refinement: refit to everything within the refinement threshold, then
+/// take the inliers at the RANSAC threshold.
+fn refine(
+    points: &[Vec3],
+    candidates: &[usize],
+    mut plane: Plane,
+    p: &SurfaceParams,
+) -> (Plane, Vec<usize>) {
+    for _ in 0..p.refine_iterations {
+        let near = candidates
+            .iter()
+            .map(|&i| points[i])
+            .filter(|q| plane.distance(*q).abs() <= p.refine_threshold);
+        match Plane::fit_iter(near) {
+            Some(f) if f.normal.dot(plane.normal) > 0.0 => plane = f,
+            Some(f) => plane = f.flipped(),
+            None => break,
+        }
+    }
+    let inliers = candidates
+        .iter()
+        .copied()
+        .filter(|&i| plane.distance(points[i]).abs() <= p.ransac.threshold)
+        .collect();
+    (plane, inliers)
+}
+
+/// Splits a plane's inliers into connected pieces (8-connected grid cells) and keeps
+/// those with enough area. Connectivity comes from the (possibly downsampled) inliers;
+/// membership and outline from every finite point on the plane. Each cell remembers
+/// its extreme points in eight directions, so hulls come from a few points per cell.
+fn split(points: &[Vec3], plane: &Plane, inliers: &[usize], p: &SurfaceParams) -> Vec<Surface> {
+    let (u, v) = plane_basis(plane.normal);
+    let to2 = |q: Vec3| Vec2::new(q.dot(u), q.dot(v));
+    let mut cell = p.cell.max(1e-4);
+    let (mut lo, mut hi) = (Vec2::splat(f64::INFINITY), Vec2::splat(f64::NEG_INFINITY));
+    for &i in inliers {
+        let q = to2(points[i]);
+        lo = lo.min(q);
+        hi = hi.max(q);
+    }
+    if lo.x.is_nan() || lo.x > hi.x {
+        return Vec::new();
+    }
+    // A dense grid over the inliers' extent (coarser if it would be huge).
+    while ((hi - lo) / cell).element_product() > 4e6 {
+        cell *= 2.0;
+    }
+    let nx = ((hi.x - lo.x) / cell).floor() as usize + 1;
+    let ny = ((hi.y - lo.y) / cell).floor() as usize + 1;
+    let inv = 1.0 / cell;
+    let cell_of = |q: Vec2| -> Option<usize> {
+        // Truncation is floor for the non-negative values that pass the test.
+        let (fx, fy) = ((q.x - lo.x) * inv, (q.y - lo.y) * inv);
+        (fx >= 0.0 && fy >= 0.0 && (fx as usize) < nx && (fy as usize) < ny)
+            .then(|| fy as usize * nx + fx as usize)
+    };
+    const EMPTY: u32 = u32::MAX;
+    const UNSET: u32 = u32::MAX - 1;
+    let mut comp = vec![EMPTY; nx * ny];
+    for &i in inliers {
+        if let Some(c) = cell_of(to2(points[i])) {
+            comp[c] = UNSET;
+        }
+    }
+    let mut n_comp = 0u32;
+    let mut cells_of: Vec<Vec<usize>> = Vec::new();
+    for start in 0..comp.len() {
+        if comp[start] != UNSET {
+            continue;
+        }
+        comp[start] = n_comp;
+        let mut stack = vec![start];
+        let mut members = Vec::new();
+        while let Some(c) = stack.pop() {
+            members.push(c);
+            let (cx, cy) = ((c % nx) as isize, (c / nx) as isize);
+            for dy in -1..=1 {
+                for dx in -1..=1 {
+                    let (x, y) = (cx + dx, cy + dy);
+                    if x >= 0 && y >= 0 && (x as usize) < nx && (y as usize) < ny {
+                        let n = y as usize * nx + x as usize;
+                        if comp[n] == UNSET {
+                            comp[n] = n_comp;
+                            stack.push(n);
+                        }
+                    }
+                }
+            }
+        }
+        cells_of.push(members);
+        n_comp += 1;
+    }
+    const DIRS: [(f64, f64); 8] = [
+        (1.0, 0.0),
+        (-1.0, 0.0),
+        (0.0, 1.0),
+        (0.0, -1.0),
+        (1.0, 1.0),
+        (1.0, -1.0),
+        (-1.0, 1.0),
+        (-1.0, -1.0),
+    ];
+    // Only cells on a component's border can hold hull points.
+    let border: Vec<bool> = (0..nx * ny)
+        .map(|c| {
+            let (cx, cy) = ((c % nx) as isize, (c / nx) as isize);
+            comp[c] < UNSET
+                && (-1..=1).any(|dy| {
+                    (-1..=1).any(|dx| {
+                        let (x, y) = (cx + dx, cy + dy);
+                        x < 0
+                            || y < 0
+                            || x as usize >= nx
+                            || y as usize >= ny
+                            || comp[y as usize * nx + x as usize] >= UNSET
+                    })
+                })
+        })
+        .collect();
+    let mut extremes = vec![[(f64::NEG_INFINITY, Vec2::ZERO); 8]; nx * ny];
+    let mut members: Vec<Vec<usize>> = vec![Vec::new(); n_comp as usize];
+    for (i, q) in points.iter().enumerate() {
+        let off = plane.distance(*q).abs();
+        if off.is_nan() || off > p.ransac.threshold {
+            continue;
+        }
+        let q2 = to2(*q);
+        let Some(c) = cell_of(q2) else {
+            continue;
+        };
+        if comp[c] >= UNSET {
+            continue;
+        }
+        members[comp[c] as usize].push(i);
+        if !border[c] {
+            continue;
+        }
+        for (k, d) in DIRS.iter().enumerate() {
+            let s = q2.x * d.0 + q2.y * d.1;
+            if s > extremes[c][k].0 {
+                extremes[c][k] = (s, q2);
+            }
+        }
+    }
+    let mut out = Vec::new();
+    for (cells, idx) in cells_of.into_iter().zip(members) {
+        let area = cells.len() as f64 * cell * cell;
+        if area < p.min_area || idx.len() < 3 {
+            continue;
+        }
+        let candidates: Vec<Vec2> = cells
+            .iter()
+            .flat_map(|&c| extremes[c].iter())
+            .filter(|e| e.0.is_finite())
+            .map(|e| e.1)
+            .collect();
+        let hull2: Vec<Vec2> = convex_hull_2d(&candidates)
+            .into_iter()
+            .map(|i| candidates[i])
+            .collect();
+        let centroid = idx.iter().map(|&i| points[i]).sum::<Vec3>() / idx.len() as f64;
+        let lift = |q: Vec2| u * q.x + v * q.y - plane.normal * plane.d;
+        out.push(Surface {
+            plane: *plane,
+            hull_area: polygon_area(&hull2),
+            hull: hull2.iter().map(|&q| lift(q)).collect(),
+            inliers: idx,
+            area,
+            centroid,
+        });
+    }
+    out.sort_by_key(|s| std::cmp::Reverse(s.inliers.len()));
+    out
+}
