@@ -1,5 +1,6 @@
 //! `tabula`: the command-line face of the tabula manipulation stack.
 
+mod bench;
 mod demo;
 mod ik;
 mod motion;
@@ -21,6 +22,11 @@ struct Cli {
 enum Command {
     /// The main job: runs every capability that has landed, with a short report.
     Demo,
+    /// Benchmarks that print the tables in BENCHMARKS.md.
+    Bench {
+        #[command(subcommand)]
+        command: bench::BenchCommand,
+    },
     /// Inverse and forward kinematics: solve, benchmark, inspect robots.
     Ik {
         #[command(subcommand)]
@@ -31,7 +37,7 @@ enum Command {
         #[command(subcommand)]
         command: motion::MotionCommand,
     },
-    /// Perception: find the table and the objects on it in a depth frame (PCD).
+    /// Perception: surfaces, the table, its objects and free space in a PCD/PLY frame.
     Perceive(perceive::PerceiveArgs),
     /// Task planning in PDDL: plan, validate, benchmark (Fast Downward's role).
     Plan(plan::PlanArgs),
@@ -53,6 +59,7 @@ fn main() {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Demo => demo::run(),
+        Command::Bench { command } => bench::run(command),
         Command::Ik { command } => ik::run(command),
         Command::Plan(args) => plan::run(args),
         Command::Motion { command } => motion::run(command),

@@ -75,3 +75,13 @@ pub fn score(
         segments: result.objects.len(),
     }
 }
+
+/// Which points of a frame lie on a table top at `height` (world z): within the 1 cm
+/// RANSAC threshold (SPEC §6) of it. The simulator labels the table's edges and legs as
+/// table too; they are not the plane a perception pipeline should return.
+pub fn table_top_truth(points: &[tabula_geom::Vec3], height: f64) -> Vec<bool> {
+    points
+        .iter()
+        .map(|p| (p.z - height).abs() <= 0.01)
+        .collect()
+}

@@ -64,19 +64,36 @@ pub fn voxel_grid(points: &[Vec3], leaf: f64) -> Result<Vec<Vec3>, FilterError> 
     if extent / leaf > (1u64 << 21) as f64 - 2.0 {
         return Err(FilterError::LeafTooSmall { leaf, extent });
     }
+    let inv = 1.0 / leaf;
+    // p − lo ≥ 0, so truncation is floor (and needs no libm call).
     let key = |p: Vec3| {
-        let c = ((p - lo) / leaf).floor();
+        let c = (p - lo) * inv;
         ((c.x as u64) << 42) | ((c.y as u64) << 21) | c.z as u64
     };
-    let mut cells: FxHashMap<u64, (Vec3, u32)> = FxHashMap::default();
+    // Neighbouring points of a scan usually share a cell: remember the last one and
+    // skip the hash lookup for runs.
+    let mut slot_of: FxHashMap<u64, usize> = FxHashMap::default();
+    let mut sums: Vec<(u64, Vec3, u32)> = Vec::new();
+    let mut last = (u64::MAX, 0usize);
     for p in points.iter().filter(|p| p.is_finite()) {
-        let e = cells.entry(key(*p)).or_insert((Vec3::ZERO, 0));
-        e.0 += *p;
-        e.1 += 1;
+        let k = key(*p);
+        let slot = if k == last.0 {
+            last.1
+        } else {
+            let next = sums.len();
+            let slot = *slot_of.entry(k).or_insert(next);
+            if slot == next {
+                sums.push((k, Vec3::ZERO, 0));
+            }
+            last = (k, slot);
+            slot
+        };
+        sums[slot].1 += *p;
+        sums[slot].2 += 1;
     }
-    let mut out: Vec<(u64, Vec3)> = cells
+    let mut out: Vec<(u64, Vec3)> = sums
         .into_iter()
-        .map(|(k, (s, n))| (k, s / n as f64))
+        .map(|(k, s, n)| (k, s / n as f64))
         .collect();
     out.sort_unstable_by_key(|(k, _)| *k);
     Ok(out.into_iter().map(|(_, p)| p).collect())
@@ -392,29 +409,70 @@ pub fn smallest_eigenvector(m: [f64; 6]) -> Option<(Vec3, [f64; 3])> {
     Some((n, [l_min, l_mid, l_max]))
 }
 
-/// Scatter of points about their centroid, as `[xx, xy, xz, yy, yz, zz]`.
-pub(crate) fn scatter(points: impl Iterator<Item = Vec3> + Clone) -> Option<(Vec3, [f64; 6])> {
-    let mut n = 0usize;
-    let mut sum = Vec3::ZERO;
-    for p in points.clone() {
-        sum += p;
-        n += 1;
+/// First and second moments of points, accumulated in one pass about a reference
+/// point (near the data, so the subtraction at the end loses no precision).
+#[derive(Clone, Copy)]
+pub(crate) struct Moments {
+    origin: Vec3,
+    n: usize,
+    sum: Vec3,
+    products: [f64; 6],
+}
+
+impl Moments {
+    pub(crate) fn new(origin: Vec3) -> Self {
+        Self {
+            origin,
+            n: 0,
+            sum: Vec3::ZERO,
+            products: [0.0; 6],
+        }
     }
-    if n < 3 {
-        return None;
+
+    #[inline]
+    pub(crate) fn add(&mut self, p: Vec3) {
+        let d = p - self.origin;
+        self.n += 1;
+        self.sum += d;
+        self.products[0] += d.x * d.x;
+        self.products[1] += d.x * d.y;
+        self.products[2] += d.x * d.z;
+        self.products[3] += d.y * d.y;
+        self.products[4] += d.y * d.z;
+        self.products[5] += d.z * d.z;
     }
-    let c = sum / n as f64;
-    let mut m = [0.0; 6];
+
+    /// Centroid and scatter matrix `[xx, xy, xz, yy, yz, zz]` about it (≥ 3 points).
+    pub(crate) fn scatter(&self) -> Option<(Vec3, [f64; 6])> {
+        if self.n < 3 {
+            return None;
+        }
+        let nf = self.n as f64;
+        let m = self.sum / nf;
+        let s = self.products;
+        Some((
+            self.origin + m,
+            [
+                s[0] - nf * m.x * m.x,
+                s[1] - nf * m.x * m.y,
+                s[2] - nf * m.x * m.z,
+                s[3] - nf * m.y * m.y,
+                s[4] - nf * m.y * m.z,
+                s[5] - nf * m.z * m.z,
+            ],
+        ))
+    }
+}
+
+/// Centroid and scatter of points about it, as `[xx, xy, xz, yy, yz, zz]`.
+pub(crate) fn scatter(mut points: impl Iterator<Item = Vec3>) -> Option<(Vec3, [f64; 6])> {
+    let first = points.next()?;
+    let mut m = Moments::new(first);
+    m.add(first);
     for p in points {
-        let d = p - c;
-        m[0] += d.x * d.x;
-        m[1] += d.x * d.y;
-        m[2] += d.x * d.z;
-        m[3] += d.y * d.y;
-        m[4] += d.y * d.z;
-        m[5] += d.z * d.z;
+        m.add(p);
     }
-    Some((c, m))
+    m.scatter()
 }
 
 /// Surface normals by local PCA, oriented towards `viewpoint`; NaN where a point has
@@ -510,38 +568,19 @@ pub fn local_planes_at(
                     return none;
                 }
                 let limit = (step * p.depth_edge_factor * r as f64).powi(2);
-                // One pass: sums of offsets from the centre and of their products.
-                let (mut n, mut s1, mut s2) = (0usize, Vec3::ZERO, [0.0; 6]);
+                let mut moments = Moments::new(c);
                 for yy in y.saturating_sub(r)..(y + r + 1).min(h) {
                     for xx in x.saturating_sub(r)..(x + r + 1).min(w) {
                         let j = yy * w + xx;
-                        let d = pts[j] - c;
-                        if d.length_squared() <= limit && mask[j] {
-                            n += 1;
-                            s1 += d;
-                            s2[0] += d.x * d.x;
-                            s2[1] += d.x * d.y;
-                            s2[2] += d.x * d.z;
-                            s2[3] += d.y * d.y;
-                            s2[4] += d.y * d.z;
-                            s2[5] += d.z * d.z;
+                        if pts[j].distance_squared(c) <= limit && mask[j] {
+                            moments.add(pts[j]);
                         }
                     }
                 }
-                if n < 3 {
+                let Some((centroid, cov)) = moments.scatter() else {
                     return none;
-                }
-                let m = s1 / n as f64;
-                let nf = n as f64;
-                let cov = [
-                    s2[0] - nf * m.x * m.x,
-                    s2[1] - nf * m.x * m.y,
-                    s2[2] - nf * m.x * m.z,
-                    s2[3] - nf * m.y * m.y,
-                    s2[4] - nf * m.y * m.z,
-                    s2[5] - nf * m.z * m.z,
-                ];
-                smallest_eigenvector(cov).map_or(none, |(n, _)| (orient(i, n), c + m))
+                };
+                smallest_eigenvector(cov).map_or(none, |(n, _)| (orient(i, n), centroid))
             })
             .collect();
     }

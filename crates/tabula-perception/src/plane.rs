@@ -24,7 +24,7 @@ impl Plane {
     }
 
     /// As [`Plane::fit`], from any re-iterable sequence of points.
-    pub fn fit_iter(points: impl Iterator<Item = Vec3> + Clone) -> Option<Self> {
+    pub fn fit_iter(points: impl Iterator<Item = Vec3>) -> Option<Self> {
         let (c, m) = scatter(points)?;
         let (normal, _) = smallest_eigenvector(m)?;
         Some(Plane {
@@ -109,13 +109,18 @@ pub fn ransac_plane_with_normals(
                 .is_none_or(|n| !n.is_finite() || n.dot(plane.normal).abs() >= cos_normal)
     };
     let mut rng = ChaCha8Rng::seed_from_u64(p.seed);
-    let sample: Vec<usize> = if usable.len() > 4000 {
-        (0..4000)
-            .map(|_| usable[rng.random_range(0..usable.len())])
-            .collect()
-    } else {
-        usable.clone()
+    let draw = |rng: &mut ChaCha8Rng, n: usize| -> Vec<usize> {
+        if usable.len() > n {
+            (0..n)
+                .map(|_| usable[rng.random_range(0..usable.len())])
+                .collect()
+        } else {
+            usable.clone()
+        }
     };
+    let sample = draw(&mut rng, 4000);
+    // Without normals, score on a packed copy of the sample's points.
+    let packed: Vec<Vec3> = sample.iter().map(|&i| points[i]).collect();
     let (mut best, mut best_count) = (None, 0usize);
     let mut needed = p.max_iterations.max(1);
     let mut it = 0;
@@ -131,7 +136,26 @@ pub fn ransac_plane_with_normals(
             normal,
             d: -normal.dot(a),
         };
-        let count = sample.iter().filter(|&&i| agrees(&plane, i)).count();
+        // Stop scoring once the hypothesis cannot beat the best (Capel's bail-out).
+        let mut count = 0;
+        let n = sample.len();
+        if normals.is_none() {
+            for (k, q) in packed.iter().enumerate() {
+                if (normal.dot(*q) + plane.d).abs() <= p.threshold {
+                    count += 1;
+                } else if count + (n - k - 1) <= best_count {
+                    break;
+                }
+            }
+        } else {
+            for (k, &i) in sample.iter().enumerate() {
+                if agrees(&plane, i) {
+                    count += 1;
+                } else if count + (n - k - 1) <= best_count {
+                    break;
+                }
+            }
+        }
         if count > best_count {
             best_count = count;
             best = Some(plane);
@@ -143,8 +167,10 @@ pub fn ransac_plane_with_normals(
         }
     }
     let mut plane = best?;
+    // Least squares on a large random subset is as good as on all points and cheaper.
+    let refine_on = draw(&mut rng, 20_000);
     for _ in 0..p.refinements {
-        let inliers = usable
+        let inliers = refine_on
             .iter()
             .filter(|&&i| agrees(&plane, i))
             .map(|&i| points[i]);

@@ -18,7 +18,7 @@ use crate::plane::Plane;
 use crate::surfaces::{Surface, SurfaceParams, find_surfaces, plane_basis};
 use std::collections::VecDeque;
 use std::time::Instant;
-use tabula_geom::polygon::{convex_hull_2d, inside_convex, polygon_area};
+use tabula_geom::polygon::{convex_hull_2d, distance_to_boundary, inside_convex, polygon_area};
 use tabula_geom::{PointCloud, Pose, Vec2, Vec3};
 
 /// Parameters; defaults from SPEC §6 (seed 002's repository) where it has them.
@@ -232,18 +232,26 @@ pub fn extract(
 
     let t = Instant::now();
     let labels = if organized {
-        segment_organized(cloud, &above, &keep, &locals, p)
+        segment_organized(cloud, &above, &keep, &locals, plane.normal, p)
     } else {
         segment_unorganized(pts, &above, &prism, &keep, &locals, p)
     };
     times.segmentation = ms(t);
 
     let t = Instant::now();
-    let objects = labels
+    let mut regions: Vec<Vec<usize>> = labels
         .into_iter()
         .filter(|m| m.len() >= p.min_object_points)
+        .filter(|m| {
+            m.iter()
+                .any(|&i| plane.distance(pts[i]) >= p.min_object_height)
+        })
+        .collect();
+    let mut table = table;
+    claim_object_bases(pts, &plane, &mut table.inliers, &mut regions, threshold);
+    let objects = regions
+        .into_iter()
         .map(|indices| describe(pts, &locals, &plane, indices, p))
-        .filter(|o| o.height >= p.min_object_height)
         .collect();
     times.objects = ms(t);
     Ok(Tabletop {
@@ -255,18 +263,69 @@ pub fn extract(
     })
 }
 
+/// Points within the plane threshold of the table but under an object's footprint
+/// are the object's bottom centimetre, not table: they move to the object.
+fn claim_object_bases(
+    pts: &[Vec3],
+    plane: &Plane,
+    table: &mut Vec<usize>,
+    regions: &mut [Vec<usize>],
+    margin: f64,
+) {
+    let (u, v) = plane_basis(plane.normal);
+    let to2 = |q: Vec3| Vec2::new(q.dot(u), q.dot(v));
+    // Footprints grown by a few millimetres of sensor noise.
+    let slack = 0.25 * margin;
+    let footprints: Vec<(Vec<Vec2>, Vec2, Vec2)> = regions
+        .iter()
+        .map(|r| {
+            let flat: Vec<Vec2> = r.iter().map(|&i| to2(pts[i])).collect();
+            let hull: Vec<Vec2> = convex_hull_2d(&flat).into_iter().map(|k| flat[k]).collect();
+            let (mut lo, mut hi) = (Vec2::splat(f64::INFINITY), Vec2::splat(f64::NEG_INFINITY));
+            for q in &hull {
+                lo = lo.min(*q);
+                hi = hi.max(*q);
+            }
+            (hull, lo - Vec2::splat(slack), hi + Vec2::splat(slack))
+        })
+        .collect();
+    let mut moved = false;
+    table.retain(|&i| {
+        let q = to2(pts[i]);
+        let owner = footprints.iter().position(|(hull, lo, hi)| {
+            q.cmpge(*lo).all()
+                && q.cmple(*hi).all()
+                && hull.len() >= 3
+                && (inside_convex(hull, q) || distance_to_boundary(hull, q) <= slack)
+        });
+        if let Some(k) = owner {
+            regions[k].push(i);
+            moved = true;
+        }
+        owner.is_none()
+    });
+    if moved {
+        for r in regions.iter_mut() {
+            r.sort_unstable();
+        }
+    }
+}
+
 /// Concave-crease test between two points with normals.
 fn concave(pa: Vec3, na: Vec3, pb: Vec3, nb: Vec3, cos_tol: f64) -> bool {
     na.is_finite() && nb.is_finite() && na.dot(nb) < cos_tol && (na - nb).dot(pa - pb) < 0.0
 }
 
-/// Step test: parallel local planes offset along their normal (two flat tops at
-/// different heights, side by side). Local-plane centroids average the sensor noise.
-fn step(ca: Vec3, na: Vec3, cb: Vec3, nb: Vec3, cos_tol: f64, tolerance: f64) -> bool {
+/// Step test: two flat tops parallel to the table at different heights, side by side
+/// (touching objects of different heights). Local-plane centroids average the sensor
+/// noise; only table-parallel planes count, because near the edges of side faces the
+/// windows mix two faces and their centroids shift.
+fn step(ca: Vec3, na: Vec3, cb: Vec3, nb: Vec3, up: Vec3, cos_tol: f64, tolerance: f64) -> bool {
     na.is_finite()
         && nb.is_finite()
-        && na.dot(nb) >= cos_tol
-        && (na + nb).normalize_or_zero().dot(ca - cb).abs() > tolerance
+        && na.dot(up).abs() >= cos_tol
+        && nb.dot(up).abs() >= cos_tol
+        && up.dot(ca - cb).abs() > tolerance
 }
 
 /// Grows regions over `neighbours` from non-crease seeds, then lets crease points join
@@ -376,6 +435,7 @@ fn segment_organized(
     above: &[bool],
     keep: &[bool],
     locals: &Locals,
+    up: Vec3,
     p: &TabletopParams,
 ) -> Vec<Vec<usize>> {
     let (w, h) = (cloud.width, cloud.height);
@@ -403,7 +463,7 @@ fn segment_organized(
                     && above[b]
                     && pts[a].distance(pts[b]) <= reach
                     && (concave(pts[a], na, pts[b], nb, cos_tol)
-                        || step(ca, na, cb, nb, cos_tol, p.step_tolerance))
+                        || step(ca, na, cb, nb, up, cos_tol, p.step_tolerance))
             })
         })
         .collect();
@@ -599,4 +659,55 @@ pub fn to_world(world_from_camera: &Pose, camera: &PointCloud) -> PointCloud {
             })
             .collect(),
     }
+}
+
+/// Euclidean clustering (PCL's `EuclideanClusterExtraction`): connected components of
+/// the points in `mask` linked when closer than `tolerance`, keeping those with at
+/// least `min_size` points. Organized clouds link 4-neighbouring pixels; others use a
+/// kd-tree radius search. This is the baseline the convexity segmentation improves on.
+pub fn euclidean_clusters(
+    cloud: &PointCloud,
+    mask: Option<&[bool]>,
+    tolerance: f64,
+    min_size: usize,
+) -> Vec<Vec<usize>> {
+    let pts = &cloud.points;
+    let member: Vec<bool> = (0..pts.len())
+        .map(|i| pts[i].is_finite() && mask.is_none_or(|m| m.get(i) == Some(&true)))
+        .collect();
+    let none = vec![false; pts.len()];
+    let tol2 = tolerance * tolerance;
+    let regions = if cloud.is_organized() {
+        let (w, h) = (cloud.width, cloud.height);
+        grow(pts.len(), &member, &member, &none, 0, |i, out| {
+            let (x, y) = (i % w, i / w);
+            for (ok, j) in [
+                (x > 0, i.wrapping_sub(1)),
+                (x + 1 < w, i + 1),
+                (y > 0, i.wrapping_sub(w)),
+                (y + 1 < h, i + w),
+            ] {
+                if ok && pts[i].distance_squared(pts[j]) <= tol2 {
+                    out.push(j);
+                }
+            }
+        })
+    } else {
+        let members: Vec<usize> = (0..pts.len()).filter(|&i| member[i]).collect();
+        let coords: Vec<[f64; 3]> = members.iter().map(|&i| pts[i].to_array()).collect();
+        let Some(tree) = KdTree::build(&coords) else {
+            return Vec::new();
+        };
+        grow(pts.len(), &member, &member, &none, 0, |i, out| {
+            out.extend(
+                tree.within(&pts[i].to_array(), tol2)
+                    .into_iter()
+                    .map(|j| members[j]),
+            );
+        })
+    };
+    regions
+        .into_iter()
+        .filter(|r| r.len() >= min_size)
+        .collect()
 }

@@ -3,18 +3,9 @@
 //! scenes with 3–12 objects (touching and stacked pairs, floor often the biggest plane).
 
 use tabula_geom::{PcdEncoding, Vec3};
-use tabula_perception::eval::score;
+use tabula_perception::eval::{score, table_top_truth as table_top};
 use tabula_perception::{TabletopParams, extract, read_pcd, to_world};
 use tabula_sim::generate::{TABLE_TOP, TabletopLayout, tabletop_frame};
-
-/// Points within the 1 cm inlier threshold (SPEC §6) of the true table top: its side
-/// faces and legs carry the table's label too but are not the plane.
-fn table_top(points: &[Vec3], height: f64) -> Vec<bool> {
-    points
-        .iter()
-        .map(|p| (p.z - height).abs() <= 0.01)
-        .collect()
-}
 
 fn run(seed: u64, layout: &TabletopLayout) -> tabula_perception::eval::Score {
     let g = tabletop_frame(seed, layout).unwrap();

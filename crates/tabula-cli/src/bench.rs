@@ -1,0 +1,327 @@
+//! `tabula bench perception`: every perception stage timed on generated Kinect-like
+//! frames (the protocol), plus quality against the simulator's labels.
+
+use anyhow::Result;
+use clap::Subcommand;
+use std::time::Instant;
+use tabula_geom::polygon::{inside_convex, polygon_area};
+use tabula_geom::{PointCloud, Vec2, Vec3};
+use tabula_perception::eval::{Score, score, table_top_truth};
+use tabula_perception::filters::{
+    NormalParams, OutlierParams, local_planes_at, statistical_outliers, voxel_grid,
+};
+use tabula_perception::plane::{RansacParams, ransac_plane};
+use tabula_perception::surfaces::plane_basis;
+use tabula_perception::tabletop::euclidean_clusters;
+use tabula_perception::{TabletopParams, extract, to_world};
+use tabula_robot::ik::bench::thread_cpu_seconds;
+use tabula_sim::generate::{TABLE_TOP, TabletopLayout, tabletop_frame};
+
+#[derive(Subcommand)]
+pub enum BenchCommand {
+    /// Perception stages on generated 640×480 frames: CPU ms on one thread and wall ms
+    /// on two, the nine-object frame first, then a suite of seeded scenes.
+    Perception {
+        /// Scenes in the quality suite (seeds 1..=N, 3–12 objects each).
+        #[arg(long, default_value_t = 20)]
+        scenes: u64,
+        /// Repetitions per stage (medians are reported).
+        #[arg(long, default_value_t = 11)]
+        reps: usize,
+        #[arg(long)]
+        json: bool,
+    },
+}
+
+pub fn run(c: BenchCommand) -> Result<()> {
+    match c {
+        BenchCommand::Perception { scenes, reps, json } => perception(scenes, reps.max(1), json),
+    }
+}
+
+#[derive(serde::Serialize)]
+struct StageTime {
+    stage: String,
+    cpu_ms_1_thread: f64,
+    wall_ms_2_threads: f64,
+    anchor: &'static str,
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    v[v.len() / 2]
+}
+
+struct Timer {
+    one: rayon::ThreadPool,
+    two: rayon::ThreadPool,
+    reps: usize,
+}
+
+impl Timer {
+    /// Median CPU ms on one thread and median wall ms on two.
+    fn time(&self, f: &(dyn Fn() + Sync)) -> (f64, f64) {
+        let cpu = (0..self.reps)
+            .map(|_| {
+                self.one.install(|| {
+                    let c0 = thread_cpu_seconds();
+                    f();
+                    (thread_cpu_seconds() - c0) * 1e3
+                })
+            })
+            .collect();
+        let wall = (0..self.reps)
+            .map(|_| {
+                self.two.install(|| {
+                    let t = Instant::now();
+                    f();
+                    t.elapsed().as_secs_f64() * 1e3
+                })
+            })
+            .collect();
+        (median(cpu), median(wall))
+    }
+}
+
+struct Frame {
+    cloud: PointCloud,
+    viewpoint: Vec3,
+    labels: Vec<u32>,
+    table_label: u32,
+    object_labels: Vec<u32>,
+}
+
+fn frame(seed: u64, layout: &TabletopLayout) -> Result<Frame> {
+    let g = tabletop_frame(seed, layout)?;
+    Ok(Frame {
+        cloud: to_world(&g.frame.world_from_camera, &g.frame.cloud),
+        viewpoint: g.frame.world_from_camera.translation,
+        labels: g.frame.labels,
+        table_label: g.table_label,
+        object_labels: g.object_labels.iter().map(|o| o.1).collect(),
+    })
+}
+
+fn quality(f: &Frame, params: &TabletopParams) -> Result<Score> {
+    let t = extract(&f.cloud, f.viewpoint, params)?;
+    let finite: Vec<bool> = f.cloud.points.iter().map(|p| p.is_finite()).collect();
+    let top = table_top_truth(&f.cloud.points, TABLE_TOP);
+    Ok(score(
+        &t,
+        &finite,
+        &f.labels,
+        f.table_label,
+        &top,
+        &f.object_labels,
+        0.8,
+        200,
+    ))
+}
+
+fn perception(scenes: u64, reps: usize, json: bool) -> Result<()> {
+    let timer = Timer {
+        one: rayon::ThreadPoolBuilder::new().num_threads(1).build()?,
+        two: rayon::ThreadPoolBuilder::new().num_threads(2).build()?,
+        reps,
+    };
+    let params = TabletopParams::default();
+    let nine = frame(0, &TabletopLayout::nine())?;
+    let cloud = &nine.cloud;
+    let eye = nine.viewpoint;
+    let finite_points: Vec<Vec3> = cloud
+        .points
+        .iter()
+        .copied()
+        .filter(|p| p.is_finite())
+        .collect();
+    let unorganized = PointCloud::unorganized(finite_points.clone());
+    let all: Vec<usize> = (0..cloud.points.len())
+        .filter(|&i| cloud.points[i].is_finite())
+        .collect();
+    // The prism of the reference frame, for the stages that run on it.
+    let t = extract(cloud, eye, &params)?;
+    let (u, v) = plane_basis(t.plane.normal);
+    let to2 = |q: Vec3| Vec2::new(q.dot(u), q.dot(v));
+    let mut hull: Vec<Vec2> = t.table.hull.iter().map(|&q| to2(q)).collect();
+    if polygon_area(&hull) < 0.0 {
+        hull.reverse();
+    }
+    let prism: Vec<bool> = cloud
+        .points
+        .iter()
+        .map(|&q| q.is_finite() && t.plane.distance(q) > 0.01 && inside_convex(&hull, to2(q)))
+        .collect();
+    let prism_idx: Vec<usize> = (0..prism.len()).filter(|&i| prism[i]).collect();
+    let anchor_sor = OutlierParams {
+        mean_k: 20,
+        std_mul: 2.0,
+    };
+    let fixed = RansacParams {
+        confidence: 1.0,
+        ..RansacParams::default()
+    };
+    let adaptive = RansacParams::default();
+    type Stage<'a> = (&'a str, &'static str, Box<dyn Fn() + Sync + 'a>);
+    let stages: Vec<Stage> = vec![
+        (
+            "statistical outlier removal k=20 2σ (image grid)",
+            "PCL/Open3D 681–801 ms",
+            Box::new(|| {
+                let _ = statistical_outliers(cloud, Some(eye), &anchor_sor);
+            }),
+        ),
+        (
+            "statistical outlier removal k=20 2σ (kd-tree, unorganized)",
+            "PCL/Open3D 681–801 ms",
+            Box::new(|| {
+                let _ = statistical_outliers(&unorganized, Some(eye), &anchor_sor);
+            }),
+        ),
+        (
+            "statistical outlier removal k=10 1σ (seed's, image grid)",
+            "—",
+            Box::new(|| {
+                let _ = statistical_outliers(cloud, Some(eye), &params.outliers);
+            }),
+        ),
+        (
+            "RANSAC plane 1 cm, 1000 iterations, raw frame",
+            "PCL 262 ms, Open3D 771 ms",
+            Box::new(|| {
+                let _ = ransac_plane(&cloud.points, &all, &fixed);
+            }),
+        ),
+        (
+            "RANSAC plane 1 cm, adaptive (p = 0.999), raw frame",
+            "PCL 262 ms, Open3D 771 ms",
+            Box::new(|| {
+                let _ = ransac_plane(&cloud.points, &all, &adaptive);
+            }),
+        ),
+        (
+            "voxel grid 2 cm",
+            "12–14 ms",
+            Box::new(|| {
+                let _ = voxel_grid(&finite_points, 0.02);
+            }),
+        ),
+        (
+            "normals of the prism (7×7 PCA)",
+            "—",
+            Box::new(|| {
+                let _ = local_planes_at(cloud, eye, &prism, &prism_idx, &NormalParams::default());
+            }),
+        ),
+        (
+            "Euclidean clustering 1 cm of the prism (image grid)",
+            "PCL/Open3D 162–169 ms",
+            Box::new(|| {
+                let _ = euclidean_clusters(cloud, Some(&prism), 0.01, 200);
+            }),
+        ),
+        (
+            "whole tabletop pipeline (outliers → planes → hull → prism → segmentation → objects)",
+            "PCL 1,199 ms, Open3D 1,332 ms",
+            Box::new(|| {
+                let _ = extract(cloud, eye, &params);
+            }),
+        ),
+    ];
+    let mut rows = Vec::new();
+    for (stage, anchor, f) in &stages {
+        let (cpu, wall) = timer.time(f.as_ref());
+        if !json {
+            println!("{stage:<90} {cpu:>8.2} ms CPU  {wall:>8.2} ms wall   anchor {anchor}");
+        }
+        rows.push(StageTime {
+            stage: stage.to_string(),
+            cpu_ms_1_thread: cpu,
+            wall_ms_2_threads: wall,
+            anchor,
+        });
+    }
+    let reference = quality(&nine, &params)?;
+    if !json {
+        println!(
+            "\nnine-object frame: table precision {:.4} recall {:.4}; {} of {} objects with IoU > 0.8 ({} segments)",
+            reference.table_precision,
+            reference.table_recall,
+            reference.recovered,
+            reference.objects,
+            reference.segments
+        );
+    }
+    // The suite: quality of every frame and the pipeline's CPU time on it.
+    let suite_timer = Timer {
+        reps: reps.min(5),
+        ..timer
+    };
+    let mut suite = Vec::new();
+    for seed in 1..=scenes {
+        let layout = TabletopLayout::random(seed);
+        let f = frame(seed, &layout)?;
+        let s = quality(&f, &params)?;
+        let (cpu, wall) = suite_timer.time(&|| {
+            let _ = extract(&f.cloud, f.viewpoint, &params);
+        });
+        if !json {
+            println!(
+                "scene {seed:>3}: {:>2} objects ({} touching pairs, {} stacked), {:>2} recovered, table P {:.4} R {:.4}, {cpu:.1} ms CPU, {wall:.1} ms wall",
+                s.objects,
+                layout.touching_pairs,
+                layout.stacked_pairs,
+                s.recovered,
+                s.table_precision,
+                s.table_recall
+            );
+        }
+        suite.push(serde_json::json!({
+            "seed": seed, "objects": s.objects, "recovered": s.recovered,
+            "touching_pairs": layout.touching_pairs, "stacked_pairs": layout.stacked_pairs,
+            "table_precision": s.table_precision, "table_recall": s.table_recall,
+            "cpu_ms": cpu, "wall_ms": wall,
+        }));
+    }
+    let objects: usize = suite
+        .iter()
+        .map(|s| s["objects"].as_u64().unwrap_or(0) as usize)
+        .sum();
+    let recovered: usize = suite
+        .iter()
+        .map(|s| s["recovered"].as_u64().unwrap_or(0) as usize)
+        .sum();
+    let cpu: Vec<f64> = suite
+        .iter()
+        .map(|s| s["cpu_ms"].as_f64().unwrap_or(0.0))
+        .collect();
+    let worst_cpu = cpu.iter().copied().fold(0.0, f64::max);
+    let min_precision = suite
+        .iter()
+        .map(|s| s["table_precision"].as_f64().unwrap_or(0.0))
+        .fold(1.0, f64::min);
+    let min_recall = suite
+        .iter()
+        .map(|s| s["table_recall"].as_f64().unwrap_or(0.0))
+        .fold(1.0, f64::min);
+    if json {
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&serde_json::json!({
+                "stages": rows,
+                "reference_frame": reference,
+                "suite": suite,
+                "suite_objects": objects,
+                "suite_recovered": recovered,
+                "suite_pipeline_cpu_ms_median": if cpu.is_empty() { 0.0 } else { median(cpu.clone()) },
+                "suite_pipeline_cpu_ms_max": worst_cpu,
+            }))?
+        );
+    } else if scenes > 0 {
+        println!(
+            "suite: {recovered} of {objects} objects ({:.1} %), table found in all {scenes} frames, table precision ≥ {min_precision:.4}, recall ≥ {min_recall:.4}; pipeline CPU median {:.1} ms, max {worst_cpu:.1} ms",
+            100.0 * recovered as f64 / objects.max(1) as f64,
+            median(cpu)
+        );
+    }
+    Ok(())
+}
