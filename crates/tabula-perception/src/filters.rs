@@ -275,7 +275,9 @@ pub fn statistical_outliers(
     }
     let mean = sum / n as f64;
     let var = ((sum2 - n as f64 * mean * mean) / (n.max(2) - 1) as f64).max(0.0);
-    let limit = (mean + p.std_mul * var.sqrt()) as f32;
+    // A hair above the threshold so that a noise-free cloud (σ = 0) is not thinned by
+    // the rounding of equal statistics.
+    let limit = (mean + p.std_mul * var.sqrt() + 1e-4 * mean) as f32;
     Ok(stat.iter().map(|s| *s <= limit).collect())
 }
 

@@ -24,6 +24,10 @@ pub struct SurfaceParams {
     pub height_range: [f64; 2],
     /// Smallest surface area (m²); the seed's tests used 100 cm².
     pub min_area: f64,
+    /// A surface must hold a disc of this radius (m) somewhere — 10 cm across, as the
+    /// seed's 100 cm² — so slices of vertical things (a drum's side cut by a table's
+    /// plane) are not surfaces.
+    pub min_inscribed_radius: f64,
     /// Refinement: points this close (m) to the plane are refitted (SPEC §6: 0.02 m) …
     pub refine_threshold: f64,
     /// … this many times (SPEC §6: 3).
@@ -47,6 +51,7 @@ impl Default for SurfaceParams {
             stop_fraction: 0.10,
             height_range: [0.2, 1.6],
             min_area: 0.01,
+            min_inscribed_radius: 0.05,
             refine_threshold: 0.02,
             refine_iterations: 3,
             cell: 0.02,
@@ -233,10 +238,13 @@ fn split(points: &[Vec3], plane: &Plane, inliers: &[usize], p: &SurfaceParams) -
     if lo.x.is_nan() || lo.x > hi.x {
         return Vec::new();
     }
-    // A dense grid over the inliers' extent (coarser if it would be huge).
+    // A dense grid over the inliers' extent (coarser if it would be huge), with a
+    // border of empty cells all round.
     while ((hi - lo) / cell).element_product() > 4e6 {
         cell *= 2.0;
     }
+    lo -= Vec2::splat(cell);
+    hi += Vec2::splat(cell);
     let nx = ((hi.x - lo.x) / cell).floor() as usize + 1;
     let ny = ((hi.y - lo.y) / cell).floor() as usize + 1;
     let inv = 1.0 / cell;
@@ -255,19 +263,18 @@ fn split(points: &[Vec3], plane: &Plane, inliers: &[usize], p: &SurfaceParams) -
         }
     }
     let mut n_comp = 0u32;
-    let mut cells_of: Vec<Vec<usize>> = Vec::new();
     for start in 0..comp.len() {
         if comp[start] != UNSET {
             continue;
         }
         comp[start] = n_comp;
         let mut stack = vec![start];
-        let mut members = Vec::new();
+        // Two cells' reach: a row of cells the downsampled points skipped (their
+        // spacing beating against the cell size) does not cut a surface in two.
         while let Some(c) = stack.pop() {
-            members.push(c);
             let (cx, cy) = ((c % nx) as isize, (c / nx) as isize);
-            for dy in -1..=1 {
-                for dx in -1..=1 {
+            for dy in -2..=2 {
+                for dx in -2..=2 {
                     let (x, y) = (cx + dx, cy + dy);
                     if x >= 0 && y >= 0 && (x as usize) < nx && (y as usize) < ny {
                         let n = y as usize * nx + x as usize;
@@ -279,7 +286,6 @@ fn split(points: &[Vec3], plane: &Plane, inliers: &[usize], p: &SurfaceParams) -
                 }
             }
         }
-        cells_of.push(members);
         n_comp += 1;
     }
     const DIRS: [(f64, f64); 8] = [
@@ -311,6 +317,8 @@ fn split(points: &[Vec3], plane: &Plane, inliers: &[usize], p: &SurfaceParams) -
         .collect();
     let mut extremes = vec![[(f64::NEG_INFINITY, Vec2::ZERO); 8]; nx * ny];
     let mut members: Vec<Vec<usize>> = vec![Vec::new(); n_comp as usize];
+    // Cells holding full-resolution points, by piece.
+    let mut filled = vec![EMPTY; nx * ny];
     for (i, q) in points.iter().enumerate() {
         let off = plane.distance(*q).abs();
         if off.is_nan() || off > p.ransac.threshold {
@@ -320,11 +328,24 @@ fn split(points: &[Vec3], plane: &Plane, inliers: &[usize], p: &SurfaceParams) -
         let Some(c) = cell_of(q2) else {
             continue;
         };
-        if comp[c] >= UNSET {
+        // A cell the downsampled search missed joins a neighbouring piece.
+        let owner = if comp[c] < UNSET {
+            comp[c]
+        } else {
+            let (cx, cy) = ((c % nx) as isize, (c / nx) as isize);
+            (-2..=2isize)
+                .flat_map(|dy| (-2..=2isize).map(move |dx| (cx + dx, cy + dy)))
+                .filter(|&(x, y)| x >= 0 && y >= 0 && (x as usize) < nx && (y as usize) < ny)
+                .map(|(x, y)| comp[y as usize * nx + x as usize])
+                .find(|&k| k < UNSET)
+                .unwrap_or(EMPTY)
+        };
+        if owner >= UNSET {
             continue;
         }
-        members[comp[c] as usize].push(i);
-        if !border[c] {
+        members[owner as usize].push(i);
+        filled[c] = owner;
+        if !border[c] && comp[c] < UNSET {
             continue;
         }
         for (k, d) in DIRS.iter().enumerate() {
@@ -334,10 +355,21 @@ fn split(points: &[Vec3], plane: &Plane, inliers: &[usize], p: &SurfaceParams) -
             }
         }
     }
+    // How far each cell is from the nearest empty one: thin pieces (the slice of a
+    // drum's side within the threshold of a table's plane) have no room inside.
+    let empty: Vec<bool> = filled.iter().map(|&c| c >= UNSET).collect();
+    let room = crate::freespace::distance_transform(&empty, nx, ny);
+    let mut cells_of: Vec<Vec<usize>> = vec![Vec::new(); n_comp as usize];
+    for (c, &k) in filled.iter().enumerate() {
+        if k < UNSET {
+            cells_of[k as usize].push(c);
+        }
+    }
     let mut out = Vec::new();
     for (cells, idx) in cells_of.into_iter().zip(members) {
         let area = cells.len() as f64 * cell * cell;
-        if area < p.min_area || idx.len() < 3 {
+        let core = cells.iter().map(|&c| room[c]).fold(0.0, f64::max).sqrt() * cell;
+        if area < p.min_area || idx.len() < 3 || core < p.min_inscribed_radius {
             continue;
         }
         let candidates: Vec<Vec2> = cells
