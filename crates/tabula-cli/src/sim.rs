@@ -18,7 +18,7 @@ pub enum SimCommand {
         #[arg(long)]
         json: bool,
     },
-    /// Capture a depth frame as an organized PCD in the camera's optical frame.
+    /// Capture a depth frame as an organized PCD (or PLY) in the camera's optical frame.
     Capture(CaptureArgs),
     /// Render a shaded PNG of the scene.
     Snapshot(SnapshotArgs),
@@ -77,7 +77,7 @@ pub struct CaptureArgs {
     /// Noise seed.
     #[arg(long, default_value_t = 1)]
     seed: u64,
-    /// Write binary PCD instead of ASCII.
+    /// Write binary instead of ASCII (PCD, or PLY when `--out` ends in `.ply`).
     #[arg(long)]
     binary: bool,
     /// Settle the scene before capturing.
@@ -263,14 +263,27 @@ pub fn run(cmd: SimCommand) -> Result<()> {
                 std::fs::File::create(&a.out)
                     .with_context(|| format!("cannot write {}", a.out.display()))?,
             );
-            frame.cloud.write_pcd(
-                &mut out,
-                if a.binary {
-                    PcdEncoding::Binary
+            let ply = a
+                .out
+                .extension()
+                .is_some_and(|e| e.eq_ignore_ascii_case("ply"));
+            if ply {
+                let encoding = if a.binary {
+                    tabula_geom::PlyEncoding::BinaryLittleEndian
                 } else {
-                    PcdEncoding::Ascii
-                },
-            )?;
+                    tabula_geom::PlyEncoding::Ascii
+                };
+                tabula_geom::write_ply(&frame.cloud, &mut out, encoding)?;
+            } else {
+                frame.cloud.write_pcd(
+                    &mut out,
+                    if a.binary {
+                        PcdEncoding::Binary
+                    } else {
+                        PcdEncoding::Ascii
+                    },
+                )?;
+            }
             if let Some(path) = &a.labels {
                 let v = serde_json::json!({"width": frame.width, "height": frame.height, "names": frame.label_names, "labels": frame.labels});
                 std::fs::write(path, v.to_string())

@@ -368,3 +368,107 @@ fn motion_bench_reports_json() {
     let bad = tabula(&["motion", "bench", "--robot", "golem3"]);
     assert!(!bad.status.success());
 }
+
+#[test]
+fn perceive_reads_pcd_and_ply_filters_the_robot_places_and_reports() {
+    let dir = std::env::temp_dir().join(format!("tabula-perceive-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/../../scenes/clutter.toml");
+    let mut pose: Vec<String> = Vec::new();
+    for file in ["frame.pcd", "frame.ply"] {
+        let out_path = dir.join(file);
+        let out = tabula(&[
+            "sim",
+            "capture",
+            "--scene",
+            scene,
+            "--settle",
+            "--binary",
+            "--out",
+            out_path.to_str().unwrap(),
+        ]);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let text = String::from_utf8_lossy(&out.stdout).to_string();
+        let args = text
+            .split("--world-from-camera ")
+            .nth(1)
+            .unwrap()
+            .split(')')
+            .next()
+            .unwrap();
+        pose = args.split_whitespace().map(str::to_string).collect();
+        assert_eq!(pose.len(), 7);
+    }
+    let report = dir.join("report");
+    let mut results = Vec::new();
+    for file in ["frame.pcd", "frame.ply"] {
+        let path = dir.join(file);
+        let mut args = vec![
+            "perceive",
+            "--cloud",
+            path.to_str().unwrap(),
+            "--world-from-camera",
+        ];
+        args.extend(pose.iter().map(String::as_str));
+        args.extend([
+            "--robot",
+            "wam",
+            "--robot-base",
+            "0.15",
+            "-0.55",
+            "0",
+            "0",
+            "0",
+            "0.7071068",
+            "0.7071068",
+            "--joint",
+            "wam_joint2=-0.6",
+            "--joint",
+            "wam_joint4=2.4",
+            "--place",
+            "0.08",
+            "0.06",
+            "--json",
+            "--report",
+            report.to_str().unwrap(),
+        ]);
+        let out = tabula(&args);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON");
+        assert_eq!(v["objects"].as_array().unwrap().len(), 7, "{file}");
+        assert!((v["table"]["centroid"][2].as_f64().unwrap() - 0.72).abs() < 0.01);
+        assert!(
+            v["self_filtered_points"].as_u64().unwrap() > 100,
+            "the arm is in view"
+        );
+        let place = &v["placement"];
+        assert!(
+            (place["position"][2].as_f64().unwrap() - 0.72).abs() < 0.01,
+            "{place}"
+        );
+        results.push(v["objects"].clone());
+    }
+    // The same frame through either format gives the same objects.
+    assert_eq!(results[0], results[1]);
+    assert!(report.join("top.png").exists() && report.join("top.svg").exists());
+    // Junk in, one clear line out.
+    let junk = dir.join("junk.ply");
+    std::fs::write(
+        &junk,
+        b"ply\nformat ascii 1.0\nelement vertex 5\nend_header\n1 2",
+    )
+    .unwrap();
+    let out = tabula(&["perceive", "--cloud", junk.to_str().unwrap()]);
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("PLY") && err.lines().count() == 1, "{err}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -331,12 +331,17 @@ fn step(ca: Vec3, na: Vec3, cb: Vec3, nb: Vec3, up: Vec3, cos_tol: f64, toleranc
 /// Grows regions over `neighbours` from non-crease seeds, then lets crease points join
 /// the region that reaches them first (breadth-first, so they split half-way), then
 /// merges regions smaller than `min_size` into their best-connected neighbour.
+/// Pairs of regions that are one surface cut apart by crease bands (see
+/// [`ledge_pairs`]); given the regions and each point's region.
+type SameSurface<'a> = &'a dyn Fn(&[Vec<usize>], &[usize]) -> Vec<(usize, usize)>;
+
 fn grow(
     n: usize,
     member: &[bool],
     seedable: &[bool],
     crease: &[bool],
     min_size: usize,
+    same_surface: Option<SameSurface>,
     neighbours: impl Fn(usize, &mut Vec<usize>),
 ) -> Vec<Vec<usize>> {
     let mut label = vec![usize::MAX; n];
@@ -372,6 +377,26 @@ fn grow(
                 label[j] = label[i];
                 regions[label[i]].push(j);
                 queue.push_back(j);
+            }
+        }
+    }
+    if let Some(pairs) = same_surface {
+        let mut parent: Vec<usize> = (0..regions.len()).collect();
+        let root = |parent: &[usize], mut r: usize| {
+            while parent[r] != r {
+                r = parent[r];
+            }
+            r
+        };
+        for (a, b) in pairs(&regions, &label) {
+            let (a, b) = (root(&parent, a), root(&parent, b));
+            if a != b {
+                parent[b] = a;
+                let moved = std::mem::take(&mut regions[b]);
+                for &i in &moved {
+                    label[i] = a;
+                }
+                regions[a].extend(moved);
             }
         }
     }
@@ -474,6 +499,9 @@ fn segment_organized(
         keep,
         &crease,
         p.min_object_points,
+        Some(&|regions: &[Vec<usize>], label: &[usize]| {
+            ledge_pairs(cloud, above, locals, up, regions, label, p)
+        }),
         |i, out| {
             let (x, y) = ((i % w) as isize, (i / w) as isize);
             for (dx, dy) in [(1, 0), (-1, 0), (0, 1), (0, -1)] {
@@ -517,6 +545,7 @@ fn segment_unorganized(
         keep,
         &crease,
         p.min_object_points,
+        None,
         |i, out| {
             out.extend(
                 tree.within(&pts[i].to_array(), tol2)
@@ -525,6 +554,93 @@ fn segment_unorganized(
             );
         },
     )
+}
+
+/// Regions that are one flat, table-parallel surface cut apart only by crease bands:
+/// the ledge of a box around a smaller box stacked on it is narrower than the bands on
+/// both sides of the crease, so it comes out in pieces. Two regions are one surface
+/// when most of each faces up at the same height (within the step tolerance) and some
+/// of their points are a few pixels apart with only prism points, and no depth jump,
+/// between them — a gap of table between two objects never qualifies.
+fn ledge_pairs(
+    cloud: &PointCloud,
+    above: &[bool],
+    locals: &Locals,
+    up: Vec3,
+    regions: &[Vec<usize>],
+    label: &[usize],
+    p: &TabletopParams,
+) -> Vec<(usize, usize)> {
+    let (w, h) = (cloud.width as isize, cloud.height as isize);
+    let pts = &cloud.points;
+    let cos_tol = p.concavity_tolerance.cos();
+    let facing_up = |i: usize| {
+        let (n, c) = locals.get(i);
+        (n.dot(up).abs() >= cos_tol).then(|| up.dot(c))
+    };
+    // Each region's top: the median height of its up-facing points, if most face up.
+    let tops: Vec<Option<f64>> = regions
+        .iter()
+        .map(|r| {
+            let mut heights: Vec<f64> = r.iter().filter_map(|&i| facing_up(i)).collect();
+            if heights.len() * 3 < r.len() || heights.len() < 5 {
+                return None;
+            }
+            let mid = heights.len() / 2;
+            Some(*heights.select_nth_unstable_by(mid, f64::total_cmp).1)
+        })
+        .collect();
+    // Crease bands reach `concavity_step` pixels on each side of a crease.
+    let reach = 2 * p.concavity_step.max(1) as isize + 1;
+    let mut pairs: Vec<(usize, usize)> = Vec::new();
+    for (a, r) in regions.iter().enumerate() {
+        let Some(top_a) = tops[a] else {
+            continue;
+        };
+        // Only a region's rim can be near another region.
+        let rim = |i: usize| {
+            let (x, y) = ((i % cloud.width) as isize, (i / cloud.width) as isize);
+            [(1, 0), (-1, 0), (0, 1), (0, -1)].iter().any(|&(dx, dy)| {
+                let (xx, yy) = (x + dx, y + dy);
+                xx < 0 || yy < 0 || xx >= w || yy >= h || label[(yy * w + xx) as usize] != a
+            })
+        };
+        for &i in r.iter().filter(|&&i| rim(i) && facing_up(i).is_some()) {
+            let (x, y) = ((i % cloud.width) as isize, (i / cloud.width) as isize);
+            for dy in -reach..=reach {
+                for dx in -reach..=reach {
+                    let (xx, yy) = (x + dx, y + dy);
+                    if xx < 0 || yy < 0 || xx >= w || yy >= h {
+                        continue;
+                    }
+                    let j = (yy * w + xx) as usize;
+                    let b = label[j];
+                    if b == usize::MAX || b <= a || pairs.contains(&(a, b)) {
+                        continue;
+                    }
+                    let Some(top_b) = tops[b] else {
+                        continue;
+                    };
+                    if (top_a - top_b).abs() > p.step_tolerance || facing_up(j).is_none() {
+                        continue;
+                    }
+                    // Walk the pixels from i to j: all prism, no jumps.
+                    let steps = dx.abs().max(dy.abs());
+                    let mut prev = i;
+                    let connected = (1..=steps).all(|k| {
+                        let q = ((y + dy * k / steps) * w + x + dx * k / steps) as usize;
+                        let ok = above[q] && pts[q].distance(pts[prev]) <= p.cluster_tolerance;
+                        prev = q;
+                        ok
+                    });
+                    if connected {
+                        pairs.push((a, b));
+                    }
+                }
+            }
+        }
+    }
+    pairs
 }
 
 /// Centroid, principal axes, table-aligned box, hull with the table projection, and
@@ -679,7 +795,7 @@ pub fn euclidean_clusters(
     let tol2 = tolerance * tolerance;
     let regions = if cloud.is_organized() {
         let (w, h) = (cloud.width, cloud.height);
-        grow(pts.len(), &member, &member, &none, 0, |i, out| {
+        grow(pts.len(), &member, &member, &none, 0, None, |i, out| {
             let (x, y) = (i % w, i / w);
             for (ok, j) in [
                 (x > 0, i.wrapping_sub(1)),
@@ -698,7 +814,7 @@ pub fn euclidean_clusters(
         let Some(tree) = KdTree::build(&coords) else {
             return Vec::new();
         };
-        grow(pts.len(), &member, &member, &none, 0, |i, out| {
+        grow(pts.len(), &member, &member, &none, 0, None, |i, out| {
             out.extend(
                 tree.within(&pts[i].to_array(), tol2)
                     .into_iter()

@@ -82,48 +82,47 @@ fn clutter_scene_through_the_pcd_format() {
         tabula_sim::SimWorld::from_scene(&scene, tabula_sim::PhysicsParams::default()).unwrap();
     world.settle();
     let camera = tabula_sim::Camera::from_spec(&scene.cameras[0], &world).unwrap();
-    let frame = tabula_sim::camera::capture(&world, &camera, 7);
-    let mut bytes = Vec::new();
-    frame
-        .cloud
-        .write_pcd(&mut bytes, PcdEncoding::Binary)
-        .unwrap();
-    let cloud = to_world(&frame.world_from_camera, &read_pcd(&bytes).unwrap());
-    let t = extract(
-        &cloud,
-        frame.world_from_camera.translation,
-        &TabletopParams::default(),
-    )
-    .unwrap();
-    assert!(
-        (t.plane.normal.z - 1.0).abs() < 1e-3 && (-t.plane.d - 0.72).abs() < 3e-3,
-        "{:?}",
-        t.plane
-    );
-    let finite: Vec<bool> = cloud.points.iter().map(|p| p.is_finite()).collect();
     let labels: Vec<u32> = world
         .object_poses()
         .iter()
         .map(|(n, _)| world.entity(n).unwrap() as u32 + 1)
         .collect();
     let table = world.entity("table").unwrap() as u32 + 1;
-    let s = score(
-        &t,
-        &finite,
-        &frame.labels,
-        table,
-        &table_top(&cloud.points, 0.72),
-        &labels,
-        0.8,
-        200,
-    );
-    assert!(s.table_precision > 0.99 && s.table_recall > 0.99, "{s:?}");
-    assert_eq!(s.recovered, s.objects, "{s:?}");
-    // Every object stands on the table: its box reaches down to it.
-    for o in &t.objects {
-        let bottom = o.obb.center - o.obb.axes[2] * o.obb.half_extents.z;
-        assert!(t.plane.distance(bottom).abs() < 1e-6);
-        assert!(o.hull_vertices.len() >= 8 && !o.footprint.is_empty());
+    // Several noise draws: the stacked cubes' 1 cm ledge must not fall apart in any.
+    for noise in 1..=6 {
+        let frame = tabula_sim::camera::capture(&world, &camera, noise);
+        let mut bytes = Vec::new();
+        frame
+            .cloud
+            .write_pcd(&mut bytes, PcdEncoding::Binary)
+            .unwrap();
+        let cloud = to_world(&frame.world_from_camera, &read_pcd(&bytes).unwrap());
+        let t = extract(
+            &cloud,
+            frame.world_from_camera.translation,
+            &TabletopParams::default(),
+        )
+        .unwrap();
+        assert!(
+            (t.plane.normal.z - 1.0).abs() < 1e-3 && (-t.plane.d - 0.72).abs() < 3e-3,
+            "{:?}",
+            t.plane
+        );
+        let finite: Vec<bool> = cloud.points.iter().map(|p| p.is_finite()).collect();
+        let top = table_top(&cloud.points, 0.72);
+        let s = score(&t, &finite, &frame.labels, table, &top, &labels, 0.8, 200);
+        assert!(
+            s.table_precision > 0.99 && s.table_recall > 0.99,
+            "noise {noise}: {s:?}"
+        );
+        assert_eq!(s.recovered, s.objects, "noise {noise}: {s:?}");
+        assert_eq!(s.segments, s.objects, "noise {noise}: {s:?}");
+        // Every object stands on the table: its box reaches down to it.
+        for o in &t.objects {
+            let bottom = o.obb.center - o.obb.axes[2] * o.obb.half_extents.z;
+            assert!(t.plane.distance(bottom).abs() < 1e-6);
+            assert!(o.hull_vertices.len() >= 8 && !o.footprint.is_empty());
+        }
     }
 }
 
