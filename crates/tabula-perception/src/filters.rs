@@ -244,15 +244,11 @@ pub fn statistical_outliers(
             let coords: Vec<[f64; 3]> = finite.iter().map(|&i| pts[i].to_array()).collect();
             let tree = KdTree::build(&coords)
                 .ok_or(FilterError::BadParameter("too many points for the kd-tree"))?;
-            let n = k.min(finite.len() - 1) + 1;
-            let values: Vec<f64> = coords
-                .par_iter()
+            let values: Vec<f64> = tree
+                .mean_neighbour_distances(k)
+                .into_iter()
                 .zip(&finite)
-                .map(|(q, &i)| {
-                    let nn = tree.nearest(q, n);
-                    // The point itself is among its neighbours at distance 0.
-                    let s: f64 = nn.iter().map(|m| m.0.sqrt()).sum();
-                    let mean = s / (nn.len().max(2) - 1) as f64;
+                .map(|(mean, &i)| {
                     viewpoint.map_or(mean, |v| mean / (pts[i] - v).length().max(1e-9))
                 })
                 .collect();
