@@ -21,10 +21,13 @@ pub(crate) struct KdTree {
     levels: Vec<Level>,
 }
 
+/// Integer coordinates of a cell.
+type CellKey = (i32, i32, i32);
+
 struct Level {
     cell: f32,
     /// Cell → range in `order`.
-    cells: FxHashMap<(i32, i32, i32), (u32, u32)>,
+    cells: FxHashMap<CellKey, (u32, u32)>,
     /// Point indices grouped by cell.
     order: Vec<u32>,
 }
@@ -48,7 +51,7 @@ impl Level {
         };
         let mut slot_of: Vec<u32> = Vec::with_capacity(points.len());
         let mut counts: Vec<u32> = Vec::new();
-        let mut ids: FxHashMap<(i32, i32, i32), u32> = FxHashMap::default();
+        let mut ids: FxHashMap<CellKey, u32> = FxHashMap::default();
         for p in points {
             let next = counts.len() as u32;
             let id = *ids.entry(level.key(p)).or_insert(next);
@@ -77,7 +80,7 @@ impl Level {
         level
     }
 
-    fn key(&self, q: &[f32; 3]) -> (i32, i32, i32) {
+    fn key(&self, q: &[f32; 3]) -> CellKey {
         let k = |v: f32| (v / self.cell).floor() as i32;
         (k(q[0]), k(q[1]), k(q[2]))
     }
@@ -204,22 +207,21 @@ impl KdTree {
         for (l, level) in self.levels.iter().enumerate() {
             let limit = level.cell * level.cell;
             // Every point is pending at the first level, already grouped by its cells.
-            let by_cell: Vec<((i32, i32, i32), u32)> = if l == 0 {
+            let by_cell: Vec<(CellKey, u32)> = if l == 0 {
                 level
                     .order
                     .iter()
                     .map(|&i| (level.key(&self.points[i as usize]), i))
                     .collect()
             } else {
-                let mut v: Vec<((i32, i32, i32), u32)> = pending
+                let mut v: Vec<(CellKey, u32)> = pending
                     .iter()
                     .map(|&i| (level.key(&self.points[i as usize]), i))
                     .collect();
                 v.sort_unstable();
                 v
             };
-            let groups: Vec<&[((i32, i32, i32), u32)]> =
-                by_cell.chunk_by(|a, b| a.0 == b.0).collect();
+            let groups: Vec<&[(CellKey, u32)]> = by_cell.chunk_by(|a, b| a.0 == b.0).collect();
             let results: Vec<(u32, Option<f64>)> = groups
                 .par_iter()
                 .flat_map_iter(|group| {
