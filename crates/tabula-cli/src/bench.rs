@@ -243,7 +243,8 @@ fn perception(scenes: u64, reps: usize, json: bool) -> Result<()> {
     let reference = quality(&nine, &params)?;
     if !json {
         println!(
-            "\nnine-object frame: table precision {:.4} recall {:.4}; {} of {} objects with IoU > 0.8 ({} segments)",
+            "\nnine-object frame ({} valid points): table precision {:.4} recall {:.4}; {} of {} objects with IoU > 0.8 ({} segments)",
+            finite_points.len(),
             reference.table_precision,
             reference.table_recall,
             reference.recovered,
@@ -309,6 +310,7 @@ fn perception(scenes: u64, reps: usize, json: bool) -> Result<()> {
             serde_json::to_string_pretty(&serde_json::json!({
                 "stages": rows,
                 "reference_frame": reference,
+                "reference_frame_valid_points": finite_points.len(),
                 "suite": suite,
                 "suite_objects": objects,
                 "suite_recovered": recovered,

@@ -1,7 +1,8 @@
-//! Perception for tabula (PCL's role): point-cloud files, RANSAC planes, and seed 002's
-//! tabletop pipeline — table plane, hull, prism, objects — on organized depth frames.
-//! Work in progress: filters, normals, convexity-based segmentation, free-space maps and
-//! the self-filter of issue 4 come next.
+//! Perception for tabula (PCL's role): filters and normals on organized or unorganized
+//! clouds, RANSAC planes, seed 000's surface search, seed 002's tabletop pipeline with a
+//! segmentation that separates touching and stacked objects, free-space maps that
+//! answer where a footprint fits, the robot self-filter, and scoring against the
+//! simulator's labels. Point-cloud files (PCD, PLY) live in `tabula-geom`.
 
 pub mod eval;
 pub mod filters;
