@@ -220,6 +220,13 @@ fn perception(scenes: u64, reps: usize, json: bool) -> Result<()> {
             }),
         ),
         (
+            "whole tabletop pipeline, same points unorganized (kd-tree paths)",
+            "PCL 1,199 ms, Open3D 1,332 ms",
+            Box::new(|| {
+                let _ = extract(&unorganized, eye, &params);
+            }),
+        ),
+        (
             "whole tabletop pipeline (outliers → planes → hull → prism → segmentation → objects)",
             "PCL 1,199 ms, Open3D 1,332 ms",
             Box::new(|| {

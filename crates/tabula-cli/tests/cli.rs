@@ -472,3 +472,85 @@ fn perceive_reads_pcd_and_ply_filters_the_robot_places_and_reports() {
     assert!(err.contains("PLY") && err.lines().count() == 1, "{err}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn perceive_self_filter_removes_the_arm_reaching_over_the_table() {
+    let dir = std::env::temp_dir().join(format!("tabula-selffilter-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let clutter = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../scenes/clutter.toml"
+    ))
+    .unwrap();
+    let reaching = clutter.replace(
+        "joints = { wam_joint2 = -0.6, wam_joint4 = 2.4 }",
+        "joints = { wam_joint1 = -0.6, wam_joint2 = 0.8, wam_joint4 = 1.2 }",
+    );
+    assert_ne!(reaching, clutter);
+    let scene = dir.join("reach.toml");
+    std::fs::write(&scene, reaching).unwrap();
+    let frame = dir.join("reach.pcd");
+    let out = tabula(&[
+        "sim",
+        "capture",
+        "--scene",
+        scene.to_str().unwrap(),
+        "--binary",
+        "--out",
+        frame.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let base = [
+        "perceive",
+        "--cloud",
+        frame.to_str().unwrap(),
+        "--world-from-camera",
+        "0.75",
+        "0",
+        "1.85",
+        "0.7071067811865475",
+        "-0.7071067811865475",
+        "0",
+        "0",
+        "--json",
+    ];
+    let objects = |extra: &[&str]| {
+        let mut args = base.to_vec();
+        args.extend_from_slice(extra);
+        let out = tabula(&args);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        v["objects"].as_array().unwrap().len()
+    };
+    // The arm over the table is taken for objects …
+    assert!(objects(&[]) > 7);
+    // … until the robot's own shapes, padded by 0.9 cm, are filtered out.
+    let filtered = objects(&[
+        "--robot",
+        "wam",
+        "--robot-base",
+        "0.15",
+        "-0.55",
+        "0",
+        "0",
+        "0",
+        "0.7071068",
+        "0.7071068",
+        "--joint",
+        "wam_joint1=-0.6",
+        "--joint",
+        "wam_joint2=0.8",
+        "--joint",
+        "wam_joint4=1.2",
+    ]);
+    assert_eq!(filtered, 7);
+    let _ = std::fs::remove_dir_all(&dir);
+}

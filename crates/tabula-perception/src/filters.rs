@@ -352,7 +352,7 @@ pub fn radius_outliers(
 pub struct NormalParams {
     /// Half size of the pixel window (organized clouds).
     pub window: usize,
-    /// Neighbours (unorganized clouds).
+    /// Neighbours (unorganized clouds): about as many as the pixel window holds.
     pub k: usize,
     /// Neighbours farther than this many times the distance to the nearest pixel
     /// neighbour are across a depth edge and ignored.
@@ -363,7 +363,7 @@ impl Default for NormalParams {
     fn default() -> Self {
         Self {
             window: 3,
-            k: 16,
+            k: 48,
             depth_edge_factor: 4.0,
         }
     }

@@ -190,10 +190,7 @@ pub fn extract(
     // The prism: the side of the plane the camera is on, inside the table's hull.
     let t = Instant::now();
     let plane = if table.plane.distance(viewpoint) < 0.0 {
-        Plane {
-            normal: -table.plane.normal,
-            d: -table.plane.d,
-        }
+        table.plane.flipped()
     } else {
         table.plane
     };
@@ -234,7 +231,7 @@ pub fn extract(
     let labels = if organized {
         segment_organized(cloud, &above, &keep, &locals, plane.normal, p)
     } else {
-        segment_unorganized(pts, &above, &prism, &keep, &locals, p)
+        segment_unorganized(pts, &above, &prism, &keep, &locals, plane.normal, p)
     };
     times.segmentation = ms(t);
 
@@ -521,6 +518,7 @@ fn segment_unorganized(
     members: &[usize],
     keep: &[bool],
     locals: &Locals,
+    up: Vec3,
     p: &TabletopParams,
 ) -> Vec<Vec<usize>> {
     let coords: Vec<[f64; 3]> = members.iter().map(|&i| pts[i].to_array()).collect();
@@ -528,14 +526,20 @@ fn segment_unorganized(
         return Vec::new();
     };
     let cos_tol = p.concavity_tolerance.cos();
-    let r = p.cluster_tolerance * p.concavity_step.max(1) as f64 / 2.0;
+    // As on the image grid: compare a point with neighbours a crease band's width away
+    // (`concavity_step` times the typical spacing, taken as a third of the cluster
+    // tolerance), not with the nearest ones whose normals blend with its own.
+    let r = p.cluster_tolerance * p.concavity_step.max(1) as f64 / 3.0;
     let mut crease = vec![false; pts.len()];
     for &i in members {
         let near = tree.within(&pts[i].to_array(), r * r);
-        let ni = locals.get(i).0;
+        let (ni, ci) = locals.get(i);
         crease[i] = near.iter().any(|&a| {
             let a = members[a];
-            concave(pts[a], locals.get(a).0, pts[i], ni, cos_tol)
+            let (na, ca) = locals.get(a);
+            pts[a].distance_squared(pts[i]) >= 0.25 * r * r
+                && (concave(pts[a], na, pts[i], ni, cos_tol)
+                    || step(ca, na, ci, ni, up, cos_tol, p.step_tolerance))
         });
     }
     let tol2 = p.cluster_tolerance * p.cluster_tolerance;

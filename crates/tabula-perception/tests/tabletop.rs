@@ -47,6 +47,42 @@ fn nine_object_frame_with_touching_and_stacked_pairs() {
 }
 
 #[test]
+fn unorganized_frames_take_the_kd_tree_path() {
+    // The reference frame with its grid thrown away: only finite points, as a
+    // registered or merged cloud would arrive.
+    let g = tabletop_frame(0, &TabletopLayout::nine()).unwrap();
+    let organized = to_world(&g.frame.world_from_camera, &g.frame.cloud);
+    let keep: Vec<usize> = (0..organized.points.len())
+        .filter(|&i| organized.points[i].is_finite())
+        .collect();
+    let cloud =
+        tabula_geom::PointCloud::unorganized(keep.iter().map(|&i| organized.points[i]).collect());
+    let labels: Vec<u32> = keep.iter().map(|&i| g.frame.labels[i]).collect();
+    let t = extract(
+        &cloud,
+        g.frame.world_from_camera.translation,
+        &TabletopParams::default(),
+    )
+    .unwrap();
+    let finite = vec![true; cloud.points.len()];
+    let objects: Vec<u32> = g.object_labels.iter().map(|o| o.1).collect();
+    let top = table_top(&cloud.points, TABLE_TOP);
+    let s = score(
+        &t,
+        &finite,
+        &labels,
+        g.table_label,
+        &top,
+        &objects,
+        0.8,
+        200,
+    );
+    eprintln!("unorganized: {s:?}");
+    assert!(s.table_precision >= 0.99 && s.table_recall >= 0.99, "{s:?}");
+    assert!(s.recovered >= 7, "{s:?}");
+}
+
+#[test]
 fn suite_of_twenty_generated_scenes() {
     let (mut objects, mut recovered) = (0, 0);
     for seed in 1..=20u64 {
