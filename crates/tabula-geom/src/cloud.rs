@@ -1,6 +1,6 @@
 //! Point clouds (organized like a depth image, or not) and the PCD file format.
 
-use crate::Vec3;
+use crate::{Pose, Vec3};
 use std::io::Write;
 
 /// A point cloud. Organized clouds keep the sensor's `width × height` grid, with NaN
@@ -45,6 +45,26 @@ impl PointCloud {
     /// Number of finite points.
     pub fn finite_count(&self) -> usize {
         self.points.iter().filter(|p| p.is_finite()).count()
+    }
+
+    /// The cloud moved by a rigid transform (`target_from_source`), keeping its grid
+    /// and its missing points.
+    pub fn transformed(&self, target_from_source: &Pose) -> Self {
+        Self {
+            width: self.width,
+            height: self.height,
+            points: self
+                .points
+                .iter()
+                .map(|p| {
+                    if p.is_finite() {
+                        *target_from_source * *p
+                    } else {
+                        Vec3::NAN
+                    }
+                })
+                .collect(),
+        }
     }
 
     /// Writes PCD v0.7 (fields x y z, float32), keeping NaN points so the grid survives.

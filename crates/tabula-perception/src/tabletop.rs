@@ -764,21 +764,7 @@ fn principal_axes(m: [f64; 6]) -> [Vec3; 3] {
 
 /// Transforms a camera-frame cloud into the world frame, keeping its grid.
 pub fn to_world(world_from_camera: &Pose, camera: &PointCloud) -> PointCloud {
-    PointCloud {
-        width: camera.width,
-        height: camera.height,
-        points: camera
-            .points
-            .iter()
-            .map(|p| {
-                if p.is_finite() {
-                    *world_from_camera * *p
-                } else {
-                    Vec3::NAN
-                }
-            })
-            .collect(),
-    }
+    camera.transformed(world_from_camera)
 }
 
 /// Euclidean clustering (PCL's `EuclideanClusterExtraction`): connected components of
