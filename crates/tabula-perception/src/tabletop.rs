@@ -817,3 +817,24 @@ pub fn euclidean_clusters(
         .filter(|r| r.len() >= min_size)
         .collect()
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn params_load_from_toml_with_the_seed_defaults_elsewhere() {
+        let p: TabletopParams = toml::from_str(
+            "min_object_points = 150\n[outliers]\nmean_k = 20\nstd_mul = 2.0\n[surfaces.ransac]\nthreshold = 0.015\n",
+        )
+        .unwrap();
+        assert_eq!(p.min_object_points, 150);
+        assert_eq!(p.outliers.mean_k, 20);
+        assert_eq!(p.surfaces.ransac.threshold, 0.015);
+        // Untouched keys keep SPEC §6's values.
+        assert_eq!(p.surfaces.max_tilt, 0.09);
+        assert_eq!(p.surfaces.min_plane_fraction, 0.05);
+        assert!((p.concavity_tolerance - 15f64.to_radians()).abs() < 1e-12);
+        assert!(toml::from_str::<TabletopParams>("no_such_key = 1").is_err());
+    }
+}
