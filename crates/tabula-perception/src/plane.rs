@@ -136,24 +136,28 @@ pub fn ransac_plane_with_normals(
             normal,
             d: -normal.dot(a),
         };
-        // Stop scoring once the hypothesis cannot beat the best (Capel's bail-out).
-        let mut count = 0;
+        // Capel's bail-out: every 64 points, give up on a hypothesis whose inlier rate
+        // so far is more than three standard deviations below the best one's (a
+        // plane that wins is never dropped this way but with vanishing probability),
+        // or that cannot reach the best count any more.
         let n = sample.len();
-        if normals.is_none() {
-            for (k, q) in packed.iter().enumerate() {
-                if (normal.dot(*q) + plane.d).abs() <= p.threshold {
-                    count += 1;
-                } else if count + (n - k - 1) <= best_count {
-                    break;
-                }
-            }
-        } else {
-            for (k, &i) in sample.iter().enumerate() {
-                if agrees(&plane, i) {
-                    count += 1;
-                } else if count + (n - k - 1) <= best_count {
-                    break;
-                }
+        let best_rate = best_count as f64 / n as f64;
+        let hopeless = |count: usize, seen: usize| {
+            count + (n - seen) <= best_count
+                || (seen % 64 == 0 && {
+                    let expected = best_rate * seen as f64;
+                    (count as f64) < expected - 3.0 * (expected * (1.0 - best_rate)).sqrt()
+                })
+        };
+        let mut count = 0;
+        for k in 0..n {
+            let inlier = match normals {
+                None => (normal.dot(packed[k]) + plane.d).abs() <= p.threshold,
+                Some(_) => agrees(&plane, sample[k]),
+            };
+            count += usize::from(inlier);
+            if !inlier && hopeless(count, k + 1) {
+                break;
             }
         }
         if count > best_count {
