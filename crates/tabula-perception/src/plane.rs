@@ -144,7 +144,7 @@ pub fn ransac_plane_with_normals(
         let best_rate = best_count as f64 / n as f64;
         let hopeless = |count: usize, seen: usize| {
             count + (n - seen) <= best_count
-                || (seen % 64 == 0 && {
+                || (seen.is_multiple_of(64) && {
                     let expected = best_rate * seen as f64;
                     (count as f64) < expected - 3.0 * (expected * (1.0 - best_rate)).sqrt()
                 })
