@@ -230,6 +230,9 @@ pub fn extract(
     let t = Instant::now();
     let labels = if organized {
         segment_organized(cloud, &above, &keep, &locals, plane.normal, p)
+            .into_iter()
+            .flat_map(|r| split_by_tops(cloud, &locals, &plane, r, p))
+            .collect()
     } else {
         segment_unorganized(pts, &above, &prism, &keep, &locals, plane.normal, p)
     };
@@ -450,6 +453,118 @@ impl Locals {
             _ => (Vec3::NAN, Vec3::NAN),
         }
     }
+}
+
+/// One object per top: a segment holding two flat, table-parallel tops at different
+/// heights (two boxes side by side whose front faces are flush, so nothing concave
+/// separates them in view) is split, every point going to the lowest top above it
+/// whose footprint covers it (or to the nearest footprint). Boxes and cylinders have
+/// one top; stacked pieces that the creases already split are untouched.
+fn split_by_tops(
+    cloud: &PointCloud,
+    locals: &Locals,
+    plane: &Plane,
+    region: Vec<usize>,
+    p: &TabletopParams,
+) -> Vec<Vec<usize>> {
+    let w = cloud.width;
+    let pts = &cloud.points;
+    let up = plane.normal;
+    let cos_tol = p.concavity_tolerance.cos();
+    let height_of = |i: usize| -> Option<f64> {
+        let (n, c) = locals.get(i);
+        (n.dot(up).abs() >= cos_tol).then(|| plane.distance(c))
+    };
+    let member: rustc_hash::FxHashSet<usize> = region.iter().copied().collect();
+    // Patches: 4-connected up-facing points at one height.
+    let mut patch_of: rustc_hash::FxHashMap<usize, usize> = rustc_hash::FxHashMap::default();
+    let mut patches: Vec<(Vec<usize>, f64)> = Vec::new();
+    for &start in &region {
+        if patch_of.contains_key(&start) {
+            continue;
+        }
+        let Some(h0) = height_of(start) else {
+            continue;
+        };
+        let id = patches.len();
+        patch_of.insert(start, id);
+        let (mut stack, mut members, mut heights) = (vec![start], Vec::new(), Vec::new());
+        while let Some(i) = stack.pop() {
+            members.push(i);
+            heights.push(height_of(i).unwrap_or(h0));
+            let (x, y) = (i % w, i / w);
+            for (ok, j) in [
+                (x > 0, i.wrapping_sub(1)),
+                (x + 1 < w, i + 1),
+                (y > 0, i.wrapping_sub(w)),
+                (true, i + w),
+            ] {
+                if ok
+                    && member.contains(&j)
+                    && !patch_of.contains_key(&j)
+                    && height_of(j).is_some_and(|h| {
+                        (h - height_of(i).unwrap_or(h0)).abs() <= p.step_tolerance / 2.0
+                    })
+                {
+                    patch_of.insert(j, id);
+                    stack.push(j);
+                }
+            }
+        }
+        let mid = heights.len() / 2;
+        let median = *heights.select_nth_unstable_by(mid, f64::total_cmp).1;
+        patches.push((members, median));
+    }
+    // Levels: big patches, those within the step tolerance of each other joined.
+    let min_patch = 30.max(region.len() / 20);
+    let mut levels: Vec<(f64, Vec<usize>)> = Vec::new();
+    let mut big: Vec<&(Vec<usize>, f64)> = patches
+        .iter()
+        .filter(|(m, _)| m.len() >= min_patch)
+        .collect();
+    big.sort_by(|a, b| a.1.total_cmp(&b.1));
+    for (members, h) in big {
+        match levels.last_mut() {
+            Some((lh, lm)) if (*h - *lh).abs() <= p.step_tolerance => lm.extend(members),
+            _ => levels.push((*h, members.clone())),
+        }
+    }
+    if levels.len() < 2 {
+        return vec![region];
+    }
+    let (u, v) = plane_basis(up);
+    let to2 = |q: Vec3| Vec2::new(q.dot(u), q.dot(v));
+    let footprints: Vec<Vec<Vec2>> = levels
+        .iter()
+        .map(|(_, m)| {
+            let flat: Vec<Vec2> = m.iter().map(|&i| to2(pts[i])).collect();
+            convex_hull_2d(&flat).into_iter().map(|k| flat[k]).collect()
+        })
+        .collect();
+    let slack = 0.005;
+    let mut parts: Vec<Vec<usize>> = vec![Vec::new(); levels.len()];
+    for &i in &region {
+        let (q, h) = (to2(pts[i]), plane.distance(pts[i]));
+        let covers = |k: usize| {
+            footprints[k].len() >= 3
+                && (inside_convex(&footprints[k], q)
+                    || distance_to_boundary(&footprints[k], q) <= slack)
+        };
+        // Levels are sorted by height: the lowest top above the point that covers it.
+        let k = (0..levels.len())
+            .find(|&k| levels[k].0 >= h - p.step_tolerance && covers(k))
+            .unwrap_or_else(|| {
+                (0..levels.len())
+                    .min_by(|&a, &b| {
+                        distance_to_boundary(&footprints[a], q)
+                            .total_cmp(&distance_to_boundary(&footprints[b], q))
+                    })
+                    .unwrap_or(0)
+            });
+        parts[k].push(i);
+    }
+    parts.retain(|r| !r.is_empty());
+    parts
 }
 
 fn segment_organized(
