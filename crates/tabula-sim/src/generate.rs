@@ -284,6 +284,8 @@ pub struct GeneratedFrame {
     pub table_label: u32,
     /// Each object's name and label.
     pub object_labels: Vec<(String, u32)>,
+    /// The settled world the frame shows.
+    pub world: crate::SimWorld,
 }
 
 /// Builds, settles and photographs the scene of `tabletop_scene(seed, layout)`.
@@ -311,5 +313,6 @@ pub fn tabletop_frame(
         object_labels,
         scene_toml,
         frame,
+        world,
     })
 }
