@@ -285,6 +285,11 @@ impl Tracer {
                 None => *c.position(),
             };
             let shape = c.shared_shape().clone();
+            // A camera looks out of its own housing: a shape it sits inside (the head
+            // link it is mounted on) is not in its view.
+            if shape.contains_point(&world_from_shape, world_from_camera.translation) {
+                continue;
+            }
             let closed = match shape.shape_type() {
                 ShapeType::Cuboid => shape
                     .as_cuboid()

@@ -127,3 +127,24 @@ fn out_of_range_and_grazing_returns_are_missing() {
         .count();
     assert_eq!(floor_hits, 0);
 }
+
+#[test]
+fn a_head_camera_sees_out_of_the_head_it_is_mounted_in() {
+    // The PR2's head camera frame sits inside the head's collision box; the box is the
+    // sensor's housing, not something in front of it.
+    let path = std::path::Path::new(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../scenes/pr2_holding.toml"
+    ));
+    let scene = tabula_sim::Scene::load(path).unwrap();
+    let world = SimWorld::from_scene(&scene, tabula_sim::PhysicsParams::default()).unwrap();
+    let camera = Camera::from_spec(&scene.cameras[0], &world).unwrap();
+    let frame = capture(&world, &camera, 1);
+    let table = world.entity("table").unwrap() as u32 + 1;
+    let valid = frame.depth.iter().filter(|d| d.is_finite()).count();
+    let on_table = (0..frame.labels.len())
+        .filter(|&i| frame.depth[i].is_finite() && frame.labels[i] == table)
+        .count();
+    assert!(valid > frame.depth.len() / 2, "{valid} valid returns");
+    assert!(on_table > 50_000, "{on_table} table returns");
+}
