@@ -11,8 +11,8 @@ use tabula_perception::filters::{
     NormalParams, OutlierParams, local_planes_at, statistical_outliers, voxel_grid,
 };
 use tabula_perception::plane::{RansacParams, ransac_plane};
+use tabula_perception::segment::euclidean_clusters;
 use tabula_perception::surfaces::plane_basis;
-use tabula_perception::tabletop::euclidean_clusters;
 use tabula_perception::{TabletopParams, extract, to_world};
 use tabula_robot::ik::bench::thread_cpu_seconds;
 use tabula_sim::generate::{TABLE_TOP, TabletopLayout, tabletop_frame};

@@ -9,6 +9,7 @@ pub mod filters;
 pub mod freespace;
 mod kd;
 pub mod plane;
+pub mod segment;
 pub mod selffilter;
 pub mod surfaces;
 pub mod tabletop;
