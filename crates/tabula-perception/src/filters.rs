@@ -132,7 +132,7 @@ fn nearest_pixel_offsets(k: usize) -> Vec<(isize, isize)> {
     order.sort_by_key(|&(dx, dy)| (dx * dx + dy * dy, dy, dx));
     let kth = order
         .get(k.max(1) - 1)
-        .map_or(0, |&(dx, dy)| dx * dx + dy * dy);
+        .map_or(isize::MAX, |&(dx, dy)| dx * dx + dy * dy);
     order.retain(|&(dx, dy)| dx * dx + dy * dy <= kth);
     order
 }
@@ -346,11 +346,14 @@ pub fn radius_outliers(
     Ok(keep)
 }
 
+/// Largest half window (pixels) a normal is fitted over.
+const MAX_WINDOW: usize = 15;
+
 /// Normal estimation parameters.
 #[derive(Debug, Clone, serde::Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct NormalParams {
-    /// Half size of the pixel window (organized clouds).
+    /// Half size of the pixel window (organized clouds), at most 15.
     pub window: usize,
     /// Neighbours (unorganized clouds): about as many as the pixel window holds.
     pub k: usize,
@@ -541,7 +544,7 @@ pub fn local_planes_at(
     };
     if cloud.is_organized() {
         let (w, h) = (cloud.width, cloud.height);
-        let r = p.window.max(1);
+        let r = p.window.clamp(1, MAX_WINDOW);
         return at
             .par_iter()
             .map(|&i| {

@@ -285,6 +285,10 @@ impl FreeSpaceMap {
         let slack = res * std::f64::consts::FRAC_1_SQRT_2;
         let need = margin + slack;
         let reach = h.iter().map(|q| q.length()).fold(0.0, f64::max);
+        // A footprint wider than the whole map fits nowhere (and would cost a huge mask).
+        if reach > (self.nx.max(self.ny) as f64) * res {
+            return None;
+        }
         let r = (reach / res).ceil() as isize + 1;
         // Cells each orientation covers (centres inside the footprint or within a
         // half-diagonal of its outline).
@@ -494,7 +498,11 @@ mod tests {
             "{place:?}"
         );
         assert!((q.z - 0.7).abs() < 1e-9);
-        // Nothing fits when the margin is as large as the table.
+        // Nothing fits when the margin is as large as the table, or the box is larger.
+        assert!(
+            map.find_place(&rect(50.0, 50.0), 0.0, Vec3::new(0.3, 0.3, 0.7))
+                .is_none()
+        );
         assert!(map.find_place(&fp, 0.3, Vec3::new(0.3, 0.3, 0.7)).is_none());
         // Bad footprints are no answer, not a panic.
         assert!(map.find_place(&[], 0.0, Vec3::ZERO).is_none());

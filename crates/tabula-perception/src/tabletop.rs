@@ -172,7 +172,7 @@ pub fn extract(
 
     let t = Instant::now();
     let search = find_surfaces(cloud, Some(&keep), &p.surfaces, true);
-    let table = search
+    let mut table = search
         .surfaces
         .into_iter()
         .next()
@@ -239,7 +239,6 @@ pub fn extract(
                 .any(|&i| plane.distance(pts[i]) >= p.min_object_height)
         })
         .collect();
-    let mut table = table;
     claim_object_bases(pts, &plane, &mut table.inliers, &mut regions, threshold);
     let objects = regions
         .into_iter()
