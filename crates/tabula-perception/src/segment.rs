@@ -167,15 +167,14 @@ impl Locals {
 /// separates them in view) is split, every point going to the lowest top above it
 /// whose footprint covers it (or to the nearest footprint). Boxes and cylinders have
 /// one top; stacked pieces that the creases already split are untouched.
-pub(crate) fn split_by_tops(
-    cloud: &PointCloud,
+fn split_by_tops(
+    pts: &[Vec3],
     locals: &Locals,
     plane: &Plane,
     region: Vec<usize>,
     p: &TabletopParams,
+    neighbours: &dyn Fn(usize, &mut Vec<usize>),
 ) -> Vec<Vec<usize>> {
-    let w = cloud.width;
-    let pts = &cloud.points;
     let up = plane.normal;
     let cos_tol = p.concavity_tolerance.cos();
     let height_of = |i: usize| -> Option<f64> {
@@ -183,7 +182,7 @@ pub(crate) fn split_by_tops(
         (n.dot(up).abs() >= cos_tol).then(|| plane.distance(c))
     };
     let member: rustc_hash::FxHashSet<usize> = region.iter().copied().collect();
-    // Patches: 4-connected up-facing points at one height.
+    // Patches: connected up-facing points at one height.
     let mut patch_of: rustc_hash::FxHashMap<usize, usize> = rustc_hash::FxHashMap::default();
     let mut patches: Vec<(Vec<usize>, f64)> = Vec::new();
     for &start in &region {
@@ -196,18 +195,14 @@ pub(crate) fn split_by_tops(
         let id = patches.len();
         patch_of.insert(start, id);
         let (mut stack, mut members, mut heights) = (vec![start], Vec::new(), Vec::new());
+        let mut near = Vec::new();
         while let Some(i) = stack.pop() {
             members.push(i);
             heights.push(height_of(i).unwrap_or(h0));
-            let (x, y) = (i % w, i / w);
-            for (ok, j) in [
-                (x > 0, i.wrapping_sub(1)),
-                (x + 1 < w, i + 1),
-                (y > 0, i.wrapping_sub(w)),
-                (true, i + w),
-            ] {
-                if ok
-                    && member.contains(&j)
+            near.clear();
+            neighbours(i, &mut near);
+            for &j in &near {
+                if member.contains(&j)
                     && !patch_of.contains_key(&j)
                     && height_of(j).is_some_and(|h| {
                         (h - height_of(i).unwrap_or(h0)).abs() <= p.step_tolerance / 2.0
@@ -279,9 +274,10 @@ pub(crate) fn segment_organized(
     above: &[bool],
     keep: &[bool],
     locals: &Locals,
-    up: Vec3,
+    plane: &Plane,
     p: &TabletopParams,
 ) -> Vec<Vec<usize>> {
+    let up = plane.normal;
     let (w, h) = (cloud.width, cloud.height);
     let pts = &cloud.points;
     let s = p.concavity_step.max(1) as isize;
@@ -312,6 +308,16 @@ pub(crate) fn segment_organized(
         })
         .collect();
     let tol2 = p.cluster_tolerance * p.cluster_tolerance;
+    let neighbours = |i: usize, out: &mut Vec<usize>| {
+        let (x, y) = ((i % w) as isize, (i / w) as isize);
+        for (dx, dy) in [(1, 0), (-1, 0), (0, 1), (0, -1)] {
+            if let Some(j) = at(x + dx, y + dy)
+                && pts[i].distance_squared(pts[j]) <= tol2
+            {
+                out.push(j);
+            }
+        }
+    };
     grow(
         pts.len(),
         above,
@@ -321,17 +327,11 @@ pub(crate) fn segment_organized(
         Some(&|regions: &[Vec<usize>], label: &[usize]| {
             ledge_pairs(cloud, above, locals, up, regions, label, p)
         }),
-        |i, out| {
-            let (x, y) = ((i % w) as isize, (i / w) as isize);
-            for (dx, dy) in [(1, 0), (-1, 0), (0, 1), (0, -1)] {
-                if let Some(j) = at(x + dx, y + dy)
-                    && pts[i].distance_squared(pts[j]) <= tol2
-                {
-                    out.push(j);
-                }
-            }
-        },
+        neighbours,
     )
+    .into_iter()
+    .flat_map(|r| split_by_tops(pts, locals, plane, r, p, &neighbours))
+    .collect()
 }
 
 pub(crate) fn segment_unorganized(
@@ -340,9 +340,10 @@ pub(crate) fn segment_unorganized(
     members: &[usize],
     keep: &[bool],
     locals: &Locals,
-    up: Vec3,
+    plane: &Plane,
     p: &TabletopParams,
 ) -> Vec<Vec<usize>> {
+    let up = plane.normal;
     let coords: Vec<[f64; 3]> = members.iter().map(|&i| pts[i].to_array()).collect();
     let Some(tree) = KdTree::build(&coords) else {
         return Vec::new();
@@ -365,6 +366,13 @@ pub(crate) fn segment_unorganized(
         });
     }
     let tol2 = p.cluster_tolerance * p.cluster_tolerance;
+    let neighbours = |i: usize, out: &mut Vec<usize>| {
+        out.extend(
+            tree.within(&pts[i].to_array(), tol2)
+                .into_iter()
+                .map(|j| members[j]),
+        );
+    };
     grow(
         pts.len(),
         above,
@@ -372,14 +380,11 @@ pub(crate) fn segment_unorganized(
         &crease,
         p.min_object_points,
         None,
-        |i, out| {
-            out.extend(
-                tree.within(&pts[i].to_array(), tol2)
-                    .into_iter()
-                    .map(|j| members[j]),
-            );
-        },
+        neighbours,
     )
+    .into_iter()
+    .flat_map(|r| split_by_tops(pts, locals, plane, r, p, &neighbours))
+    .collect()
 }
 
 /// Regions that are one flat, table-parallel surface cut apart only by crease bands:

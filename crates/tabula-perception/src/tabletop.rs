@@ -7,7 +7,7 @@
 
 use crate::filters::{NormalParams, OutlierParams, local_planes_at, scatter, statistical_outliers};
 use crate::plane::Plane;
-use crate::segment::{Locals, segment_organized, segment_unorganized, split_by_tops};
+use crate::segment::{Locals, segment_organized, segment_unorganized};
 use crate::surfaces::{Surface, SurfaceParams, find_surfaces, plane_basis};
 use std::time::Instant;
 use tabula_geom::polygon::{convex_hull_2d, distance_to_boundary, inside_convex, polygon_area};
@@ -221,12 +221,9 @@ pub fn extract(
 
     let t = Instant::now();
     let labels = if organized {
-        segment_organized(cloud, &above, &keep, &locals, plane.normal, p)
-            .into_iter()
-            .flat_map(|r| split_by_tops(cloud, &locals, &plane, r, p))
-            .collect()
+        segment_organized(cloud, &above, &keep, &locals, &plane, p)
     } else {
-        segment_unorganized(pts, &above, &prism, &keep, &locals, plane.normal, p)
+        segment_unorganized(pts, &above, &prism, &keep, &locals, &plane, p)
     };
     times.segmentation = ms(t);
 
