@@ -420,6 +420,7 @@ fn envelope(f: &[f64], out: &mut [f64], v: &mut [usize], z: &mut [f64]) {
 mod tests {
     use super::*;
     use crate::plane::Plane;
+    use proptest::prelude::*;
 
     fn square_table(size: f64) -> (Surface, Vec<Vec3>) {
         let n = (size / 0.005) as usize;
@@ -530,5 +531,53 @@ mod tests {
             .unwrap();
         let axis = map.u * place.yaw.cos() + map.v * place.yaw.sin();
         assert!(axis.y.abs() > 0.9, "{place:?}");
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(48))]
+
+        /// Wherever a footprint is placed, no object point is closer to it than the
+        /// margin (less the grid's half-diagonal), and it lies on the table.
+        #[test]
+        fn placements_keep_their_margin(
+            blobs in prop::collection::vec((0.05..0.55f64, 0.05..0.55f64, 0.01..0.06f64), 0..8),
+            size in (0.02..0.2f64, 0.02..0.12f64),
+            margin in 0.0..0.04f64,
+            near in (0.0..0.6f64, 0.0..0.6f64),
+        ) {
+            let (surface, points) = square_table(0.6);
+            let objects: Vec<Vec<Vec3>> = blobs
+                .iter()
+                .map(|&(x, y, r)| {
+                    (0..64)
+                        .map(|k| {
+                            let a = k as f64 * 0.7;
+                            let d = r * ((k % 8) as f64 / 7.0);
+                            Vec3::new(x + d * a.cos(), y + d * a.sin(), 0.75)
+                        })
+                        .collect()
+                })
+                .collect();
+            let map = FreeSpaceMap::build(&surface, &points, &objects, &FreeSpaceParams::default()).unwrap();
+            let fp = rect(size.0, size.1);
+            if let Some(place) = map.find_place(&fp, margin, Vec3::new(near.0, near.1, 0.7)) {
+                let corners: Vec<Vec2> = fp
+                    .iter()
+                    .map(|c| {
+                        let w = place.world_from_footprint * Vec3::new(c.x, c.y, 0.0);
+                        Vec2::new(w.x, w.y)
+                    })
+                    .collect();
+                let slack = map.resolution * std::f64::consts::SQRT_2;
+                for o in objects.iter().flatten() {
+                    let q = Vec2::new(o.x, o.y);
+                    let d = if inside_polygon(&corners, q) { 0.0 } else { distance_to_boundary(&corners, q) };
+                    prop_assert!(d >= margin - slack, "object point {q:?} {d} from the footprint");
+                }
+                for c in &corners {
+                    prop_assert!(c.x >= -slack && c.y >= -slack && c.x <= 0.6 + slack && c.y <= 0.6 + slack, "{c:?} off the table");
+                }
+            }
+        }
     }
 }
