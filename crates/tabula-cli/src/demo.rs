@@ -63,17 +63,7 @@ fn perception(frame: &tabula_sim::DepthFrame) -> Result<()> {
             ))
         );
     }
-    let objects: Vec<Vec<tabula_geom::Vec3>> = t
-        .objects
-        .iter()
-        .map(|o| o.indices.iter().map(|&i| cloud.points[i]).collect())
-        .collect();
-    let map = FreeSpaceMap::build(
-        &t.table,
-        &cloud.points,
-        &objects,
-        &FreeSpaceParams::default(),
-    )?;
+    let map = FreeSpaceMap::from_tabletop(&t, &cloud.points, &FreeSpaceParams::default())?;
     let footprint = [
         Vec2::new(-0.05, -0.04),
         Vec2::new(0.05, -0.04),

@@ -155,17 +155,7 @@ pub fn run(a: PerceiveArgs) -> Result<()> {
     let result = extract(&cloud, viewpoint, &params)?;
     let ms = t0.elapsed().as_secs_f64() * 1e3;
     let surfaces = find_surfaces(&cloud, None, &params.surfaces, false);
-    let objects: Vec<Vec<Vec3>> = result
-        .objects
-        .iter()
-        .map(|o| o.indices.iter().map(|&i| cloud.points[i]).collect())
-        .collect();
-    let map = FreeSpaceMap::build(
-        &result.table,
-        &cloud.points,
-        &objects,
-        &FreeSpaceParams::default(),
-    )?;
+    let map = FreeSpaceMap::from_tabletop(&result, &cloud.points, &FreeSpaceParams::default())?;
     let placement = match &a.place {
         Some(size) => {
             if !(size.iter().all(|s| s.is_finite() && *s > 0.0)) {

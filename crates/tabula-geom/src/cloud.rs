@@ -67,6 +67,18 @@ impl PointCloud {
         }
     }
 
+    /// The points as x y z little-endian f32 triples (NaN kept): the binary body of
+    /// both PCD and PLY.
+    pub(crate) fn write_xyz_f32_le(&self, out: &mut impl Write) -> std::io::Result<()> {
+        let mut buf = Vec::with_capacity(self.points.len() * 12);
+        for p in &self.points {
+            for v in [p.x, p.y, p.z] {
+                buf.extend_from_slice(&(v as f32).to_le_bytes());
+            }
+        }
+        out.write_all(&buf)
+    }
+
     /// Writes PCD v0.7 (fields x y z, float32), keeping NaN points so the grid survives.
     pub fn write_pcd(&self, out: &mut impl Write, encoding: PcdEncoding) -> std::io::Result<()> {
         write!(
@@ -90,15 +102,7 @@ impl PointCloud {
                     }
                 }
             }
-            PcdEncoding::Binary => {
-                let mut buf = Vec::with_capacity(self.points.len() * 12);
-                for p in &self.points {
-                    for v in [p.x, p.y, p.z] {
-                        buf.extend_from_slice(&(v as f32).to_le_bytes());
-                    }
-                }
-                out.write_all(&buf)?;
-            }
+            PcdEncoding::Binary => self.write_xyz_f32_le(out)?,
         }
         Ok(())
     }

@@ -320,15 +320,7 @@ pub fn write_ply(
                 writeln!(out, "{} {} {}", p.x as f32, p.y as f32, p.z as f32)?;
             }
         }
-        PlyEncoding::BinaryLittleEndian => {
-            let mut buf = Vec::with_capacity(cloud.points.len() * 12);
-            for p in &cloud.points {
-                for v in [p.x, p.y, p.z] {
-                    buf.extend_from_slice(&(v as f32).to_le_bytes());
-                }
-            }
-            out.write_all(&buf)?;
-        }
+        PlyEncoding::BinaryLittleEndian => cloud.write_xyz_f32_le(out)?,
     }
     Ok(())
 }

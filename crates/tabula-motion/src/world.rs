@@ -781,13 +781,7 @@ impl CollisionWorld {
         }
         let n = self.bodies.len();
         // Shapes in the world frame with their boxes, grown by their link's padding.
-        let mut placed: Vec<(usize, Pose, &SharedShape, Aabb)> = Vec::new();
-        for (b, lb) in self.bodies.iter().enumerate() {
-            for (s, p) in &lb.shapes {
-                let w = poses[b] * *p;
-                placed.push((b, w, s, s.compute_aabb(&w).loosened(lb.padding)));
-            }
-        }
+        let placed = self.placed_shapes(&poses, true);
         let attached: Vec<(usize, Pose, &Attached, Aabb)> = self
             .attached
             .iter()
@@ -829,10 +823,7 @@ impl CollisionWorld {
         for i in 0..placed.len() {
             for k in i + 1..placed.len() {
                 let (a, b) = (placed[i].0, placed[k].0);
-                if a == b
-                    || (!self.bodies[a].moving && !self.bodies[b].moving)
-                    || self.allowed_matrix[a * n + b]
-                {
+                if !self.self_pair_checked(a, b) {
                     continue;
                 }
                 if placed[i].3.intersects(&placed[k].3)
@@ -871,6 +862,41 @@ impl CollisionWorld {
         Ok(None)
     }
 
+    /// Every body shape placed at `poses`, with its box (grown by the link's padding if
+    /// `padded`).
+    fn placed_shapes(
+        &self,
+        poses: &[Pose],
+        padded: bool,
+    ) -> Vec<(usize, Pose, &SharedShape, Aabb)> {
+        let mut placed = Vec::new();
+        for (b, lb) in self.bodies.iter().enumerate() {
+            for (s, p) in &lb.shapes {
+                let w = poses[b] * *p;
+                let aabb = s.compute_aabb(&w);
+                placed.push((
+                    b,
+                    w,
+                    s,
+                    if padded {
+                        aabb.loosened(lb.padding)
+                    } else {
+                        aabb
+                    },
+                ));
+            }
+        }
+        placed
+    }
+
+    /// Whether two bodies of the robot can newly collide: different bodies, at least one
+    /// moving, not allowed by the matrix.
+    fn self_pair_checked(&self, a: usize, b: usize) -> bool {
+        a != b
+            && (self.bodies[a].moving || self.bodies[b].moving)
+            && !self.allowed_matrix[a * self.bodies.len() + b]
+    }
+
     /// True when `q` is within limits and collision-free (with padding). Bad input is
     /// not valid.
     pub fn is_valid(&self, q: &[f64]) -> bool {
@@ -889,15 +915,8 @@ impl CollisionWorld {
                 return Ok(-1.0);
             }
         }
-        let n = self.bodies.len();
         let mut best = cap;
-        let mut placed: Vec<(usize, Pose, &SharedShape, Aabb)> = Vec::new();
-        for (b, lb) in self.bodies.iter().enumerate() {
-            for (s, p) in &lb.shapes {
-                let w = poses[b] * *p;
-                placed.push((b, w, s, s.compute_aabb(&w)));
-            }
-        }
+        let placed = self.placed_shapes(&poses, false);
         let consider = |p1: &Pose,
                         s1: &SharedShape,
                         a1: &Aabb,
@@ -931,10 +950,7 @@ impl CollisionWorld {
         for i in 0..placed.len() {
             for k in i + 1..placed.len() {
                 let (a, b) = (placed[i].0, placed[k].0);
-                if a == b
-                    || (!self.bodies[a].moving && !self.bodies[b].moving)
-                    || self.allowed_matrix[a * n + b]
-                {
+                if !self.self_pair_checked(a, b) {
                     continue;
                 }
                 consider(

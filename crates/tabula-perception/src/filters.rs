@@ -241,8 +241,7 @@ pub fn statistical_outliers(
         let finite: Vec<usize> = (0..pts.len()).filter(|&i| pts[i].is_finite()).collect();
         let mut stat = vec![f32::NAN; pts.len()];
         if finite.len() > 1 {
-            let coords: Vec<[f64; 3]> = finite.iter().map(|&i| pts[i].to_array()).collect();
-            let tree = KdTree::build(&coords)
+            let tree = KdTree::over(pts, &finite)
                 .ok_or(FilterError::BadParameter("too many points for the kd-tree"))?;
             let values: Vec<f64> = tree
                 .mean_neighbour_distances(k)
@@ -329,16 +328,15 @@ pub fn radius_outliers(
         return Ok(keep);
     }
     let finite: Vec<usize> = (0..pts.len()).filter(|&i| pts[i].is_finite()).collect();
-    let coords: Vec<[f64; 3]> = finite.iter().map(|&i| pts[i].to_array()).collect();
     let mut keep = vec![false; pts.len()];
-    if coords.is_empty() {
+    if finite.is_empty() {
         return Ok(keep);
     }
-    let tree = KdTree::build(&coords)
+    let tree = KdTree::over(pts, &finite)
         .ok_or(FilterError::BadParameter("too many points for the kd-tree"))?;
-    let counts: Vec<usize> = coords
+    let counts: Vec<usize> = finite
         .par_iter()
-        .map(|q| tree.within(q, r2).len().saturating_sub(1))
+        .map(|&i| tree.within(&pts[i].to_array(), r2).len().saturating_sub(1))
         .collect();
     for (&i, n) in finite.iter().zip(counts) {
         keep[i] = n >= min_neighbors;
@@ -586,9 +584,8 @@ pub fn local_planes_at(
             .collect();
     }
     let members: Vec<usize> = (0..pts.len()).filter(|&i| usable(i)).collect();
-    let coords: Vec<[f64; 3]> = members.iter().map(|&i| pts[i].to_array()).collect();
     let tree = (members.len() >= 3)
-        .then(|| KdTree::build(&coords))
+        .then(|| KdTree::over(pts, &members))
         .flatten();
     let Some(tree) = tree else {
         return vec![none; at.len()];

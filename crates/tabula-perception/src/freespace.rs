@@ -234,6 +234,25 @@ impl FreeSpaceMap {
         })
     }
 
+    /// The map of a tabletop result's table, with its objects on it.
+    pub fn from_tabletop(
+        tabletop: &crate::tabletop::Tabletop,
+        points: &[Vec3],
+        p: &FreeSpaceParams,
+    ) -> Result<Self, FreeSpaceError> {
+        let objects: Vec<Vec<Vec3>> = tabletop
+            .objects
+            .iter()
+            .map(|o| {
+                o.indices
+                    .iter()
+                    .filter_map(|&i| points.get(i).copied())
+                    .collect()
+            })
+            .collect();
+        Self::build(&tabletop.table, points, &objects, p)
+    }
+
     /// Centre of cell `k` in the plane's 2D frame.
     pub fn cell_centre(&self, k: usize) -> Vec2 {
         self.lo

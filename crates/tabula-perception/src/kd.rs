@@ -103,6 +103,12 @@ impl Level {
 }
 
 impl KdTree {
+    /// The points `indices` of a cloud; results index into `indices`.
+    pub(crate) fn over(points: &[tabula_geom::Vec3], indices: &[usize]) -> Option<Self> {
+        let coords: Vec<[f64; 3]> = indices.iter().map(|&i| points[i].to_array()).collect();
+        Self::build(&coords)
+    }
+
     /// `None` when the points cannot be indexed (kiddo's item type holds 2³² points).
     pub(crate) fn build(points: &[[f64; 3]]) -> Option<Self> {
         let points: Vec<[f32; 3]> = points.iter().map(f32s).collect();

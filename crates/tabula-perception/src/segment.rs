@@ -344,8 +344,7 @@ pub(crate) fn segment_unorganized(
     p: &TabletopParams,
 ) -> Vec<Vec<usize>> {
     let up = plane.normal;
-    let coords: Vec<[f64; 3]> = members.iter().map(|&i| pts[i].to_array()).collect();
-    let Some(tree) = KdTree::build(&coords) else {
+    let Some(tree) = KdTree::over(pts, members) else {
         return Vec::new();
     };
     let cos_tol = p.concavity_tolerance.cos();
@@ -507,8 +506,7 @@ pub fn euclidean_clusters(
         })
     } else {
         let members: Vec<usize> = (0..pts.len()).filter(|&i| member[i]).collect();
-        let coords: Vec<[f64; 3]> = members.iter().map(|&i| pts[i].to_array()).collect();
-        let Some(tree) = KdTree::build(&coords) else {
+        let Some(tree) = KdTree::over(pts, &members) else {
             return Vec::new();
         };
         grow(pts.len(), &member, &member, &none, 0, None, |i, out| {

@@ -27,18 +27,13 @@ fn boxes_placed_where_the_map_says_rest_there_and_disturb_nothing() {
             &TabletopParams::default(),
         )
         .unwrap();
+        let map =
+            FreeSpaceMap::from_tabletop(&t, &cloud.points, &FreeSpaceParams::default()).unwrap();
         let objects: Vec<Vec<Vec3>> = t
             .objects
             .iter()
             .map(|o| o.indices.iter().map(|&i| cloud.points[i]).collect())
             .collect();
-        let map = FreeSpaceMap::build(
-            &t.table,
-            &cloud.points,
-            &objects,
-            &FreeSpaceParams::default(),
-        )
-        .unwrap();
         // Near the middle of the clutter, where free space is scarce.
         let near = objects.iter().flatten().copied().sum::<Vec3>()
             / objects.iter().map(Vec::len).sum::<usize>().max(1) as f64;
