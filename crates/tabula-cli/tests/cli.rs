@@ -2,6 +2,20 @@
 
 use std::process::Command;
 
+/// The WAM as scenes/clutter.toml places it, for `perceive --robot`.
+const WAM_IN_CLUTTER: [&str; 10] = [
+    "--robot",
+    "wam",
+    "--robot-base",
+    "0.15",
+    "-0.55",
+    "0",
+    "0",
+    "0",
+    "0.7071068",
+    "0.7071068",
+];
+
 fn tabula(args: &[&str]) -> std::process::Output {
     Command::new(env!("CARGO_BIN_EXE_tabula"))
         .args(args)
@@ -414,17 +428,8 @@ fn perceive_reads_pcd_and_ply_filters_the_robot_places_and_reports() {
             "--world-from-camera",
         ];
         args.extend(pose.iter().map(String::as_str));
+        args.extend(WAM_IN_CLUTTER);
         args.extend([
-            "--robot",
-            "wam",
-            "--robot-base",
-            "0.15",
-            "-0.55",
-            "0",
-            "0",
-            "0",
-            "0.7071068",
-            "0.7071068",
             "--joint",
             "wam_joint2=-0.6",
             "--joint",
@@ -533,17 +538,8 @@ fn perceive_self_filter_removes_the_arm_reaching_over_the_table() {
     // The arm over the table is taken for objects …
     assert!(objects(&[]) > 7);
     // … until the robot's own shapes, padded by 0.9 cm, are filtered out.
-    let filtered = objects(&[
-        "--robot",
-        "wam",
-        "--robot-base",
-        "0.15",
-        "-0.55",
-        "0",
-        "0",
-        "0",
-        "0.7071068",
-        "0.7071068",
+    let mut args = WAM_IN_CLUTTER.to_vec();
+    args.extend([
         "--joint",
         "wam_joint1=-0.6",
         "--joint",
@@ -551,6 +547,7 @@ fn perceive_self_filter_removes_the_arm_reaching_over_the_table() {
         "--joint",
         "wam_joint4=1.2",
     ]);
+    let filtered = objects(&args);
     assert_eq!(filtered, 7);
     let _ = std::fs::remove_dir_all(&dir);
 }

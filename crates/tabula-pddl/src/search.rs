@@ -42,6 +42,20 @@ pub struct SearchResult {
     pub initial_h: Option<u64>,
 }
 
+impl SearchResult {
+    /// Nothing found yet: the start of every search, and its answer if it exhausts.
+    fn unsolvable() -> Self {
+        SearchResult {
+            status: SearchStatus::Unsolvable,
+            plan: Vec::new(),
+            cost: 0,
+            expanded: 0,
+            generated: 1,
+            initial_h: None,
+        }
+    }
+}
+
 /// Precomputed relations for stubborn sets.
 #[derive(Debug, Clone)]
 pub struct Interference {
@@ -225,14 +239,7 @@ pub fn astar(task: &GroundTask, stubborn: bool, deadline: Option<Instant>) -> Se
     let mut scratch = Scratch::default();
     let mut reg = Registry::new();
     let init = task.initial_state();
-    let mut result = SearchResult {
-        status: SearchStatus::Unsolvable,
-        plan: Vec::new(),
-        cost: 0,
-        expanded: 0,
-        generated: 1,
-        initial_h: None,
-    };
+    let mut result = SearchResult::unsolvable();
     if task.goal_unreachable {
         return result;
     }
@@ -327,14 +334,7 @@ pub fn gbfs(task: &GroundTask, deadline: Option<Instant>) -> SearchResult {
     let mut scratch = Scratch::default();
     let mut reg = Registry::new();
     let init = task.initial_state();
-    let mut result = SearchResult {
-        status: SearchStatus::Unsolvable,
-        plan: Vec::new(),
-        cost: 0,
-        expanded: 0,
-        generated: 1,
-        initial_h: None,
-    };
+    let mut result = SearchResult::unsolvable();
     if task.goal_unreachable {
         return result;
     }

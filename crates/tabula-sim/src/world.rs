@@ -299,6 +299,10 @@ impl SimWorld {
         let boxed = |hx: f64, hy: f64, hz: f64, at: Vec3| {
             (SharedShape::cuboid(hx, hy, hz), Pose::from_translation(at))
         };
+        // A box of full size sx × sy × h standing on the floor.
+        let standing_box = |sx: f64, sy: f64, h: f64| {
+            boxed(sx / 2.0, sy / 2.0, h / 2.0, Vec3::new(0.0, 0.0, h / 2.0))
+        };
         let (parts, color): (Vec<(SharedShape, Pose)>, [f64; 3]) = match f.kind {
             FurnitureKind::Table => {
                 let [sx, sy, h] = f.size.unwrap_or([0.8, 1.2, 0.72]);
@@ -353,15 +357,7 @@ impl SimWorld {
             }
             FurnitureKind::Cabinet => {
                 let [sx, sy, h] = f.size.unwrap_or([0.5, 0.6, 0.9]);
-                (
-                    vec![boxed(
-                        sx / 2.0,
-                        sy / 2.0,
-                        h / 2.0,
-                        Vec3::new(0.0, 0.0, h / 2.0),
-                    )],
-                    [0.7, 0.7, 0.72],
-                )
+                (vec![standing_box(sx, sy, h)], [0.7, 0.7, 0.72])
             }
             FurnitureKind::Drum => {
                 let [sx, _, h] = f.size.unwrap_or([0.58, 0.58, 0.88]);
@@ -436,15 +432,7 @@ impl SimWorld {
             }
             FurnitureKind::Wall => {
                 let [sx, sy, h] = f.size.unwrap_or([0.1, 4.0, 2.5]);
-                (
-                    vec![boxed(
-                        sx / 2.0,
-                        sy / 2.0,
-                        h / 2.0,
-                        Vec3::new(0.0, 0.0, h / 2.0),
-                    )],
-                    [0.85, 0.85, 0.8],
-                )
+                (vec![standing_box(sx, sy, h)], [0.85, 0.85, 0.8])
             }
             FurnitureKind::Bin => {
                 let [sx, sy, h] = f.size.unwrap_or([0.4, 0.4, 0.4]);
