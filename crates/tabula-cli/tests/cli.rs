@@ -2,6 +2,17 @@
 
 use std::process::Command;
 
+/// Runs a command that must succeed and print one JSON value.
+fn tabula_json(args: &[&str]) -> serde_json::Value {
+    let out = tabula(args);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice(&out.stdout).expect("one JSON value")
+}
+
 /// The WAM as scenes/clutter.toml places it, for `perceive --robot`.
 const WAM_IN_CLUTTER: [&str; 10] = [
     "--robot",
@@ -25,16 +36,10 @@ fn tabula(args: &[&str]) -> std::process::Output {
 
 #[test]
 fn bench_json_has_the_protocol_fields() {
-    let out = tabula(&[
+    let v = tabula_json(&[
         "ik", "bench", "--robot", "golem3", "--solver", "analytic", "--poses", "200", "--seed",
         "3", "--json",
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("one JSON object");
     for key in ["success_rate", "max_pos_err_m", "max_rot_err_rad"] {
         assert!(v[key].is_number(), "{key}");
     }
@@ -50,7 +55,7 @@ fn bench_json_has_the_protocol_fields() {
 #[test]
 fn bench_works_on_a_urdf_file_with_base_and_tip() {
     let urdf = concat!(env!("CARGO_MANIFEST_DIR"), "/../../robots/pr2.urdf");
-    let out = tabula(&[
+    let v = tabula_json(&[
         "ik",
         "bench",
         "--robot",
@@ -65,12 +70,6 @@ fn bench_works_on_a_urdf_file_with_base_and_tip() {
         "50",
         "--json",
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(v["dof"].as_u64(), Some(7));
     assert!(v["success_rate"].as_f64().unwrap() > 0.9);
 }
@@ -362,7 +361,7 @@ fn sim_scene_commands_run_in_order() {
 
 #[test]
 fn motion_bench_reports_json() {
-    let out = tabula(&[
+    let v = tabula_json(&[
         "motion",
         "bench",
         "--robot",
@@ -371,12 +370,6 @@ fn motion_bench_reports_json() {
         "5",
         "--json",
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert!(v["problems"].as_u64().unwrap() > 0);
     assert_eq!(v["success_rate"].as_f64(), Some(1.0));
     let bad = tabula(&["motion", "bench", "--robot", "golem3"]);
