@@ -197,6 +197,34 @@ GOLEM_LIMITS = [(-1.14, 1.75), (-3.00, 3.00), (-1.55, 1.55), (-1.67, 1.67), (-1.
 DEG90 = math.pi / 2
 
 
+# Golem-III's two-finger grippers (seed 001: two motors per hand, here one finger joint
+# and a mimic). The tool frame (x = approach, y = closing direction) sits between the
+# fingertips, so the DH tool point of SPEC 2.1 is the grasp point.
+GOLEM_HAND = 0.13          # palm back to tool point along the approach
+GOLEM_PALM = (0.03, 0.14, 0.05)
+GOLEM_FINGER = (0.12, 0.01, 0.03)  # along approach, across (thickness), height
+GOLEM_FINGER_TIP = 0.02    # fingertips reach this far past the tool point
+GOLEM_GRIP_MAX_GAP = 0.10  # widest opening between the fingers
+
+
+def golem_gripper(u, side):
+    palm = "%s_gripper_palm_link" % side
+    palm_x = -GOLEM_HAND + GOLEM_PALM[0] / 2
+    u.link(palm, [(box(*GOLEM_PALM), origin_xyz_rpy((palm_x, 0, 0)))], 0.4, "dark")
+    u.joint("%s_gripper_palm_joint" % side, "fixed", "%s_tool_link" % side, palm, origin_xyz_rpy((0, 0, 0)))
+    finger_x = GOLEM_FINGER_TIP - GOLEM_FINGER[0] / 2
+    for finger, fsign in (("l", 1.0), ("r", -1.0)):
+        flink = "%s_gripper_%s_finger_link" % (side, finger)
+        fbox = (box(*GOLEM_FINGER), origin_xyz_rpy((0, fsign * GOLEM_FINGER[1] / 2, 0)))
+        u.link(flink, [fbox], 0.05, "grey")
+        mimic = None if finger == "l" else ("%s_gripper_l_finger_joint" % side, 1.0)
+        u.joint(
+            "%s_gripper_%s_finger_joint" % (side, finger), "prismatic", palm, flink,
+            origin_xyz_rpy((finger_x, 0, 0)), (0, fsign, 0),
+            (0.0, GOLEM_GRIP_MAX_GAP / 2, 0.1, 40), mimic,
+        )
+
+
 def golem_static(a, d, alpha):
     return chain(trans(0, 0, d), trans(a, 0, 0), rot_x(alpha))
 
@@ -240,7 +268,12 @@ def golem3():
         for idx, k in enumerate(range(2, 7)):
             link = "%s_arm_link%d" % (side, k)
             radius = 0.05 if k < 6 else 0.04
-            seg = segment(translation(conj(nexts[idx])), radius)
+            end = translation(conj(nexts[idx]))
+            if k == 6:
+                # The wrist ends where the gripper's palm begins (the last GOLEM_HAND m
+                # of l6 are the hand, modelled below).
+                end = tuple(v * (GOLEM_L6 - GOLEM_HAND) / GOLEM_L6 for v in end)
+            seg = segment(end, radius)
             u.link(link, [seg], 2.0, "blue" if k % 2 else "grey")
             lo, hi = GOLEM_LIMITS[k - 2]
             u.joint(
@@ -250,6 +283,7 @@ def golem3():
             parent = link
         u.link("%s_tool_link" % side)
         u.joint("%s_tool_joint" % side, "fixed", parent, "%s_tool_link" % side, origin(conj(tool_origin)))
+        golem_gripper(u, side)
     u.link("head_pan_link", [(cylinder(0.04, 0.08), origin_xyz_rpy((0, 0, 0.04)))], 0.5, "dark")
     u.joint(
         "head_pan_joint", "revolute", "torso_link", "head_pan_link",

@@ -74,6 +74,8 @@ pub enum RobotError {
     WrongJointCount { expected: usize, got: usize },
     #[error("`torso_lift_link` → `{tip}` is not a Golem-III arm: {why}")]
     NotGolem3 { tip: String, why: &'static str },
+    #[error("robot description: {0}")]
+    Description(String),
     #[error("unknown robot `{0}`: use golem3, wam, pr2 or a path to a .urdf file")]
     UnknownRobot(String),
 }

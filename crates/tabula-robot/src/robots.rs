@@ -1,5 +1,6 @@
 //! The robots shipped in `robots/`, compiled into the binary so `tabula` runs anywhere.
 
+use crate::description::RobotDescription;
 use crate::{RobotError, RobotModel};
 use std::path::Path;
 
@@ -10,45 +11,70 @@ pub const WAM_URDF: &str = include_str!("../../../robots/wam.urdf");
 /// A PR2-like mobile manipulator with seed 000's gripper boxes (SPEC §1, §6).
 pub const PR2_URDF: &str = include_str!("../../../robots/pr2.urdf");
 
-/// A loaded robot together with the chain the tools use when none is named.
+const GOLEM3_TOML: &str = include_str!("../../../robots/golem3.toml");
+const WAM_TOML: &str = include_str!("../../../robots/wam.toml");
+const PR2_TOML: &str = include_str!("../../../robots/pr2.toml");
+
+/// A loaded robot with its description (groups, grippers, head, base).
 #[derive(Debug, Clone)]
 pub struct NamedRobot {
     pub model: RobotModel,
+    pub description: RobotDescription,
+    /// The chain the tools use when none is named: the first arm's.
     pub default_base: String,
     pub default_tip: String,
     /// `golem3`, `wam`, `pr2`, or the file path.
     pub label: String,
 }
 
-/// Loads `golem3`, `wam`, `pr2`, or a URDF file path. For a file the default chain
-/// runs from its root to its deepest leaf.
+impl NamedRobot {
+    fn new(model: RobotModel, description: RobotDescription, label: &str) -> Self {
+        let (default_base, default_tip) = description
+            .arms
+            .first()
+            .map(|a| (a.base.clone(), a.tip.clone()))
+            .unwrap_or_default();
+        Self {
+            model,
+            description,
+            default_base,
+            default_tip,
+            label: label.into(),
+        }
+    }
+}
+
+/// Loads `golem3`, `wam`, `pr2`, or a URDF file path. A file's description is the
+/// `<stem>.toml` beside it when there is one; otherwise one arm runs from its root to
+/// its deepest leaf.
 pub fn load(name_or_path: &str) -> Result<NamedRobot, RobotError> {
-    let builtin = |urdf: &str, base: &str, tip: &str| -> Result<NamedRobot, RobotError> {
-        Ok(NamedRobot {
-            model: RobotModel::from_urdf_str(urdf, None)?,
-            default_base: base.into(),
-            default_tip: tip.into(),
-            label: name_or_path.into(),
-        })
+    let builtin = |urdf: &str, toml: &str| -> Result<NamedRobot, RobotError> {
+        let model = RobotModel::from_urdf_str(urdf, None)?;
+        let description = RobotDescription::from_toml(toml, &model)?;
+        Ok(NamedRobot::new(model, description, name_or_path))
     };
     match name_or_path {
-        "golem3" => builtin(GOLEM3_URDF, "torso_lift_link", "right_tool_link"),
-        "wam" => builtin(WAM_URDF, "base_link", "wam_tool"),
-        "pr2" => builtin(PR2_URDF, "torso_lift_link", "r_gripper_tool_frame"),
+        "golem3" => builtin(GOLEM3_URDF, GOLEM3_TOML),
+        "wam" => builtin(WAM_URDF, WAM_TOML),
+        "pr2" => builtin(PR2_URDF, PR2_TOML),
         path if Path::new(path)
             .extension()
             .is_some_and(|e| e.eq_ignore_ascii_case("urdf"))
             || Path::new(path).exists() =>
         {
             let model = RobotModel::from_urdf_file(path)?;
-            let root = model.roots.first().copied().unwrap_or(0);
-            let leaf = model.deepest_leaf();
-            Ok(NamedRobot {
-                default_base: model.links[root].name.clone(),
-                default_tip: model.links[leaf].name.clone(),
-                model,
-                label: path.into(),
-            })
+            let beside = Path::new(path).with_extension("toml");
+            let description = if beside.is_file() {
+                let text = std::fs::read_to_string(&beside).map_err(|source| RobotError::Io {
+                    path: beside.clone(),
+                    source,
+                })?;
+                RobotDescription::from_toml(&text, &model)
+                    .map_err(|e| RobotError::Description(format!("{}: {e}", beside.display())))?
+            } else {
+                RobotDescription::minimal(&model, &model.name)
+            };
+            Ok(NamedRobot::new(model, description, path))
         }
         other => Err(RobotError::UnknownRobot(other.into())),
     }

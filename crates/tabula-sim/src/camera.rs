@@ -72,9 +72,7 @@ impl Camera {
             (Some(l), _, _) => {
                 optical_frame_look_at(Vec3::from_array(l.eye), Vec3::from_array(l.target))
             }
-            (None, Some(robot), Some(link)) => world
-                .pose(&format!("{robot}/{link}"))
-                .or_else(|_| world.link_pose(robot, link))?,
+            (None, Some(robot), Some(link)) => world.link_pose(robot, link)?,
             _ => {
                 return Err(SimError::UnknownEntity(format!(
                     "camera `{}` has no pose",

@@ -4,11 +4,13 @@
 //! tells by physics whether an object really rests where a plan said.
 
 pub mod camera;
+pub mod driver;
 pub mod generate;
 pub mod robot;
 pub mod scene;
 pub mod world;
 
 pub use camera::{Camera, DepthFrame};
+pub use driver::SimDriver;
 pub use scene::{Scene, SceneError};
 pub use world::{PhysicsParams, SettleReport, SimError, SimWorld};

@@ -1,10 +1,13 @@
-//! Robots in the simulator: joint motion under velocity limits, links as kinematic
-//! bodies that push objects, and a parallel gripper that holds what it closes on — the
-//! role of the seeds' Gazebo grasp plugin.
+//! Robots in the simulator: joints that follow timed trajectories, links as kinematic
+//! bodies that push objects, a parallel gripper that holds what it closes on (the role
+//! of the seeds' Gazebo grasp plugin), a base that drives in the world frame and a head
+//! that turns under its limits.
 
 use crate::world::{EntityKind, SimError, SimWorld};
 use rapier3d_f64::prelude::*;
-use tabula_geom::Pose;
+use tabula_geom::{Pose, Vec3};
+use tabula_robot::RobotDescription;
+use tabula_robot::driver::JointTrajectory;
 
 /// An object held by a gripper: it rides with `link` at `link_from_object`.
 #[derive(Debug, Clone)]
@@ -15,62 +18,86 @@ pub struct Attachment {
     pub link_from_object: Pose,
 }
 
+/// A robot in the world.
+#[derive(Debug, Clone)]
+pub struct PlacedRobot {
+    pub name: String,
+    pub model: tabula_robot::RobotModel,
+    pub description: RobotDescription,
+    pub world_from_root: Pose,
+    /// Every joint's value, model order.
+    pub values: Vec<f64>,
+}
+
 impl SimWorld {
-    fn robot_index(&self, robot: &str) -> Result<usize, SimError> {
+    pub(crate) fn robot_index(&self, robot: &str) -> Result<usize, SimError> {
         self.robots
             .iter()
-            .position(|r| r.0 == robot)
+            .position(|r| r.name == robot)
             .ok_or_else(|| SimError::UnknownEntity(robot.into()))
+    }
+
+    /// The robot called `name`.
+    pub fn robot(&self, name: &str) -> Result<&PlacedRobot, SimError> {
+        Ok(&self.robots[self.robot_index(name)?])
+    }
+
+    fn joint_index(&self, ri: usize, joint: &str) -> Result<usize, SimError> {
+        let r = &self.robots[ri];
+        r.model
+            .joint(joint)
+            .ok_or_else(|| SimError::Robot(format!("robot `{}` has no joint `{joint}`", r.name)))
     }
 
     /// Current value of a robot joint.
     pub fn joint(&self, robot: &str, joint: &str) -> Result<f64, SimError> {
-        let r = &self.robots[self.robot_index(robot)?];
-        let j = r
-            .1
-            .joint(joint)
-            .ok_or_else(|| SimError::Robot(format!("robot `{robot}` has no joint `{joint}`")))?;
-        Ok(r.1.joint_value(&r.3, j))
+        let ri = self.robot_index(robot)?;
+        let j = self.joint_index(ri, joint)?;
+        let r = &self.robots[ri];
+        Ok(r.model.joint_value(&r.values, j))
     }
 
-    /// Places the robot's links for the given joint values at once (clamped to the
-    /// limits); with `kinematic_step` the links are driven there through the next physics
-    /// step, so they push what they meet, instead of teleporting.
+    /// Places the robot's links for its joint values at once; with `kinematic_step`
+    /// the links are driven there through the next physics step, so they push what
+    /// they meet, instead of teleporting.
     fn place_robot(&mut self, ri: usize, kinematic_step: bool) -> Result<(), SimError> {
-        let (name, model, world_from_root, values) = &self.robots[ri];
-        let root_from_link = model
-            .forward_kinematics(values)
+        let r = &self.robots[ri];
+        let root_from_link = r
+            .model
+            .forward_kinematics(&r.values)
             .map_err(|e| SimError::Robot(e.to_string()))?;
-        let mut link_poses = Vec::new();
-        for (li, link) in model.links.iter().enumerate() {
-            link_poses.push((
-                format!("{name}/{}", link.name),
-                *world_from_root * root_from_link[li],
-            ));
-        }
-        for (entity, pose) in &link_poses {
-            if let Some(i) = self.entity(entity) {
-                let b = &mut self.physics.bodies[self.entities[i].body];
-                if kinematic_step {
-                    b.set_next_kinematic_position(*pose);
-                } else {
-                    b.set_position(*pose, true);
-                }
-            }
-        }
-        for a in self.attachments.clone() {
-            if let Some((_, world_from_link)) = link_poses
-                .iter()
-                .find(|(n, _)| *n == format!("{}/{}", a.robot, a.link))
-                && let Some(i) = self.entity(&a.object)
-            {
-                let pose = *world_from_link * a.link_from_object;
-                let b = &mut self.physics.bodies[self.entities[i].body];
+        let link_poses: Vec<(String, Pose)> = r
+            .model
+            .links
+            .iter()
+            .enumerate()
+            .map(|(li, link)| {
+                (
+                    format!("{}/{}", r.name, link.name),
+                    r.world_from_root * root_from_link[li],
+                )
+            })
+            .collect();
+        let robot_name = r.name.clone();
+        let set = |w: &mut SimWorld, entity: &str, pose: Pose| {
+            if let Some(i) = w.entity(entity) {
+                let b = &mut w.physics.bodies[w.entities[i].body];
                 if kinematic_step {
                     b.set_next_kinematic_position(pose);
                 } else {
                     b.set_position(pose, true);
                 }
+            }
+        };
+        for (entity, pose) in &link_poses {
+            set(self, entity, *pose);
+        }
+        for a in self.attachments.clone() {
+            let link = format!("{}/{}", a.robot, a.link);
+            if a.robot == robot_name
+                && let Some((_, world_from_link)) = link_poses.iter().find(|(n, _)| *n == link)
+            {
+                set(self, &a.object, *world_from_link * a.link_from_object);
             }
         }
         Ok(())
@@ -83,84 +110,117 @@ impl SimWorld {
         self.place_robot(ri, false)
     }
 
+    /// Writes joint values (clamped to the limits) without placing the links.
     fn write_joints(&mut self, ri: usize, targets: &[(&str, f64)]) -> Result<(), SimError> {
         for &(joint, value) in targets {
-            let model = &self.robots[ri].1;
-            let j = model.joint(joint).ok_or_else(|| {
-                SimError::Robot(format!(
-                    "robot `{}` has no joint `{joint}`",
-                    self.robots[ri].0
-                ))
-            })?;
+            let j = self.joint_index(ri, joint)?;
             if !value.is_finite() {
                 return Err(SimError::NonFinite);
             }
-            let l = model.joints[j].limits;
-            self.robots[ri].3[j] = value.clamp(l.lower, l.upper);
+            let l = self.robots[ri].model.joints[j].limits;
+            self.robots[ri].values[j] = value.clamp(l.lower, l.upper);
         }
         Ok(())
     }
 
-    /// Moves joints to `targets` under their velocity limits, stepping the physics: the
-    /// position-controlled joint trajectory of a real arm. Returns the steps taken.
-    pub fn move_joints(&mut self, robot: &str, targets: &[(&str, f64)]) -> Result<usize, SimError> {
-        let ri = self.robot_index(robot)?;
-        let dt = self.physics.integration_parameters.dt;
-        let mut starts = Vec::new();
+    /// A straight joint-space motion to `targets` with all joints arriving together,
+    /// the slowest at its velocity limit.
+    fn straight_motion(
+        &self,
+        ri: usize,
+        targets: &[(&str, f64)],
+    ) -> Result<JointTrajectory, SimError> {
+        let mut names = Vec::new();
+        let (mut start, mut goal) = (Vec::new(), Vec::new());
         let mut longest: f64 = 0.0;
         for &(joint, target) in targets {
-            let model = &self.robots[ri].1;
-            let j = model.joint(joint).ok_or_else(|| {
-                SimError::Robot(format!("robot `{robot}` has no joint `{joint}`"))
-            })?;
+            let j = self.joint_index(ri, joint)?;
             if !target.is_finite() {
                 return Err(SimError::NonFinite);
             }
-            let l = model.joints[j].limits;
-            let target = target.clamp(l.lower, l.upper);
-            let start = self.robots[ri].3[j];
-            let speed = if l.velocity.is_finite() {
+            let l = self.robots[ri].model.joints[j].limits;
+            let (a, b) = (self.robots[ri].values[j], target.clamp(l.lower, l.upper));
+            let speed = if l.velocity.is_finite() && l.velocity > 0.0 {
                 l.velocity
             } else {
                 1.0
             };
-            longest = longest.max((target - start).abs() / speed);
-            starts.push((joint, start, target));
+            longest = longest.max((b - a).abs() / speed);
+            names.push(joint.to_string());
+            start.push(a);
+            goal.push(b);
         }
-        // All joints arrive together, the slowest at its limit.
-        let steps = ((longest / dt).ceil() as usize).max(1);
-        for k in 1..=steps {
-            let s = k as f64 / steps as f64;
-            let now: Vec<(&str, f64)> = starts
-                .iter()
-                .map(|&(j, a, b)| (j, a + (b - a) * s))
-                .collect();
-            self.write_joints(ri, &now)?;
-            self.place_robot(ri, true)?;
-            self.physics.step();
-        }
-        Ok(steps)
+        Ok(JointTrajectory {
+            joint_names: names,
+            times: vec![0.0, longest],
+            positions: vec![start, goal],
+        })
     }
 
-    /// Follows a joint trajectory: `waypoints[k][i]` is joint `joints[i]` at waypoint k,
-    /// each segment at the velocity limits. Returns the physics steps taken.
+    /// Moves joints to `targets` under their velocity limits, stepping the physics: the
+    /// position-controlled joint motion of a real arm. Returns the steps taken.
+    pub fn move_joints(&mut self, robot: &str, targets: &[(&str, f64)]) -> Result<usize, SimError> {
+        let ri = self.robot_index(robot)?;
+        let motion = self.straight_motion(ri, targets)?;
+        self.run_trajectory(ri, &motion, false)
+    }
+
+    /// Follows a timed joint trajectory (a planner's output, with its own timing): at
+    /// every physics step the joints take the trajectory's value at that time, and the
+    /// links push what they meet. Returns the physics steps taken.
     pub fn follow_trajectory(
         &mut self,
         robot: &str,
-        joints: &[&str],
-        waypoints: &[Vec<f64>],
+        trajectory: &JointTrajectory,
     ) -> Result<usize, SimError> {
-        let mut steps = 0;
-        for (k, w) in waypoints.iter().enumerate() {
-            if w.len() != joints.len() {
-                return Err(SimError::Robot(format!(
-                    "waypoint {k} has {} values for {} joints",
-                    w.len(),
-                    joints.len()
-                )));
+        let ri = self.robot_index(robot)?;
+        trajectory
+            .validate()
+            .map_err(|e| SimError::Robot(e.to_string()))?;
+        self.run_trajectory(ri, trajectory, false)
+    }
+
+    /// Plays a trajectory step by step; `guarded` stops (and steps back) before a link
+    /// would enter furniture.
+    fn run_trajectory(
+        &mut self,
+        ri: usize,
+        trajectory: &JointTrajectory,
+        guarded: bool,
+    ) -> Result<usize, SimError> {
+        for name in &trajectory.joint_names {
+            self.joint_index(ri, name)?;
+        }
+        if trajectory.positions.is_empty() {
+            return Ok(0);
+        }
+        let dt = self.physics.integration_parameters.dt;
+        let duration = trajectory.duration();
+        if !duration.is_finite() || duration / dt > 1e7 {
+            return Err(SimError::Robot(format!(
+                "trajectory of {duration} s is too long to simulate"
+            )));
+        }
+        let steps = ((duration / dt).ceil() as usize).max(1);
+        let names: Vec<&str> = trajectory.joint_names.iter().map(String::as_str).collect();
+        let at = |t: f64| -> Vec<(&str, f64)> {
+            let q = trajectory.sample(t).unwrap_or_default();
+            names.iter().copied().zip(q).collect()
+        };
+        for k in 1..=steps {
+            let t = (k as f64 * dt).min(duration);
+            self.write_joints(ri, &at(t))?;
+            self.place_robot(ri, true)?;
+            if guarded && let Some(hit) = self.robot_blocked(ri) {
+                let before = ((k - 1) as f64 * dt).min(duration);
+                self.write_joints(ri, &at(before))?;
+                self.place_robot(ri, false)?;
+                return Err(SimError::Blocked {
+                    robot: self.robots[ri].name.clone(),
+                    by: hit,
+                });
             }
-            let targets: Vec<(&str, f64)> = joints.iter().copied().zip(w.iter().copied()).collect();
-            steps += self.move_joints(robot, &targets)?;
+            self.step();
         }
         Ok(steps)
     }
@@ -176,11 +236,11 @@ impl SimWorld {
         palm: &str,
     ) -> Result<Option<String>, SimError> {
         let ri = self.robot_index(robot)?;
-        let model = &self.robots[ri].1;
-        let j = model.joint(finger_joint).ok_or_else(|| {
-            SimError::Robot(format!("robot `{robot}` has no joint `{finger_joint}`"))
-        })?;
-        let (lower, start) = (model.joints[j].limits.lower, self.robots[ri].3[j]);
+        let j = self.joint_index(ri, finger_joint)?;
+        let (lower, start) = (
+            self.robots[ri].model.joints[j].limits.lower,
+            self.robots[ri].values[j],
+        );
         let steps = 40;
         for k in 1..=steps {
             let q = start + (lower - start) * k as f64 / steps as f64;
@@ -194,7 +254,7 @@ impl SimWorld {
                 && a == b
             {
                 let object = a.clone();
-                let world_from_palm = self.pose(&format!("{robot}/{palm}"))?;
+                let world_from_palm = self.link_pose(robot, palm)?;
                 let world_from_object = self.pose(&object)?;
                 let oi = self
                     .entity(&object)
@@ -216,13 +276,8 @@ impl SimWorld {
     /// Opens the gripper: held objects are released to the physics.
     pub fn open_gripper(&mut self, robot: &str, finger_joint: &str) -> Result<(), SimError> {
         let ri = self.robot_index(robot)?;
-        let upper = {
-            let model = &self.robots[ri].1;
-            let j = model.joint(finger_joint).ok_or_else(|| {
-                SimError::Robot(format!("robot `{robot}` has no joint `{finger_joint}`"))
-            })?;
-            model.joints[j].limits.upper
-        };
+        let j = self.joint_index(ri, finger_joint)?;
+        let upper = self.robots[ri].model.joints[j].limits.upper;
         let released: Vec<Attachment> = self
             .attachments
             .iter()
@@ -234,32 +289,47 @@ impl SimWorld {
             if let Some(i) = self.entity(&a.object) {
                 let b = &mut self.physics.bodies[self.entities[i].body];
                 b.set_body_type(RigidBodyType::Dynamic, true);
+                b.set_linvel(Vec3::ZERO, true);
+                b.set_angvel(Vec3::ZERO, true);
             }
         }
         self.write_joints(ri, &[(finger_joint, upper)])?;
         self.place_robot(ri, false)
     }
 
+    /// The objects a robot holds.
+    pub fn held_objects(&self, robot: &str) -> Vec<String> {
+        self.attachments
+            .iter()
+            .filter(|a| a.robot == robot)
+            .map(|a| a.object.clone())
+            .collect()
+    }
+
     /// An object in contact with (or penetrating) the entity's shapes.
     fn touching_object(&self, entity: &str) -> Option<String> {
         let e = self.entity(entity)?;
         let body = &self.physics.bodies[self.entities[e].body];
-        self.first_contact(body, *body.position(), EntityKind::Object, 1e-4)
+        self.first_contact(body, *body.position(), &[EntityKind::Object], 1e-4)
     }
 
-    /// The first entity of `kind` that `body` placed at `world_from_body` comes within
-    /// `max_distance` of (negative: penetrates by more than that).
+    /// The first entity of one of `kinds` that `body` placed at `world_from_body` comes
+    /// within `max_distance` of (negative: penetrates by more than that).
     fn first_contact(
         &self,
         body: &RigidBody,
         world_from_body: Pose,
-        kind: EntityKind,
+        kinds: &[EntityKind],
         max_distance: f64,
     ) -> Option<String> {
+        let held: Vec<&str> = self.attachments.iter().map(|a| a.object.as_str()).collect();
         for &ch in body.colliders() {
             let c = &self.physics.colliders[ch];
             let pose = world_from_body * *c.position_wrt_parent().unwrap_or(&Pose::IDENTITY);
-            for other in self.entities.iter().filter(|o| o.kind == kind) {
+            for other in self
+                .live_entities()
+                .filter(|o| kinds.contains(&o.kind) && !held.contains(&o.name.as_str()))
+            {
                 let ob = &self.physics.bodies[other.body];
                 for &oc in ob.colliders() {
                     let occ = &self.physics.colliders[oc];
@@ -282,135 +352,123 @@ impl SimWorld {
         }
         None
     }
-}
 
-impl SimWorld {
-    /// The entity a robot link penetrates by more than a millimetre among fixed furniture
-    /// and walls (not the floor).
-    fn robot_blocked(&self, robot: &str) -> Option<String> {
+    /// What a robot's links (and what they hold) touch now among `kinds`, penetrating
+    /// by more than `depth` m: `(link or held object, entity)` pairs. The verdict on
+    /// "no contact with furniture during any motion" samples this.
+    pub fn robot_contacts(
+        &self,
+        robot: &str,
+        kinds: &[EntityKind],
+        depth: f64,
+    ) -> Result<Vec<(String, String)>, SimError> {
         let prefix = format!("{robot}/");
-        self.entities
-            .iter()
+        let mut out = Vec::new();
+        let held = self.held_objects(robot);
+        for e in self.live_entities().filter(|e| {
+            (e.kind == EntityKind::RobotLink && e.name.starts_with(&prefix))
+                || held.contains(&e.name)
+        }) {
+            let body = &self.physics.bodies[e.body];
+            if let Some(hit) = self.first_contact(body, *body.position(), kinds, -depth) {
+                out.push((e.name.clone(), hit));
+            }
+        }
+        Ok(out)
+    }
+
+    /// The furniture or wall a robot link penetrates by more than a millimetre.
+    fn robot_blocked(&self, ri: usize) -> Option<String> {
+        let prefix = format!("{}/", self.robots[ri].name);
+        self.live_entities()
             .filter(|e| e.kind == EntityKind::RobotLink && e.name.starts_with(&prefix))
             .find_map(|link| {
                 let body = &self.physics.bodies[link.body];
-                self.first_contact(body, *body.next_position(), EntityKind::Furniture, -1e-3)
+                self.first_contact(body, *body.next_position(), &[EntityKind::Furniture], -1e-3)
             })
     }
 
-    /// Drives a planar mobile base to (x, y, θ) in the world the way seed 000 did
-    /// (SPEC §1.4): turn towards the goal, drive straight, turn to the final heading,
-    /// at the joints' velocity limits. The base collides with furniture: it stops at the
-    /// first contact and reports what it hit. Joint names are the PR2 model's.
+    /// Drives a planar mobile base to `(x, y, θ)` **in the world frame** the way seed 000
+    /// did (SPEC §1.4): turn towards the goal, drive straight, turn to the final
+    /// heading, at the joints' velocity limits. The base joints come from the robot's
+    /// description and move the base relative to the robot's root pose, so the goal is
+    /// turned into that frame first. The base collides with furniture: it stops at the
+    /// first contact and reports what it hit.
     pub fn drive_base(&mut self, robot: &str, x: f64, y: f64, theta: f64) -> Result<(), SimError> {
         if !(x.is_finite() && y.is_finite() && theta.is_finite()) {
             return Err(SimError::NonFinite);
         }
-        let (jx, jy, jt) = ("base_x_joint", "base_y_joint", "base_theta_joint");
+        let ri = self.robot_index(robot)?;
+        let base = self.robots[ri]
+            .description
+            .base
+            .clone()
+            .ok_or_else(|| SimError::Robot(format!("robot `{robot}` has no mobile base")))?;
+        let (jx, jy, jt) = (
+            base.x_joint.as_str(),
+            base.y_joint.as_str(),
+            base.theta_joint.as_str(),
+        );
+        let world_from_goal = Pose::from_parts(
+            Vec3::new(x, y, 0.0),
+            tabula_geom::Quat::from_rotation_z(theta),
+        );
+        let root_from_goal = self.robots[ri].world_from_root.inverse() * world_from_goal;
+        let (gx, gy) = (root_from_goal.translation.x, root_from_goal.translation.y);
+        let heading_of = |p: &Pose| {
+            let f = p.rotation * Vec3::X;
+            f.y.atan2(f.x)
+        };
+        let g_theta = heading_of(&root_from_goal);
         let (x0, y0, t0) = (
             self.joint(robot, jx)?,
             self.joint(robot, jy)?,
             self.joint(robot, jt)?,
         );
-        let (dx, dy) = (x - x0, y - y0);
-        let distance = dx.hypot(dy);
+        let (dx, dy) = (gx - x0, gy - y0);
         let mut legs: Vec<Vec<(&str, f64)>> = Vec::new();
         let mut heading = t0;
-        if distance > 1e-4 {
+        if dx.hypot(dy) > 1e-4 {
             let face = t0 + tabula_geom::wrap_angle(dy.atan2(dx) - t0);
             legs.push(vec![(jt, face)]);
-            legs.push(vec![(jx, x), (jy, y)]);
+            legs.push(vec![(jx, gx), (jy, gy)]);
             heading = face;
         }
         legs.push(vec![(
             jt,
-            heading + tabula_geom::wrap_angle(theta - heading),
+            heading + tabula_geom::wrap_angle(g_theta - heading),
         )]);
         for leg in legs {
-            self.move_joints_guarded(robot, &leg)?;
+            let motion = self.straight_motion(ri, &leg)?;
+            self.run_trajectory(ri, &motion, true)?;
         }
         Ok(())
     }
 
-    /// [`Self::move_joints`] that stops before a link would enter furniture.
-    fn move_joints_guarded(
+    /// Pan and tilt that point `camera_link`'s optical axis (z) through `point`
+    /// (world): Gauss–Newton on the image-plane offset, within the joints' limits.
+    /// The robot is left as it was.
+    fn look_at_solution(
         &mut self,
-        robot: &str,
-        targets: &[(&str, f64)],
-    ) -> Result<(), SimError> {
-        let ri = self
-            .robots
-            .iter()
-            .position(|r| r.0 == robot)
-            .ok_or_else(|| SimError::UnknownEntity(robot.into()))?;
-        let dt = self.physics.integration_parameters.dt;
-        let mut plan = Vec::new();
-        let mut longest: f64 = 0.0;
-        for &(joint, target) in targets {
-            let start = self.joint(robot, joint)?;
-            let model = &self.robots[ri].1;
-            let j = model
-                .joint(joint)
-                .ok_or_else(|| SimError::Robot(format!("no joint `{joint}`")))?;
-            let v = model.joints[j].limits.velocity;
-            longest = longest.max((target - start).abs() / if v.is_finite() { v } else { 1.0 });
-            plan.push((joint, start, target));
-        }
-        let steps = ((longest / dt).ceil() as usize).max(1);
-        for k in 1..=steps {
-            let s = k as f64 / steps as f64;
-            let now: Vec<(&str, f64)> =
-                plan.iter().map(|&(j, a, b)| (j, a + (b - a) * s)).collect();
-            let before: Vec<(&str, f64)> = plan
-                .iter()
-                .map(|&(j, a, b)| (j, a + (b - a) * (k - 1) as f64 / steps as f64))
-                .collect();
-            self.write_joints(ri, &now)?;
-            self.place_robot(ri, true)?;
-            if let Some(hit) = self.robot_blocked(robot) {
-                self.write_joints(ri, &before)?;
-                self.place_robot(ri, false)?;
-                return Err(SimError::Blocked {
-                    robot: robot.into(),
-                    by: hit,
-                });
-            }
-            self.physics.step();
-        }
-        Ok(())
-    }
-
-    /// Points a pan/tilt head so that `camera_link`'s optical axis (z) goes through
-    /// `point` (world): Gauss–Newton on the image-plane offset of the point, within the
-    /// joints' limits. Returns the remaining angle between axis and point (rad).
-    pub fn look_at(
-        &mut self,
-        robot: &str,
+        ri: usize,
         pan: &str,
         tilt: &str,
         camera_link: &str,
-        point: tabula_geom::Vec3,
-    ) -> Result<f64, SimError> {
-        if !point.is_finite() {
-            return Err(SimError::NonFinite);
-        }
-        let ri = self
-            .robots
-            .iter()
-            .position(|r| r.0 == robot)
-            .ok_or_else(|| SimError::UnknownEntity(robot.into()))?;
+        point: Vec3,
+    ) -> Result<[f64; 2], SimError> {
+        let saved = self.robots[ri].values.clone();
+        let robot = self.robots[ri].name.clone();
         let offset = |w: &SimWorld| -> Result<(f64, f64, f64), SimError> {
-            let cam = w.link_pose(robot, camera_link)?;
+            let cam = w.link_pose(&robot, camera_link)?;
             let p = cam.inverse_transform_point(point);
-            let angle = p.angle_between(tabula_geom::Vec3::Z);
-            Ok((p.x.atan2(p.z), p.y.atan2(p.z), angle))
+            Ok((p.x.atan2(p.z), p.y.atan2(p.z), p.angle_between(Vec3::Z)))
         };
         for _ in 0..20 {
             let (ex, ey, angle) = offset(self)?;
             if angle < 1e-6 {
                 break;
             }
-            let q = [self.joint(robot, pan)?, self.joint(robot, tilt)?];
+            let q = [self.joint(&robot, pan)?, self.joint(&robot, tilt)?];
             let mut jac = [[0.0; 2]; 2];
             for (k, name) in [pan, tilt].iter().enumerate() {
                 let h = 1e-6;
@@ -428,7 +486,29 @@ impl SimWorld {
             let d1 = -(-jac[1][0] * ex + jac[0][0] * ey) / det;
             self.write_joints(ri, &[(pan, q[0] + d0), (tilt, q[1] + d1)])?;
         }
-        self.place_robot(ri, false)?;
-        Ok(offset(self)?.2)
+        let solution = [self.joint(&robot, pan)?, self.joint(&robot, tilt)?];
+        self.robots[ri].values = saved;
+        Ok(solution)
+    }
+
+    /// Turns a pan/tilt head so that `camera_link`'s optical axis goes through `point`
+    /// (world), moving the joints under their velocity limits (physics steps in
+    /// between). Returns the remaining angle between axis and point (rad).
+    pub fn look_at(
+        &mut self,
+        robot: &str,
+        pan: &str,
+        tilt: &str,
+        camera_link: &str,
+        point: Vec3,
+    ) -> Result<f64, SimError> {
+        if !point.is_finite() {
+            return Err(SimError::NonFinite);
+        }
+        let ri = self.robot_index(robot)?;
+        let [p, t] = self.look_at_solution(ri, pan, tilt, camera_link, point)?;
+        self.move_joints(robot, &[(pan, p), (tilt, t)])?;
+        let cam = self.link_pose(robot, camera_link)?;
+        Ok(cam.inverse_transform_point(point).angle_between(Vec3::Z))
     }
 }

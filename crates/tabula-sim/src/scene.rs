@@ -139,6 +139,9 @@ pub struct HoldSpec {
     pub finger_joint: String,
     pub fingers: [String; 2],
     pub palm: String,
+    /// How the object is held: its pose in the tool frame (at an angle, off centre).
+    /// Without it the object's origin is at the tool frame.
+    pub tool_from_object: Option<PoseSpec>,
 }
 
 /// Where a camera looks from.

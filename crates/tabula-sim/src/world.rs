@@ -26,6 +26,8 @@ pub struct Entity {
     pub kind: EntityKind,
     pub body: RigidBodyHandle,
     pub color: [f64; 3],
+    /// Deleted entities keep their slot so labels stay stable; their body is gone.
+    pub deleted: bool,
 }
 
 /// Why a world operation failed.
@@ -146,10 +148,14 @@ pub struct SimWorld {
     pub physics: PhysicsWorld,
     pub entities: Vec<Entity>,
     pub params: PhysicsParams,
-    /// Robots placed: name, model, `world_from_root`, joint values.
-    pub robots: Vec<(String, tabula_robot::RobotModel, Pose, Vec<f64>)>,
+    pub robots: Vec<crate::robot::PlacedRobot>,
     /// Objects held by grippers.
     pub attachments: Vec<crate::robot::Attachment>,
+    /// The scene's cameras; a camera on a robot link is placed where the link is when
+    /// it captures (see [`Self::camera`]).
+    pub cameras: Vec<crate::scene::CameraSpec>,
+    /// Physics steps taken since the world was built: the simulator's clock.
+    pub steps: u64,
     base_dir: Option<std::path::PathBuf>,
 }
 
@@ -214,6 +220,8 @@ impl SimWorld {
             params,
             robots: Vec::new(),
             attachments: Vec::new(),
+            cameras: Vec::new(),
+            steps: 0,
             base_dir: None,
         }
     }
@@ -234,12 +242,17 @@ impl SimWorld {
         for r in &scene.robots {
             w.add_robot(r)?;
         }
+        w.cameras = scene.cameras.clone();
         for r in &scene.robots {
             if let Some(h) = &r.hold {
                 let robot = r.name.get_ref();
                 w.open_gripper(robot, &h.finger_joint)?;
                 let world_from_tool = w.link_pose(robot, &h.tool_link)?;
-                w.move_to(&h.object, world_from_tool)?;
+                let tool_from_object = h.tool_from_object.map(|p| pose_of(&p));
+                w.move_to(
+                    &h.object,
+                    world_from_tool * tool_from_object.unwrap_or(Pose::IDENTITY),
+                )?;
                 let fingers = [h.fingers[0].as_str(), h.fingers[1].as_str()];
                 if w.close_gripper(robot, &h.finger_joint, fingers, &h.palm)?
                     .as_deref()
@@ -271,6 +284,7 @@ impl SimWorld {
             kind,
             body,
             color,
+            deleted: false,
         });
     }
 
@@ -620,12 +634,13 @@ impl SimWorld {
             }
             self.push_entity(&name, EntityKind::RobotLink, body, [0.75, 0.75, 0.78]);
         }
-        self.robots.push((
-            r.name.get_ref().clone(),
-            robot.model,
+        self.robots.push(crate::robot::PlacedRobot {
+            name: r.name.get_ref().clone(),
+            model: robot.model,
+            description: robot.description,
             world_from_root,
             values,
-        ));
+        });
         Ok(())
     }
 
@@ -668,25 +683,21 @@ impl SimWorld {
     /// `world_from_link` of a robot link, even one without collision geometry (a
     /// camera's optical frame): FK from the robot's nearest link that has a body.
     pub fn link_pose(&self, robot: &str, link: &str) -> Result<Pose, SimError> {
-        let placed = self
-            .robots
-            .iter()
-            .find(|r| r.0 == robot)
-            .ok_or_else(|| SimError::UnknownEntity(robot.into()))?;
-        let (_, model, world_from_root, values) = placed;
-        let li = model
+        let r = self.robot(robot)?;
+        let li = r
+            .model
             .link(link)
             .map_err(|e| SimError::Robot(e.to_string()))?;
-        let all = model
-            .forward_kinematics(values)
+        let all = r
+            .model
+            .forward_kinematics(&r.values)
             .map_err(|e| SimError::Robot(e.to_string()))?;
-        Ok(*world_from_root * all[li])
+        Ok(r.world_from_root * all[li])
     }
 
     /// Every object's name and pose.
     pub fn object_poses(&self) -> Vec<(String, Pose)> {
-        self.entities
-            .iter()
+        self.live_entities()
             .filter(|e| e.kind == EntityKind::Object)
             .map(|e| (e.name.clone(), *self.physics.bodies[e.body].position()))
             .collect()
@@ -695,6 +706,28 @@ impl SimWorld {
     /// One physics step.
     pub fn step(&mut self) {
         self.physics.step();
+        self.steps += 1;
+    }
+
+    /// Simulated seconds since the world was built.
+    pub fn time(&self) -> f64 {
+        self.steps as f64 * self.physics.integration_parameters.dt
+    }
+
+    /// Entities that have not been deleted.
+    pub fn live_entities(&self) -> impl Iterator<Item = &Entity> {
+        self.entities.iter().filter(|e| !e.deleted)
+    }
+
+    /// The scene camera called `name`, placed where it is now (a camera on a robot link
+    /// follows the link).
+    pub fn camera(&self, name: &str) -> Result<crate::Camera, SimError> {
+        let spec = self
+            .cameras
+            .iter()
+            .find(|c| c.name.get_ref() == name)
+            .ok_or_else(|| SimError::UnknownEntity(format!("camera `{name}`")))?;
+        crate::Camera::from_spec(spec, self)
     }
 
     /// Steps until every dynamic body sleeps or the time limit passes.
@@ -703,7 +736,7 @@ impl SimWorld {
         let max_steps = (self.params.settle_time_limit / dt).ceil() as usize;
         let mut steps = 0;
         while steps < max_steps {
-            self.physics.step();
+            self.step();
             steps += 1;
             if self.all_dynamic_asleep() {
                 return SettleReport {
@@ -842,9 +875,16 @@ impl SimWorld {
             .entity(name)
             .ok_or_else(|| SimError::UnknownEntity(name.into()))?;
         let e = self.entities[i].clone();
+        if e.kind == EntityKind::RobotLink {
+            return Err(SimError::Robot(format!(
+                "`{name}` is part of a robot; robots cannot be deleted link by link"
+            )));
+        }
         self.physics.remove_body_with_colliders(e.body, true);
+        self.attachments.retain(|a| a.object != e.name);
         // Keep labels stable: the slot stays, renamed, with no body left.
         self.entities[i].name = format!("__deleted_{}", e.name);
+        self.entities[i].deleted = true;
         Ok(())
     }
 
@@ -852,7 +892,7 @@ impl SimWorld {
     pub fn list(&self, kind: Option<EntityKind>) -> Vec<String> {
         self.entities
             .iter()
-            .filter(|e| kind.is_none_or(|k| e.kind == k) && !e.name.starts_with("__deleted_"))
+            .filter(|e| kind.is_none_or(|k| e.kind == k) && !e.deleted)
             .map(|e| e.name.clone())
             .collect()
     }

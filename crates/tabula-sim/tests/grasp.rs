@@ -2,6 +2,7 @@
 
 use tabula_geom::{Pose, Quat, Vec3};
 use tabula_robot::Chain;
+use tabula_robot::driver::JointTrajectory;
 use tabula_robot::ik::{IkMode, IkSolver, NumericIk, NumericIkParams};
 use tabula_sim::{PhysicsParams, Scene, SimWorld};
 
@@ -79,18 +80,23 @@ fn the_gripper_carries_a_box_and_lets_it_fall_on_the_table() {
         "fingers stopped at the box faces, half gap {gap}"
     );
 
-    // Up in two waypoints (15 cm, then 30 cm), at the joints' velocity limits.
+    // Up in two timed waypoints (15 cm after 1 s, 30 cm after 2 s).
     let half = ik(&chain, Vec3::new(0.55, 0.0, 0.575), &grasp);
     let lifted = ik(&chain, Vec3::new(0.55, 0.0, 0.725), &half);
-    let steps = world
-        .follow_trajectory("wam", &names, &[half, lifted.clone()])
-        .unwrap();
-    assert!(steps > 10, "{steps}");
-    assert!(
-        world
-            .follow_trajectory("wam", &names, &[vec![0.0]])
-            .is_err()
-    );
+    let lift = JointTrajectory {
+        joint_names: chain.joint_names.clone(),
+        times: vec![0.0, 1.0, 2.0],
+        positions: vec![grasp.clone(), half, lifted.clone()],
+    };
+    let steps = world.follow_trajectory("wam", &lift).unwrap();
+    // The trajectory's own timing is kept: 2 s at 120 Hz.
+    assert_eq!(steps, 240);
+    let malformed = JointTrajectory {
+        joint_names: chain.joint_names.clone(),
+        times: vec![0.0],
+        positions: vec![vec![0.0]],
+    };
+    assert!(world.follow_trajectory("wam", &malformed).is_err());
     let up = world.pose("box").unwrap();
     assert!(
         (up.translation - before.translation - Vec3::new(0.0, 0.0, 0.3)).length() < 5e-3,

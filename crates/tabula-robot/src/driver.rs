@@ -1,0 +1,184 @@
+//! The driver boundary: the only way the task layer touches a robot (the role of
+//! ros2_control's hardware interfaces and of seed 000's "RobotDriver"). The simulator
+//! implements these traits, a zenoh bridge can implement them for a robot in another
+//! process, and tests implement them with a mock that copies commands into states —
+//! so nothing above this line names the simulator.
+//!
+//! Everything is in tabula's own types; joints and links are named as in the robot's
+//! URDF and description, poses say their frames.
+
+use tabula_geom::{PointCloud, Pose, Vec3};
+
+/// Why a driver command failed.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum DriverError {
+    /// The robot stopped before the goal because it would have hit something.
+    #[error("blocked by `{by}`")]
+    Blocked { by: String },
+    #[error("unknown joint `{0}`")]
+    UnknownJoint(String),
+    #[error("values must be finite")]
+    NonFinite,
+    #[error("malformed trajectory: {0}")]
+    BadTrajectory(String),
+    #[error("this robot has no {0}")]
+    Unsupported(&'static str),
+    #[error("{0}")]
+    Hardware(String),
+}
+
+/// Positions of named joints at a time (s, the driver's clock).
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct JointState {
+    pub names: Vec<String>,
+    pub positions: Vec<f64>,
+    pub stamp: f64,
+}
+
+impl JointState {
+    /// The position of `name`, if the state has it.
+    pub fn get(&self, name: &str) -> Option<f64> {
+        self.names
+            .iter()
+            .position(|n| n == name)
+            .map(|i| self.positions[i])
+    }
+
+    /// Values for every joint of `model`, in model order; joints the state lacks are at
+    /// mid-range, where the simulator starts them.
+    pub fn model_values(&self, model: &crate::RobotModel) -> Vec<f64> {
+        let mut values = model.mid_configuration();
+        for (n, v) in self.names.iter().zip(&self.positions) {
+            if let Some(j) = model.joint(n) {
+                values[j] = *v;
+            }
+        }
+        values
+    }
+}
+
+/// A timed joint trajectory (trajectory_msgs/JointTrajectory's shape): `positions[k][i]`
+/// is joint `joint_names[i]` at `times[k]` seconds from the start.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct JointTrajectory {
+    pub joint_names: Vec<String>,
+    pub times: Vec<f64>,
+    pub positions: Vec<Vec<f64>>,
+}
+
+impl JointTrajectory {
+    /// Checks shape, finiteness and that time never runs backwards.
+    pub fn validate(&self) -> Result<(), DriverError> {
+        if self.times.len() != self.positions.len() {
+            return Err(DriverError::BadTrajectory(format!(
+                "{} times for {} points",
+                self.times.len(),
+                self.positions.len()
+            )));
+        }
+        for (k, p) in self.positions.iter().enumerate() {
+            if p.len() != self.joint_names.len() {
+                return Err(DriverError::BadTrajectory(format!(
+                    "point {k} has {} values for {} joints",
+                    p.len(),
+                    self.joint_names.len()
+                )));
+            }
+            if p.iter().any(|v| !v.is_finite()) {
+                return Err(DriverError::NonFinite);
+            }
+        }
+        if self.times.iter().any(|t| !t.is_finite()) {
+            return Err(DriverError::NonFinite);
+        }
+        if self.times.windows(2).any(|w| w[1] < w[0]) {
+            return Err(DriverError::BadTrajectory("time runs backwards".into()));
+        }
+        Ok(())
+    }
+
+    pub fn duration(&self) -> f64 {
+        self.times.last().copied().unwrap_or(0.0)
+    }
+
+    /// The positions at time `t`, linear between samples (clamped at the ends).
+    pub fn sample(&self, t: f64) -> Option<Vec<f64>> {
+        let last = self.positions.len().checked_sub(1)?;
+        let k = self.times.partition_point(|&x| x <= t);
+        if k == 0 {
+            return Some(self.positions[0].clone());
+        }
+        if k > last {
+            return Some(self.positions[last].clone());
+        }
+        let (t0, t1) = (self.times[k - 1], self.times[k]);
+        let s = if t1 > t0 { (t - t0) / (t1 - t0) } else { 1.0 };
+        Some(
+            self.positions[k - 1]
+                .iter()
+                .zip(&self.positions[k])
+                .map(|(a, b)| a + (b - a) * s)
+                .collect(),
+        )
+    }
+}
+
+/// One depth frame: an organized cloud in the camera's optical frame, where the camera
+/// was when it was taken, and when.
+#[derive(Debug, Clone)]
+pub struct CameraFrame {
+    pub cloud: PointCloud,
+    pub world_from_camera: Pose,
+    pub stamp: f64,
+}
+
+/// What a gripper reports after closing.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GripState {
+    /// Finger gap (m).
+    pub width: f64,
+    /// The fingers stopped on something before closing fully.
+    pub holding: bool,
+}
+
+/// Reads every joint of the robot, and where its root is in the world.
+pub trait JointStates {
+    fn joint_state(&self) -> Result<JointState, DriverError>;
+    /// `world_from_root` of the robot's URDF root (a mobile base's odometry origin).
+    fn world_from_root(&self) -> Result<Pose, DriverError>;
+}
+
+/// Depth cameras by name.
+pub trait Cameras {
+    fn capture(&mut self, camera: &str) -> Result<CameraFrame, DriverError>;
+}
+
+/// Position-controlled joints that follow timed trajectories.
+pub trait Arms {
+    fn execute(&mut self, trajectory: &JointTrajectory) -> Result<(), DriverError>;
+}
+
+/// Parallel grippers by name (as in the robot description).
+pub trait Grippers {
+    fn open(&mut self, gripper: &str) -> Result<(), DriverError>;
+    fn close(&mut self, gripper: &str) -> Result<GripState, DriverError>;
+}
+
+/// A pan/tilt head.
+pub trait HeadControl {
+    /// Turns the camera's optical axis towards `world_point`, moving under the joints'
+    /// limits; returns the angle left between axis and point (rad).
+    fn look_at(&mut self, world_point: Vec3) -> Result<f64, DriverError>;
+}
+
+/// A planar mobile base.
+pub trait BaseControl {
+    /// Drives to `(x, y, θ)` in the world; [`DriverError::Blocked`] if it had to stop.
+    fn drive_to(&mut self, x: f64, y: f64, theta: f64) -> Result<(), DriverError>;
+}
+
+/// Everything a task uses. Robots without a head or a base answer
+/// [`DriverError::Unsupported`].
+pub trait RobotDriver: JointStates + Cameras + Arms + Grippers + HeadControl + BaseControl {}
+
+impl<T: JointStates + Cameras + Arms + Grippers + HeadControl + BaseControl> RobotDriver for T {}

@@ -1,0 +1,196 @@
+//! The simulator behind the driver traits of `tabula_robot::driver`: one robot of a
+//! [`SimWorld`], driven the way a real one is — by joint trajectories, gripper commands,
+//! head and base goals — with cameras that capture where their link is now. The world
+//! stays reachable (`world`) for verdicts from ground truth; tasks never see it.
+
+use crate::camera::capture;
+use crate::world::{SimError, SimWorld};
+use tabula_geom::{Pose, Vec3};
+use tabula_robot::driver::{
+    Arms, BaseControl, CameraFrame, Cameras, DriverError, GripState, Grippers, HeadControl,
+    JointState, JointStates, JointTrajectory,
+};
+
+/// One simulated robot behind the driver traits.
+pub struct SimDriver {
+    pub world: SimWorld,
+    robot: String,
+    /// Seed of the camera noise; each capture uses the next one.
+    noise_seed: u64,
+    /// Called after every physics step of a command (e.g. to record a replay or watch
+    /// for contacts); gets the world after the step.
+    #[allow(clippy::type_complexity)]
+    observer: Option<Box<dyn FnMut(&SimWorld)>>,
+}
+
+impl From<SimError> for DriverError {
+    fn from(e: SimError) -> Self {
+        match e {
+            SimError::Blocked { by, .. } => DriverError::Blocked { by },
+            SimError::NonFinite => DriverError::NonFinite,
+            other => DriverError::Hardware(other.to_string()),
+        }
+    }
+}
+
+impl SimDriver {
+    /// Drives robot `robot` of `world`; camera noise starts from `noise_seed`.
+    pub fn new(world: SimWorld, robot: &str, noise_seed: u64) -> Result<Self, SimError> {
+        world.robot(robot)?;
+        Ok(Self {
+            world,
+            robot: robot.into(),
+            noise_seed,
+            observer: None,
+        })
+    }
+
+    /// The robot's name in the world.
+    pub fn robot_name(&self) -> &str {
+        &self.robot
+    }
+
+    /// Watches every physics step of the commands that follow.
+    pub fn observe(&mut self, observer: impl FnMut(&SimWorld) + 'static) {
+        self.observer = Some(Box::new(observer));
+    }
+
+    /// Runs `f` on the world, then lets the observer see it.
+    fn run<T>(
+        &mut self,
+        f: impl FnOnce(&mut SimWorld, &str) -> Result<T, SimError>,
+    ) -> Result<T, DriverError> {
+        let out = f(&mut self.world, &self.robot);
+        if let Some(obs) = &mut self.observer {
+            obs(&self.world);
+        }
+        Ok(out?)
+    }
+}
+
+impl JointStates for SimDriver {
+    fn joint_state(&self) -> Result<JointState, DriverError> {
+        let r = self.world.robot(&self.robot)?;
+        let mut state = JointState {
+            stamp: self.world.time(),
+            ..Default::default()
+        };
+        for (j, joint) in r.model.joints.iter().enumerate() {
+            if joint.kind.is_single_axis() {
+                state.names.push(joint.name.clone());
+                state.positions.push(r.model.joint_value(&r.values, j));
+            }
+        }
+        Ok(state)
+    }
+
+    fn world_from_root(&self) -> Result<Pose, DriverError> {
+        Ok(self.world.robot(&self.robot)?.world_from_root)
+    }
+}
+
+impl Cameras for SimDriver {
+    fn capture(&mut self, camera: &str) -> Result<CameraFrame, DriverError> {
+        let cam = self.world.camera(camera)?;
+        self.noise_seed = self.noise_seed.wrapping_add(1);
+        let frame = capture(&self.world, &cam, self.noise_seed);
+        Ok(CameraFrame {
+            cloud: frame.cloud,
+            world_from_camera: frame.world_from_camera,
+            stamp: self.world.time(),
+        })
+    }
+}
+
+impl Arms for SimDriver {
+    fn execute(&mut self, trajectory: &JointTrajectory) -> Result<(), DriverError> {
+        trajectory.validate()?;
+        if self.observer.is_none() {
+            return self.run(|w, r| w.follow_trajectory(r, trajectory).map(|_| ()));
+        }
+        // With an observer, step through the trajectory so it sees every step.
+        let dt = self.world.physics.integration_parameters.dt;
+        let mut t = 0.0;
+        let mut start = trajectory.positions.first().cloned().unwrap_or_default();
+        while t < trajectory.duration() {
+            let next = (t + dt).min(trajectory.duration());
+            let goal = trajectory.sample(next).unwrap_or_default();
+            let piece = JointTrajectory {
+                joint_names: trajectory.joint_names.clone(),
+                times: vec![0.0, next - t],
+                positions: vec![start, goal.clone()],
+            };
+            self.run(|w, r| w.follow_trajectory(r, &piece).map(|_| ()))?;
+            start = goal;
+            t = next;
+        }
+        Ok(())
+    }
+}
+
+impl Grippers for SimDriver {
+    fn open(&mut self, gripper: &str) -> Result<(), DriverError> {
+        let g = self.gripper(gripper)?;
+        self.run(|w, r| w.open_gripper(r, &g.finger_joint))
+    }
+
+    fn close(&mut self, gripper: &str) -> Result<GripState, DriverError> {
+        let g = self.gripper(gripper)?;
+        let held = self.run(|w, r| {
+            w.close_gripper(
+                r,
+                &g.finger_joint,
+                [g.fingers[0].as_str(), g.fingers[1].as_str()],
+                &g.palm,
+            )
+        })?;
+        let value = self.world.joint(&self.robot, &g.finger_joint)?;
+        let r = self.world.robot(&self.robot)?;
+        Ok(GripState {
+            width: g.width_at(&r.model, value),
+            holding: held.is_some(),
+        })
+    }
+}
+
+impl SimDriver {
+    fn gripper(&self, name: &str) -> Result<tabula_robot::description::Gripper, DriverError> {
+        let r = self.world.robot(&self.robot)?;
+        r.description
+            .grippers
+            .iter()
+            .find(|g| g.name == name)
+            .cloned()
+            .ok_or_else(|| DriverError::Hardware(format!("no gripper `{name}`")))
+    }
+}
+
+impl HeadControl for SimDriver {
+    fn look_at(&mut self, world_point: Vec3) -> Result<f64, DriverError> {
+        let head = self
+            .world
+            .robot(&self.robot)?
+            .description
+            .head
+            .clone()
+            .ok_or(DriverError::Unsupported("head"))?;
+        self.run(|w, r| {
+            w.look_at(
+                r,
+                &head.pan_joint,
+                &head.tilt_joint,
+                &head.camera_link,
+                world_point,
+            )
+        })
+    }
+}
+
+impl BaseControl for SimDriver {
+    fn drive_to(&mut self, x: f64, y: f64, theta: f64) -> Result<(), DriverError> {
+        if self.world.robot(&self.robot)?.description.base.is_none() {
+            return Err(DriverError::Unsupported("mobile base"));
+        }
+        self.run(|w, r| w.drive_base(r, x, y, theta))
+    }
+}
