@@ -7,6 +7,7 @@ mod motion;
 mod perceive;
 mod plan;
 mod sim;
+mod tasks;
 
 use clap::{Parser, Subcommand};
 
@@ -37,6 +38,9 @@ enum Command {
         #[command(subcommand)]
         command: motion::MotionCommand,
     },
+    /// Pick an object at given coordinates and place it at others (seed 001's integral
+    /// test), in the simulator, judged by its physics.
+    PickPlace(tasks::PickPlaceArgs),
     /// Perception: surfaces, the table, its objects and free space in a PCD/PLY frame.
     Perceive(perceive::PerceiveArgs),
     /// Task planning in PDDL: plan, validate, benchmark (Fast Downward's role).
@@ -64,6 +68,7 @@ fn main() {
         Command::Plan(args) => plan::run(args),
         Command::Motion { command } => motion::run(command),
         Command::Perceive(args) => perceive::run(args),
+        Command::PickPlace(args) => tasks::run(args),
         Command::Sim { command } => sim::run(command),
     };
     if let Err(e) = result {

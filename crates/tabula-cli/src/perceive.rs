@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 use tabula_geom::{PointCloud, Pose, Quat, Vec2, Vec3};
 use tabula_perception::freespace::{Cell, FreeSpaceMap, FreeSpaceParams, Placement};
-use tabula_perception::selffilter::{PlacedSolid, SelfFilterParams, Solid, self_filter};
+use tabula_perception::selffilter::{PlacedSolid, SelfFilterParams, self_filter};
 use tabula_perception::surfaces::find_surfaces;
 use tabula_perception::tabletop::Tabletop;
 use tabula_perception::{TabletopParams, extract, read_pcd, read_ply, to_world};
@@ -67,12 +67,13 @@ pub fn read_cloud(path: &Path) -> Result<PointCloud> {
     cloud.with_context(|| format!("{}", path.display()))
 }
 
-/// The robot's collision shapes placed by forward kinematics.
+/// The robot's collision shapes placed by forward kinematics. Joints not given on the
+/// command line are at mid-range, where the simulator starts them, so a scene's
+/// `joints` table copied here describes the same robot.
 fn robot_solids(name: &str, world_from_base: Pose, joints: &[String]) -> Result<Vec<PlacedSolid>> {
-    use tabula_robot::model::Geometry;
     let robot = tabula_robot::robots::load(name)?;
     let model = &robot.model;
-    let mut values = vec![0.0; model.joints.len()];
+    let mut values = model.mid_configuration();
     for j in joints {
         let (n, v) = j
             .split_once('=')
@@ -84,40 +85,11 @@ fn robot_solids(name: &str, world_from_base: Pose, joints: &[String]) -> Result<
             .parse()
             .with_context(|| format!("--joint `{j}`: bad value"))?;
     }
-    let root_from_link = model.forward_kinematics(&values)?;
-    let mut out = Vec::new();
-    for (l, link) in model.links.iter().enumerate() {
-        for shape in &link.collision {
-            let world_from_solid = world_from_base * root_from_link[l] * shape.link_from_shape;
-            let solid = match &shape.geometry {
-                Geometry::Box { half_extents } => Solid::Box {
-                    half_extents: *half_extents,
-                },
-                Geometry::Sphere { radius } => Solid::Sphere { radius: *radius },
-                Geometry::Cylinder { radius, length } => Solid::Cylinder {
-                    radius: *radius,
-                    half_length: length / 2.0,
-                },
-                Geometry::Capsule { radius, length } => Solid::Capsule {
-                    radius: *radius,
-                    half_length: length / 2.0,
-                },
-                Geometry::Mesh { path, scale } => {
-                    let (pts, _) = tabula_geom::mesh::load_mesh(path, scale.to_array())
-                        .with_context(|| format!("{}", path.display()))?;
-                    match Solid::convex_hull(&pts) {
-                        Some(s) => s,
-                        None => continue,
-                    }
-                }
-            };
-            out.push(PlacedSolid {
-                world_from_solid,
-                solid,
-            });
-        }
-    }
-    Ok(out)
+    Ok(tabula_tasks::observe::robot_solids(
+        model,
+        &values,
+        world_from_base,
+    ))
 }
 
 pub fn run(a: PerceiveArgs) -> Result<()> {

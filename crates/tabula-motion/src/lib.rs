@@ -4,10 +4,12 @@
 
 pub mod bench;
 pub mod goals;
+pub mod group;
 pub mod rrt;
 pub mod world;
 
 pub use goals::{cartesian_path, pose_goals};
+pub use group::{MoveError, MoveGroup, MoveGroupParams, Plan};
 pub use rrt::{
     Path, PlanError, PlannerParams, Trajectory, rrt_connect, segment_valid, time_parameterize,
 };

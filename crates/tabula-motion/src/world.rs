@@ -140,28 +140,47 @@ struct Anchor {
     offset: Pose,
 }
 
+/// Per link: does a chain joint (or a joint mimicking one) lie on its path to the root?
+fn moving_links(model: &RobotModel, chain: &Chain) -> Vec<bool> {
+    let chain_joints: HashSet<usize> = chain.joint_indices.iter().copied().collect();
+    (0..model.links.len())
+        .map(|mut l| {
+            while let Some(j) = model.links[l].parent_joint {
+                if chain_joints.contains(&j)
+                    || model.joints[j]
+                        .mimic
+                        .as_ref()
+                        .is_some_and(|m| chain_joints.contains(&m.master))
+                {
+                    return true;
+                }
+                l = model.joints[j].parent;
+            }
+            false
+        })
+        .collect()
+}
+
+/// Distance bounds from each joint to the tip, plus the largest shape beyond it (a
+/// gripper, a held object) as a margin; tightened once anchors are known.
+fn coarse_motion_radius(chain: &Chain) -> Vec<f64> {
+    let largest_shape = 0.3;
+    let mut motion_radius = vec![0.0; chain.dof()];
+    let mut tail = chain.tip_offset.translation.length() + largest_shape;
+    for e in chain.elements.iter().rev() {
+        motion_radius[e.var] = f64::max(motion_radius[e.var], tail * e.multiplier.abs());
+        tail += e.pre.translation.length();
+        if e.prismatic {
+            motion_radius[e.var] = motion_radius[e.var].max(e.multiplier.abs());
+        }
+    }
+    motion_radius
+}
+
+/// A link shape for planning: meshes as their convex hull (conservative); an
+/// unreadable mesh leaves the link without that shape.
 fn shape_of(g: &Geometry) -> Option<(SharedShape, Pose)> {
-    // parry's cylinders stand along y, URDF's along z.
-    let y_to_z = Pose::from_rotation(Quat::from_rotation_x(std::f64::consts::FRAC_PI_2));
-    Some(match g {
-        Geometry::Box { half_extents } => (
-            SharedShape::cuboid(half_extents.x, half_extents.y, half_extents.z),
-            Pose::IDENTITY,
-        ),
-        Geometry::Cylinder { radius, length } => {
-            (SharedShape::cylinder(length / 2.0, *radius), y_to_z)
-        }
-        Geometry::Capsule { radius, length } => (
-            SharedShape::capsule_z(length / 2.0, *radius),
-            Pose::IDENTITY,
-        ),
-        Geometry::Sphere { radius } => (SharedShape::ball(*radius), Pose::IDENTITY),
-        // A mesh becomes its convex hull (conservative for planning); unreadable → none.
-        Geometry::Mesh { path, scale } => {
-            let (points, _) = tabula_geom::mesh::load_mesh(path, scale.to_array()).ok()?;
-            (SharedShape::convex_hull(&points)?, Pose::IDENTITY)
-        }
-    })
+    g.collision_shape(false).ok()
 }
 
 impl CollisionWorld {
@@ -182,22 +201,7 @@ impl CollisionWorld {
                 got: values.len(),
             });
         }
-        // A link moves if a chain joint is on its path to the root.
-        let chain_joints: HashSet<usize> = chain.joint_indices.iter().copied().collect();
-        let moves = |mut l: usize| {
-            while let Some(j) = model.links[l].parent_joint {
-                if chain_joints.contains(&j)
-                    || model.joints[j]
-                        .mimic
-                        .as_ref()
-                        .is_some_and(|m| chain_joints.contains(&m.master))
-                {
-                    return true;
-                }
-                l = model.joints[j].parent;
-            }
-            false
-        };
+        let moves = moving_links(&model, &chain);
         let mut bodies = Vec::new();
         for (li, link) in model.links.iter().enumerate() {
             let shapes: Vec<(SharedShape, Pose)> = link
@@ -217,22 +221,11 @@ impl CollisionWorld {
                         .unwrap_or(params.padding),
                     name: link.name.clone(),
                     shapes,
-                    moving: moves(li),
+                    moving: moves[li],
                 });
             }
         }
-        // Distance bounds from each joint to the tip, plus the largest shape beyond it
-        // (a gripper, a held object) as a margin.
-        let largest_shape = 0.3;
-        let mut motion_radius = vec![0.0; chain.dof()];
-        let mut tail = chain.tip_offset.translation.length() + largest_shape;
-        for e in chain.elements.iter().rev() {
-            motion_radius[e.var] = f64::max(motion_radius[e.var], tail * e.multiplier.abs());
-            tail += e.pre.translation.length();
-            if e.prismatic {
-                motion_radius[e.var] = motion_radius[e.var].max(e.multiplier.abs());
-            }
-        }
+        let motion_radius = coarse_motion_radius(&chain);
         let mut world = Self {
             anchors: Vec::new(),
             element_joints: None,
@@ -255,6 +248,49 @@ impl CollisionWorld {
         world.rebuild_allowed_matrix();
         world.compute_anchors()?;
         Ok(world)
+    }
+
+    /// The same robot, objects, attached objects and allowed collisions for another
+    /// chain of the robot (the other arm), other values of the joints outside the chain
+    /// (all joints, model order) or another root pose: only the sampled allowed-collision
+    /// matrix is costly, and it depends on none of these.
+    pub fn rebased(
+        &self,
+        chain: Chain,
+        values: Vec<f64>,
+        world_from_root: Pose,
+    ) -> Result<Self, WorldError> {
+        if values.len() != self.model.joints.len() {
+            return Err(WorldError::WrongLength {
+                expected: self.model.joints.len(),
+                got: values.len(),
+            });
+        }
+        if values.iter().any(|v| !v.is_finite()) || !tabula_geom::pose_is_finite(&world_from_root) {
+            return Err(WorldError::NonFinite);
+        }
+        let mut w = self.clone();
+        let moves = moving_links(&w.model, &chain);
+        for b in &mut w.bodies {
+            b.moving = moves[b.link];
+        }
+        w.motion_radius = coarse_motion_radius(&chain);
+        w.chain = chain;
+        w.values = values;
+        w.world_from_root = world_from_root;
+        w.element_joints = None;
+        w.compute_anchors()?;
+        Ok(w)
+    }
+
+    /// Values of every joint (model order) used for the joints outside the chain.
+    pub fn values(&self) -> &[f64] {
+        &self.values
+    }
+
+    /// Names of the world objects.
+    pub fn object_names(&self) -> Vec<String> {
+        self.objects.iter().map(|o| o.name.clone()).collect()
     }
 
     fn rebuild_allowed_matrix(&mut self) {

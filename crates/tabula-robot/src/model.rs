@@ -108,6 +108,55 @@ pub enum Geometry {
     },
 }
 
+impl Geometry {
+    /// The vertices of a mesh geometry, scaled; `None` for primitives and unreadable
+    /// files.
+    pub fn hull_points(&self) -> Option<Vec<Vec3>> {
+        match self {
+            Geometry::Mesh { path, scale } => tabula_geom::mesh::load_mesh(path, scale.to_array())
+                .ok()
+                .map(|(p, _)| p),
+            _ => None,
+        }
+    }
+
+    /// The one URDF-geometry → collision-shape path (simulator, planner and tools all
+    /// use it): the parry shape and its pose in the URDF shape frame (parry's cylinders
+    /// stand along y, URDF's along z). Meshes become solids by
+    /// [`tabula_geom::mesh::mesh_shape`]; a missing or broken mesh is an error the caller
+    /// reports or skips.
+    pub fn collision_shape(
+        &self,
+        decompose: bool,
+    ) -> Result<(tabula_geom::parry::shape::SharedShape, Pose), String> {
+        use tabula_geom::parry::shape::SharedShape;
+        let y_to_z = Pose::from_rotation(tabula_geom::Quat::from_rotation_x(
+            std::f64::consts::FRAC_PI_2,
+        ));
+        Ok(match self {
+            Geometry::Box { half_extents } => (
+                SharedShape::cuboid(half_extents.x, half_extents.y, half_extents.z),
+                Pose::IDENTITY,
+            ),
+            Geometry::Cylinder { radius, length } => {
+                (SharedShape::cylinder(length / 2.0, *radius), y_to_z)
+            }
+            Geometry::Capsule { radius, length } => (
+                SharedShape::capsule_z(length / 2.0, *radius),
+                Pose::IDENTITY,
+            ),
+            Geometry::Sphere { radius } => (SharedShape::ball(*radius), Pose::IDENTITY),
+            Geometry::Mesh { path, scale } => {
+                let (points, triangles) = tabula_geom::mesh::load_mesh(path, scale.to_array())
+                    .map_err(|e| e.to_string())?;
+                let shape = tabula_geom::mesh::mesh_shape(&points, &triangles, decompose)
+                    .map_err(|m| format!("mesh `{}`: {m}", path.display()))?;
+                (shape, Pose::IDENTITY)
+            }
+        })
+    }
+}
+
 /// A placed shape on a link.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Shape {

@@ -28,7 +28,8 @@ pub struct NamedRobot {
 }
 
 impl NamedRobot {
-    fn new(model: RobotModel, description: RobotDescription, label: &str) -> Self {
+    /// A robot from its model and description.
+    pub fn new(model: RobotModel, description: RobotDescription, label: &str) -> Self {
         let (default_base, default_tip) = description
             .arms
             .first()

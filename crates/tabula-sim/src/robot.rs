@@ -463,6 +463,31 @@ impl SimWorld {
             let p = cam.inverse_transform_point(point);
             Ok((p.x.atan2(p.z), p.y.atan2(p.z), p.angle_between(Vec3::Z)))
         };
+        // Gauss–Newton only converges from a guess that sees the point in front of the
+        // camera: start from the best of a coarse grid over both joints' ranges.
+        let range = |w: &SimWorld, joint: &str| -> Result<(f64, f64), SimError> {
+            let j = w.joint_index(ri, joint)?;
+            let l = w.robots[ri].model.joints[j].limits;
+            Ok(if l.lower.is_finite() && l.upper.is_finite() {
+                (l.lower, l.upper)
+            } else {
+                (-std::f64::consts::PI, std::f64::consts::PI)
+            })
+        };
+        let (pan_range, tilt_range) = (range(self, pan)?, range(self, tilt)?);
+        let mut best = (f64::INFINITY, 0.0, 0.0);
+        for i in 0..=24 {
+            let p = pan_range.0 + (pan_range.1 - pan_range.0) * i as f64 / 24.0;
+            for k in 0..=12 {
+                let t = tilt_range.0 + (tilt_range.1 - tilt_range.0) * k as f64 / 12.0;
+                self.write_joints(ri, &[(pan, p), (tilt, t)])?;
+                let angle = offset(self)?.2;
+                if angle < best.0 {
+                    best = (angle, p, t);
+                }
+            }
+        }
+        self.write_joints(ri, &[(pan, best.1), (tilt, best.2)])?;
         for _ in 0..20 {
             let (ex, ey, angle) = offset(self)?;
             if angle < 1e-6 {

@@ -4,12 +4,12 @@
 //! toml's own line and column; semantic errors (a negative size, an unknown robot) are
 //! located at the entry's `name` key.
 
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 use std::path::Path;
 use toml::Spanned;
 
 /// A pose in the world: position (m) and URDF roll-pitch-yaw (rad).
-#[derive(Debug, Clone, Copy, Default, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Copy, Default, Deserialize, Serialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct PoseSpec {
     #[serde(default)]
@@ -20,7 +20,7 @@ pub struct PoseSpec {
 
 /// The shape of an object, in its own frame (cylinders, cones and capsules along z,
 /// centred on the origin).
-#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
 #[serde(rename_all = "snake_case", deny_unknown_fields)]
 pub enum ShapeSpec {
     /// Full edge lengths x y z (m).
@@ -54,7 +54,7 @@ fn unit_scale() -> [f64; 3] {
 }
 
 /// A movable object.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct ObjectSpec {
     pub name: Spanned<String>,
@@ -80,7 +80,7 @@ fn default_object_color() -> [f64; 3] {
 }
 
 /// Kinds of furniture, built from boxes, cylinders and wedges; all fixed.
-#[derive(Debug, Clone, Copy, Deserialize, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, Deserialize, Serialize, PartialEq, Eq)]
 #[serde(rename_all = "snake_case")]
 pub enum FurnitureKind {
     Table,
@@ -97,7 +97,7 @@ pub enum FurnitureKind {
 }
 
 /// A piece of furniture.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct FurnitureSpec {
     pub name: Spanned<String>,
@@ -116,7 +116,7 @@ pub struct FurnitureSpec {
 }
 
 /// A robot from a URDF at a base pose with initial joint values.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct RobotSpec {
     pub name: Spanned<String>,
@@ -131,7 +131,7 @@ pub struct RobotSpec {
 }
 
 /// A held object: placed at `tool_link` and gripped by closing `finger_joint`.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct HoldSpec {
     pub object: String,
@@ -145,7 +145,7 @@ pub struct HoldSpec {
 }
 
 /// Where a camera looks from.
-#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct LookAt {
     pub eye: [f64; 3],
@@ -153,7 +153,7 @@ pub struct LookAt {
 }
 
 /// A depth camera (Kinect-like defaults, SPEC §5).
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct CameraSpec {
     pub name: Spanned<String>,
@@ -205,7 +205,7 @@ fn default_noise() -> f64 {
 }
 
 /// The floor: a horizontal slab whose top is z = 0.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct FloorSpec {
     #[serde(default = "default_floor")]
@@ -222,7 +222,7 @@ fn default_floor_color() -> [f64; 3] {
 }
 
 /// A whole scene file.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Default, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct Scene {
     pub floor: Option<FloorSpec>,
@@ -259,6 +259,11 @@ fn line_of(text: &str, byte: usize) -> usize {
 }
 
 impl Scene {
+    /// The scene as TOML text that [`Scene::parse`] reads back.
+    pub fn to_toml(&self) -> Result<String, String> {
+        toml::to_string(self).map_err(|e| e.to_string())
+    }
+
     /// Reads and checks a scene file.
     pub fn load(path: &Path) -> Result<Self, SceneError> {
         let text = std::fs::read_to_string(path).map_err(|e| SceneError {
@@ -470,7 +475,7 @@ impl Scene {
 }
 
 /// Just a spanned name, for entries made by code rather than read from a file.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, Serialize)]
 pub struct NameOnly {
     pub name: Spanned<String>,
 }

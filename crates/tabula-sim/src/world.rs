@@ -7,7 +7,6 @@ use std::f64::consts::FRAC_PI_2;
 use std::path::Path;
 use tabula_geom::mesh::load_mesh;
 use tabula_geom::{Pose, Quat, Vec3, pose_from_xyz_rpy, rotation_angle_between};
-use tabula_robot::model::Geometry;
 
 /// What an entity is.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -156,6 +155,9 @@ pub struct SimWorld {
     pub cameras: Vec<crate::scene::CameraSpec>,
     /// Physics steps taken since the world was built: the simulator's clock.
     pub steps: u64,
+    /// The specs the world was built from, kept up to date with spawned and deleted
+    /// objects, so the world can be written back as a scene ([`Self::to_scene`]).
+    source: Scene,
     base_dir: Option<std::path::PathBuf>,
 }
 
@@ -168,41 +170,15 @@ fn y_to_z() -> Pose {
     Pose::from_rotation(Quat::from_rotation_x(FRAC_PI_2))
 }
 
-/// Enclosed volume of a triangle mesh (divergence theorem; orientation-consistent meshes).
-fn mesh_volume(points: &[Vec3], triangles: &[[u32; 3]]) -> f64 {
-    triangles
-        .iter()
-        .map(|t| {
-            points[t[0] as usize].dot(points[t[1] as usize].cross(points[t[2] as usize])) / 6.0
-        })
-        .sum::<f64>()
-        .abs()
-}
-
-/// The collision shape of a mesh: its convex hull when the mesh is (nearly) convex, a
-/// convex decomposition (V-HACD) when it is not, so a cup's hollow stays hollow and a
-/// concave body cannot tunnel as a dynamic trimesh would.
+/// A mesh file's solid shape (see [`tabula_geom::mesh::mesh_shape`]).
 fn mesh_shape(
     path: &Path,
     points: &[Vec3],
     triangles: &[[u32; 3]],
 ) -> Result<SharedShape, SimError> {
-    let hull = SharedShape::convex_hull(points).ok_or_else(|| SimError::Mesh {
+    tabula_geom::mesh::mesh_shape(points, triangles, true).map_err(|message| SimError::Mesh {
         path: path.display().to_string(),
-        message: "degenerate (flat or collinear) vertices: no convex hull".into(),
-    })?;
-    let hull_volume = hull.mass_properties(1.0).mass();
-    let volume = mesh_volume(points, triangles);
-    if triangles.is_empty() || volume >= 0.95 * hull_volume {
-        return Ok(hull);
-    }
-    // V-HACD is third-party code on arbitrary input: a panic there is a mesh error.
-    let (pts, tris) = (points.to_vec(), triangles.to_vec());
-    std::panic::catch_unwind(move || SharedShape::convex_decomposition(&pts, &tris)).map_err(|_| {
-        SimError::Mesh {
-            path: path.display().to_string(),
-            message: "convex decomposition failed".into(),
-        }
+        message,
     })
 }
 
@@ -222,6 +198,7 @@ impl SimWorld {
             attachments: Vec::new(),
             cameras: Vec::new(),
             steps: 0,
+            source: Scene::default(),
             base_dir: None,
         }
     }
@@ -243,6 +220,7 @@ impl SimWorld {
             w.add_robot(r)?;
         }
         w.cameras = scene.cameras.clone();
+        w.source = scene.clone();
         for r in &scene.robots {
             if let Some(h) = &r.hold {
                 let robot = r.name.get_ref();
@@ -587,35 +565,11 @@ impl SimWorld {
         for (li, link) in model.links.iter().enumerate() {
             let mut colliders = Vec::new();
             for s in &link.collision {
-                let shape = match &s.geometry {
-                    Geometry::Box { half_extents } => {
-                        SharedShape::cuboid(half_extents.x, half_extents.y, half_extents.z)
-                    }
-                    Geometry::Cylinder { radius, length } => {
-                        colliders.push((
-                            SharedShape::cylinder(length / 2.0, *radius),
-                            s.link_from_shape * y_to_z(),
-                        ));
-                        continue;
-                    }
-                    Geometry::Capsule { radius, length } => {
-                        SharedShape::capsule_z(length / 2.0, *radius)
-                    }
-                    Geometry::Sphere { radius } => SharedShape::ball(*radius),
-                    // A robot whose mesh files are missing or broken still loads,
-                    // without that shape.
-                    Geometry::Mesh { path, scale } => match load_mesh(path, scale.to_array())
-                        .map_err(|e| SimError::Mesh {
-                            path: e.path,
-                            message: e.message,
-                        })
-                        .and_then(|(p, t)| mesh_shape(path, &p, &t))
-                    {
-                        Ok(shape) => shape,
-                        Err(_) => continue,
-                    },
-                };
-                colliders.push((shape, s.link_from_shape));
+                // A robot whose mesh files are missing or broken still loads, without
+                // that shape.
+                if let Ok((shape, local)) = s.geometry.collision_shape(true) {
+                    colliders.push((shape, s.link_from_shape * local));
+                }
             }
             if colliders.is_empty() {
                 continue;
@@ -799,7 +753,7 @@ impl SimWorld {
         let text = format!("name = \"{}\"", name.replace('"', ""));
         let spanned_name: crate::scene::NameOnly =
             toml::from_str(&text).map_err(|_| SimError::UnknownEntity(name.into()))?;
-        self.add_object(&ObjectSpec {
+        let spec = ObjectSpec {
             name: spanned_name.name,
             shape,
             pose: PoseSpec { xyz, rpy: [0.0; 3] },
@@ -807,7 +761,10 @@ impl SimWorld {
             density: None,
             friction: 0.8,
             color: [0.3, 0.5, 0.8],
-        })
+        };
+        self.add_object(&spec)?;
+        self.source.objects.push(spec);
+        Ok(())
     }
 
     /// Moves an object (teleport, velocities zeroed).
@@ -885,7 +842,68 @@ impl SimWorld {
         // Keep labels stable: the slot stays, renamed, with no body left.
         self.entities[i].name = format!("__deleted_{}", e.name);
         self.entities[i].deleted = true;
+        self.source.objects.retain(|o| o.name.get_ref() != name);
+        self.source.furniture.retain(|f| f.name.get_ref() != name);
         Ok(())
+    }
+
+    /// The world now as a scene: objects where they are, robots at their joint values,
+    /// mesh paths made absolute so the file loads from wherever it is written.
+    pub fn to_scene(&self) -> Scene {
+        let mut scene = self.source.clone();
+        let absolute = |path: &mut String| {
+            if let Some(d) = &self.base_dir
+                && Path::new(path.as_str()).is_relative()
+            {
+                let full = d.join(path.as_str());
+                *path = std::fs::canonicalize(&full)
+                    .unwrap_or(full)
+                    .display()
+                    .to_string();
+            }
+        };
+        let pose_spec = |p: Pose| PoseSpec {
+            xyz: p.translation.to_array(),
+            rpy: tabula_geom::rpy_from_quat(p.rotation),
+        };
+        for o in &mut scene.objects {
+            if let Ok(p) = self.pose(o.name.get_ref()) {
+                o.pose = pose_spec(p);
+            }
+            if let ShapeSpec::Mesh { path, .. } = &mut o.shape {
+                absolute(path);
+            }
+        }
+        for r in &mut scene.robots {
+            if let Ok(placed) = self.robot(r.name.get_ref()) {
+                r.joints = placed
+                    .model
+                    .joints
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, j)| j.kind.is_single_axis() && j.mimic.is_none())
+                    .map(|(i, j)| (j.name.clone(), placed.values[i]))
+                    .collect();
+                r.pose = pose_spec(placed.world_from_root);
+                let held = self.held_objects(placed.name.as_str());
+                if let Some(h) = &mut r.hold {
+                    if held.contains(&h.object) {
+                        let tool = self.link_pose(&placed.name, &h.tool_link);
+                        let object = self.pose(&h.object);
+                        if let (Ok(t), Ok(o)) = (tool, object) {
+                            h.tool_from_object = Some(pose_spec(t.inverse() * o));
+                        }
+                    } else {
+                        r.hold = None;
+                    }
+                }
+            }
+            if Path::new(&r.urdf).extension().is_some() {
+                absolute(&mut r.urdf);
+            }
+        }
+        scene.base_dir = None;
+        scene
     }
 
     /// Names of the entities of one kind (`None` = all).

@@ -1,0 +1,11 @@
+//! tabula's task layer: the jobs users came for, written against the driver traits of
+//! `tabula_robot::driver` only — the simulator, a zenoh bridge or a real robot are the
+//! same to them.
+//!
+//! * [`pick_place`]: pick an object at given coordinates and place it at others (seed
+//!   001's integral test, SPEC §2.5), either arm.
+//! * [`observe`]: what the robot sees — its own body filtered out, the object and the
+//!   surface near a position, the occupancy that becomes the collision world.
+
+pub mod observe;
+pub mod pick_place;

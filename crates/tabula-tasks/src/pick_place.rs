@@ -1,0 +1,972 @@
+//! Pick and place by coordinates — seed 001's integral test (SPEC §2.5): given the
+//! approximate world position of an object and a target position, look at both with
+//! the head camera, find the object and the surfaces, choose an arm and a grasp (side
+//! or top; shelf boards leave only side grasps), plan every motion — approach, grasp,
+//! lift, retreat, transfer, place, release, retreat, home — without touching anything
+//! but the object, then execute it through the driver.
+//!
+//! The shape follows MoveIt Task Constructor's pick/place: the grasp generator proposes
+//! candidates, each candidate is planned stage by stage, the first that plans whole is
+//! executed, and every stage reports its time and, on failure, why.
+
+use crate::observe::{
+    ObserveError, ObserveParams, SeenObject, Support, object_near, robot_solids, support_under,
+    voxel_keys, world_points,
+};
+use std::time::Instant;
+use tabula_geom::{Mat3, Pose, Quat, Vec2, Vec3};
+use tabula_motion::group::thread_cpu;
+use tabula_motion::{CollisionWorld, MoveError, MoveGroup, MoveGroupParams, Plan};
+use tabula_robot::driver::{DriverError, RobotDriver};
+use tabula_robot::robots::NamedRobot;
+
+/// Parameters of pick and place (SPEC §3.2 and §6 where the seeds give a number).
+#[derive(Debug, Clone, serde::Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct PickPlaceParams {
+    pub observe: ObserveParams,
+    pub motion: MoveGroupParams,
+    /// Camera used to look (the robot's head camera in the scene).
+    pub camera: String,
+    /// Pre-grasp distance back along the approach (m), SPEC §3.2: 10 cm.
+    pub pregrasp_distance: f64,
+    /// Lift after closing (m): enough to clear the board, not to hit the one above.
+    pub lift: f64,
+    /// Retreat out of the shelf along the approach after lifting (m).
+    pub retreat: f64,
+    /// Height of the object's bottom above the surface when released (m), SPEC §6: 8 mm.
+    pub release_height: f64,
+    /// Distance of the pre-place pose back along the approach (m), SPEC §6: 0.1 m min.
+    pub place_approach: f64,
+    /// Retreat after opening (m), SPEC §6: 0.1 m min.
+    pub place_retreat: f64,
+    /// Room left between each open finger and the object (m).
+    pub finger_clearance: f64,
+    /// The tool point stays at least this far above the support (m): the fingertips
+    /// must not scrape the board.
+    pub min_grasp_height: f64,
+    /// Approach yaws tried within ± this of the direction from the arm to the object
+    /// (rad) …
+    pub yaw_range: f64,
+    /// … this far apart (rad): narrow arms such as Golem-III's reach a level grasp
+    /// only in narrow bands of yaw.
+    pub yaw_step: f64,
+    /// Downward tilts of a side grasp's approach (rad): lower boards need some.
+    pub side_tilts: Vec<f64>,
+    /// Grasps (and, per grasp, placements) planned at most, best first.
+    pub max_planned_grasps: usize,
+    /// Straight lines into and out of a grasp or a placement may also rise by these
+    /// (m): an arm whose level lines are short still gets in and out.
+    pub rise_offsets: Vec<f64>,
+    /// Margin around the object's footprint that must be free at the target (m).
+    pub place_margin: f64,
+}
+
+impl Default for PickPlaceParams {
+    fn default() -> Self {
+        Self {
+            observe: ObserveParams::default(),
+            motion: MoveGroupParams {
+                cartesian_tolerance: 0.01,
+                ..MoveGroupParams::default()
+            },
+            camera: "head".into(),
+            pregrasp_distance: 0.10,
+            lift: 0.04,
+            retreat: 0.15,
+            release_height: 0.008,
+            place_approach: 0.10,
+            place_retreat: 0.10,
+            finger_clearance: 0.01,
+            min_grasp_height: 0.035,
+            yaw_range: 1.5,
+            yaw_step: 0.05,
+            side_tilts: vec![0.0, 0.2, 0.4],
+            max_planned_grasps: 8,
+            rise_offsets: vec![0.0, 0.03, 0.06, 0.09, 0.12],
+            place_margin: 0.01,
+        }
+    }
+}
+
+/// What to do: an arm (`None`: whichever can), where the object is, where it goes —
+/// both approximate world positions (the object's centre; the surfaces are found
+/// under them).
+#[derive(Debug, Clone)]
+pub struct PickPlaceRequest {
+    pub arm: Option<String>,
+    pub pick: Vec3,
+    pub place: Vec3,
+}
+
+/// How an object is grasped.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum GraspKind {
+    /// Approach horizontal, fingers closing horizontally.
+    Side,
+    /// Approach from above.
+    Top,
+}
+
+/// Why a pick and place failed (typed, for `--json`'s `error`).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum PickPlaceError {
+    #[error("the object was not found: {0}")]
+    ObjectNotFound(String),
+    #[error("no surface at the target: {0}")]
+    NoSurface(String),
+    #[error("the target is occupied")]
+    TargetOccupied,
+    #[error("the object ({0:.3} m across) is wider than the gripper opens")]
+    TooWide(f64),
+    #[error("unreachable: no arm reaches a grasp and a placement")]
+    Unreachable,
+    #[error("no collision-free path: {0}")]
+    NoPath(String),
+    #[error("grasp slipped: the gripper closed on nothing")]
+    GraspSlipped,
+    #[error("robot: {0}")]
+    Driver(String),
+}
+
+impl PickPlaceError {
+    /// The short type name in JSON (`unreachable`, `no collision-free path`, …).
+    pub fn kind(&self) -> &'static str {
+        match self {
+            Self::ObjectNotFound(_) => "object not found",
+            Self::NoSurface(_) => "no surface",
+            Self::TargetOccupied => "target occupied",
+            Self::TooWide(_) => "too wide",
+            Self::Unreachable => "unreachable",
+            Self::NoPath(_) => "no collision-free path",
+            Self::GraspSlipped => "grasp slipped",
+            Self::Driver(_) => "driver",
+        }
+    }
+}
+
+impl From<DriverError> for PickPlaceError {
+    fn from(e: DriverError) -> Self {
+        Self::Driver(e.to_string())
+    }
+}
+
+/// One stage: its name, how long it took (planning stages: CPU ms; execution stages:
+/// wall-clock ms), whether it succeeded.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct Phase {
+    pub name: String,
+    pub ms: f64,
+    pub ok: bool,
+}
+
+/// The object as perceived.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct ObjectReport {
+    /// Footprint centre at the object's bottom (world).
+    pub position: [f64; 3],
+    /// Footprint sides and height (m).
+    pub size: [f64; 3],
+    pub points: usize,
+}
+
+/// What a pick and place did.
+#[derive(Debug, Clone, Default, serde::Serialize)]
+pub struct PickPlaceReport {
+    pub arm: Option<String>,
+    pub grasp: Option<GraspKind>,
+    pub object: Option<ObjectReport>,
+    /// Height of the target surface (m).
+    pub target_surface: Option<f64>,
+    /// Where the object's bottom centre was planned to be released (world).
+    pub planned_object_position: Option<[f64; 3]>,
+    pub phases: Vec<Phase>,
+    /// CPU ms from the first frame to the last motion plan (perceive → grasp choice →
+    /// every plan), not counting the one-off allowed-collision sampling.
+    pub decision_cpu_ms: f64,
+    /// Grasp candidates planned before one planned whole.
+    pub candidates_tried: usize,
+    /// Why each rejected candidate failed (arm, grasp, stage, reason), as MoveIt Task
+    /// Constructor's stages explain their failures.
+    pub rejected: Vec<String>,
+    /// Every motion executed, in order (for replays and checks).
+    #[serde(skip)]
+    pub trajectories: Vec<tabula_robot::driver::JointTrajectory>,
+}
+
+/// A pick and place's report and, when it failed, why.
+#[derive(Debug, Clone)]
+pub struct PickPlaceOutcome {
+    pub report: PickPlaceReport,
+    pub error: Option<PickPlaceError>,
+}
+
+/// A grasp: where the tool goes and how it holds the object.
+#[derive(Debug, Clone, Copy)]
+struct Grasp {
+    kind: GraspKind,
+    world_from_tool: Pose,
+    /// Approach direction (world, unit).
+    approach: Vec3,
+}
+
+/// Everything planned for one candidate, in execution order.
+struct Sequence {
+    to_pregrasp: Plan,
+    approach: Plan,
+    lift: Plan,
+    retreat: Plan,
+    transfer: Plan,
+    place: Plan,
+    release_retreat: Plan,
+    home: Plan,
+    planned_object: Pose,
+}
+
+/// Rotation taking the gripper's own approach/closing axes (tool frame) onto world
+/// directions `approach` and `closing` (orthonormal).
+fn tool_rotation(tool_approach: Vec3, tool_closing: Vec3, approach: Vec3, closing: Vec3) -> Quat {
+    let tool = Mat3::from_cols(
+        tool_approach,
+        tool_closing,
+        tool_approach.cross(tool_closing),
+    );
+    let world = Mat3::from_cols(approach, closing, approach.cross(closing));
+    Quat::from_mat3(&(world * tool.transpose())).normalize()
+}
+
+/// Occupancy for the collision world, in three parts: the scene, and the columns under
+/// the pick and place footprints (removed while the object sits on them).
+struct Occupancy {
+    scene: Vec<Vec3>,
+    pick_support: Vec<Vec3>,
+    place_support: Vec<Vec3>,
+}
+
+fn in_column(q: Vec3, center: Vec2, radius: f64, z: f64) -> bool {
+    (q.truncate() - center).length() <= radius && q.z >= z - 0.06 && q.z <= z + 0.03
+}
+
+/// Runs a pick and place through `driver`.
+pub fn pick_place(
+    driver: &mut impl RobotDriver,
+    robot: &NamedRobot,
+    request: &PickPlaceRequest,
+    params: &PickPlaceParams,
+) -> PickPlaceOutcome {
+    let mut report = PickPlaceReport::default();
+    let error = run(driver, robot, request, params, &mut report).err();
+    PickPlaceOutcome { report, error }
+}
+
+fn timed_phase<T>(
+    report: &mut PickPlaceReport,
+    name: &str,
+    cpu: bool,
+    f: impl FnOnce() -> Result<T, PickPlaceError>,
+) -> Result<T, PickPlaceError> {
+    let (t0, c0) = (Instant::now(), thread_cpu());
+    let out = f();
+    let ms = if cpu {
+        (thread_cpu() - c0) * 1e3
+    } else {
+        t0.elapsed().as_secs_f64() * 1e3
+    };
+    report.phases.push(Phase {
+        name: name.into(),
+        ms,
+        ok: out.is_ok(),
+    });
+    out
+}
+
+fn run(
+    driver: &mut impl RobotDriver,
+    robot: &NamedRobot,
+    request: &PickPlaceRequest,
+    params: &PickPlaceParams,
+    report: &mut PickPlaceReport,
+) -> Result<(), PickPlaceError> {
+    if !(request.pick.is_finite() && request.place.is_finite()) {
+        return Err(PickPlaceError::ObjectNotFound(
+            "positions must be finite".into(),
+        ));
+    }
+    let obs = &params.observe;
+    // ---- Look at the object and at the target with the head camera.
+    let mut points = Vec::new();
+    let mut decision_cpu = 0.0;
+    for (name, at) in [
+        ("look at object", request.pick),
+        ("look at target", request.place),
+    ] {
+        timed_phase(report, name, false, || {
+            match driver.look_at(at) {
+                Ok(_) | Err(DriverError::Unsupported(_)) => {}
+                Err(e) => return Err(e.into()),
+            }
+            let frame = driver.capture(&params.camera)?;
+            let c0 = thread_cpu();
+            let state = driver.joint_state()?;
+            let solids = robot_solids(
+                &robot.model,
+                &state.model_values(&robot.model),
+                driver.world_from_root()?,
+            );
+            points.extend(world_points(&frame, &solids, obs));
+            decision_cpu += thread_cpu() - c0;
+            Ok(())
+        })?;
+    }
+    let decision_start = thread_cpu();
+    // ---- The object, the target surface, the occupancy around them.
+    let object = timed_phase(report, "perceive object", true, || {
+        object_near(&points, request.pick, obs).map_err(|e| match e {
+            ObserveError::NoSurface(..) | ObserveError::NoObject(..) => {
+                PickPlaceError::ObjectNotFound(e.to_string())
+            }
+        })
+    })?;
+    let world_from_object = object.world_from_object();
+    report.object = Some(ObjectReport {
+        position: world_from_object.translation.to_array(),
+        size: [
+            object.footprint.size.x,
+            object.footprint.size.y,
+            object.height(),
+        ],
+        points: object.points.len(),
+    });
+    let object_keys = voxel_keys(&object.points, obs.cluster_gap);
+    let near_object = |q: &Vec3| {
+        let k = [
+            (q.x / obs.cluster_gap).floor() as i64,
+            (q.y / obs.cluster_gap).floor() as i64,
+            (q.z / obs.cluster_gap).floor() as i64,
+        ];
+        (-1..=1).any(|dx| {
+            (-1..=1).any(|dy| {
+                (-1..=1).any(|dz| object_keys.contains(&[k[0] + dx, k[1] + dy, k[2] + dz]))
+            })
+        })
+    };
+    let others: Vec<Vec3> = points.iter().copied().filter(|q| !near_object(q)).collect();
+    let support = timed_phase(report, "perceive target", true, || {
+        let s = support_under(&others, request.place, request.place.z + 0.03, obs).ok_or_else(
+            || {
+                PickPlaceError::NoSurface(format!(
+                    "nothing horizontal under ({:.3}, {:.3}, {:.3})",
+                    request.place.x, request.place.y, request.place.z
+                ))
+            },
+        )?;
+        // Free: nothing stands within the object's footprint (and margin) there.
+        let radius = object.footprint.size.length() / 2.0 + params.place_margin;
+        let blocking = others
+            .iter()
+            .filter(|q| {
+                (q.truncate() - request.place.truncate()).length() <= radius
+                    && q.z > s.z + obs.object_clearance + 0.01
+                    && q.z < s.z + object.height()
+            })
+            .count();
+        if blocking >= obs.min_object_points / 2 {
+            return Err(PickPlaceError::TargetOccupied);
+        }
+        Ok(s)
+    })?;
+    report.target_surface = Some(support.z);
+    let column = |center: Vec2| object.footprint.size.length() / 2.0 + 0.04 + 0.0 * center.x;
+    let occupancy = Occupancy {
+        scene: others
+            .iter()
+            .copied()
+            .filter(|q| {
+                !in_column(
+                    *q,
+                    object.footprint.center,
+                    column(object.footprint.center),
+                    object.bottom,
+                ) && !in_column(
+                    *q,
+                    request.place.truncate(),
+                    column(request.place.truncate()),
+                    support.z,
+                )
+            })
+            .collect(),
+        pick_support: others
+            .iter()
+            .copied()
+            .filter(|q| {
+                in_column(
+                    *q,
+                    object.footprint.center,
+                    column(object.footprint.center),
+                    object.bottom,
+                )
+            })
+            .collect(),
+        place_support: others
+            .iter()
+            .copied()
+            .filter(|q| {
+                in_column(
+                    *q,
+                    request.place.truncate(),
+                    column(request.place.truncate()),
+                    support.z,
+                ) && !in_column(
+                    *q,
+                    object.footprint.center,
+                    column(object.footprint.center),
+                    object.bottom,
+                )
+            })
+            .collect(),
+    };
+    // ---- Arms to try, nearest first.
+    let state = driver.joint_state()?;
+    let world_from_root = driver.world_from_root()?;
+    let arms: Vec<String> = match &request.arm {
+        Some(a) => {
+            robot
+                .description
+                .arm(a)
+                .map_err(|e| PickPlaceError::Driver(e.to_string()))?;
+            vec![a.clone()]
+        }
+        None => {
+            let mut v: Vec<(f64, String)> = robot
+                .description
+                .arms
+                .iter()
+                .filter(|a| a.gripper.is_some())
+                .filter_map(|a| {
+                    let chain = a.chain(&robot.model).ok()?;
+                    let fk = robot
+                        .model
+                        .forward_kinematics(&state.model_values(&robot.model))
+                        .ok()?;
+                    let first = chain.joint_indices.get(1).or(chain.joint_indices.first())?;
+                    let shoulder =
+                        world_from_root * fk[robot.model.joints[*first].child].translation;
+                    Some(((shoulder - request.pick).length(), a.name.clone()))
+                })
+                .collect();
+            v.sort_by(|a, b| a.0.total_cmp(&b.0));
+            v.into_iter().map(|(_, n)| n).collect()
+        }
+    };
+    let setup = Instant::now();
+    let mut template: Option<MoveGroup> = None;
+    let mut last_error = PickPlaceError::Unreachable;
+    let mut chosen: Option<(MoveGroup, Sequence, GraspKind)> = None;
+    let mut setup_cpu = 0.0;
+    'arms: for arm in &arms {
+        let c0 = thread_cpu();
+        let group = match &template {
+            None => MoveGroup::new(robot, arm, &state, world_from_root, params.motion.clone()),
+            Some(t) => t.for_arm(robot, arm),
+        };
+        let mut group = match group {
+            Ok(g) => g,
+            Err(e) => {
+                last_error = PickPlaceError::Driver(e.to_string());
+                continue;
+            }
+        };
+        if template.is_none() {
+            setup_cpu += thread_cpu() - c0;
+            add_occupancy(&mut group.world, &occupancy, obs.voxel)
+                .map_err(|e| PickPlaceError::Driver(e.to_string()))?;
+            template = Some(
+                MoveGroup::new(robot, arm, &state, world_from_root, params.motion.clone())
+                    .and_then(|mut t| {
+                        add_occupancy(&mut t.world, &occupancy, obs.voxel)?;
+                        Ok(t)
+                    })
+                    .map_err(|e| PickPlaceError::Driver(e.to_string()))?,
+            );
+        }
+        let Some(gripper) = group.gripper.clone() else {
+            continue;
+        };
+        let start = group.arm_values(&state);
+        for grasp in grasp_candidates(&group, &object, &start, params, gripper.open_width)? {
+            report.candidates_tried += 1;
+            let mut stage = "";
+            match plan_sequence(
+                &mut group, &object, &support, request, &grasp, &start, params, &mut stage,
+            ) {
+                Ok(seq) => {
+                    chosen = Some((group, seq, grasp.kind));
+                    break 'arms;
+                }
+                Err(e) => {
+                    let a = grasp.approach;
+                    report.rejected.push(format!(
+                        "{arm} {:?} approach ({:.2}, {:.2}, {:.2}) at {stage}: {e}",
+                        grasp.kind, a.x, a.y, a.z
+                    ));
+                    // Keep the most telling failure: a path problem beats "unreachable".
+                    if !matches!(e, PickPlaceError::Unreachable)
+                        || matches!(last_error, PickPlaceError::Unreachable)
+                    {
+                        last_error = e;
+                    }
+                }
+            }
+        }
+    }
+    let _ = setup;
+    let decision = thread_cpu() - decision_start - setup_cpu + decision_cpu;
+    report.decision_cpu_ms = decision * 1e3;
+    report.phases.push(Phase {
+        name: "plan".into(),
+        ms: report.decision_cpu_ms,
+        ok: chosen.is_some(),
+    });
+    let (group, seq, kind) = chosen.ok_or(last_error)?;
+    report.arm = Some(group.arm.name.clone());
+    report.grasp = Some(kind);
+    report.planned_object_position = Some(seq.planned_object.translation.to_array());
+    let gripper = group.gripper.clone().ok_or(PickPlaceError::Unreachable)?;
+    // ---- Execute.
+    let exec = |report: &mut PickPlaceReport,
+                name: &str,
+                plan: &Plan,
+                d: &mut dyn FnMut(
+        &tabula_robot::driver::JointTrajectory,
+    ) -> Result<(), DriverError>| {
+        report.trajectories.push(plan.trajectory.clone());
+        timed_phase(report, name, false, || Ok(d(&plan.trajectory)?))
+    };
+    driver.open(&gripper.name)?;
+    exec(report, "move to pre-grasp", &seq.to_pregrasp, &mut |t| {
+        driver.execute(t)
+    })?;
+    exec(report, "approach", &seq.approach, &mut |t| {
+        driver.execute(t)
+    })?;
+    let grip = timed_phase(report, "grasp", false, || Ok(driver.close(&gripper.name)?))?;
+    if !grip.holding {
+        report.phases.last_mut().map(|p| p.ok = false);
+        driver.open(&gripper.name)?;
+        return Err(PickPlaceError::GraspSlipped);
+    }
+    exec(report, "lift", &seq.lift, &mut |t| driver.execute(t))?;
+    exec(report, "retreat", &seq.retreat, &mut |t| driver.execute(t))?;
+    exec(report, "transfer", &seq.transfer, &mut |t| {
+        driver.execute(t)
+    })?;
+    exec(report, "place", &seq.place, &mut |t| driver.execute(t))?;
+    timed_phase(report, "release", false, || Ok(driver.open(&gripper.name)?))?;
+    exec(
+        report,
+        "retreat from object",
+        &seq.release_retreat,
+        &mut |t| driver.execute(t),
+    )?;
+    exec(report, "return", &seq.home, &mut |t| driver.execute(t))?;
+    Ok(())
+}
+
+fn add_occupancy(world: &mut CollisionWorld, o: &Occupancy, voxel: f64) -> Result<(), MoveError> {
+    for (name, pts) in [
+        ("scene", &o.scene),
+        ("pick_support", &o.pick_support),
+        ("place_support", &o.place_support),
+    ] {
+        world.add_occupancy(name, pts, voxel)?;
+    }
+    Ok(())
+}
+
+/// Grasps worth planning, best first: side grasps (the approach level or tilted down a
+/// little, around the direction from the arm to the object), then top grasps; each only
+/// if the object fits between the open fingers and the arm's IK reaches both the grasp
+/// and the pre-grasp. IK is cheap next to planning (microseconds for an analytic
+/// solver), so many are tried and only the best few planned.
+fn grasp_candidates(
+    group: &MoveGroup,
+    object: &SeenObject,
+    start: &[f64],
+    params: &PickPlaceParams,
+    open_width: f64,
+) -> Result<Vec<Grasp>, PickPlaceError> {
+    let Some(g) = group.gripper.as_ref() else {
+        return Ok(Vec::new());
+    };
+    let base = group
+        .world
+        .world_from_chain_base()
+        .map_err(|e| PickPlaceError::Driver(e.to_string()))?;
+    let c = object.footprint.center;
+    let toward = c - base.translation.truncate();
+    let facing = toward.y.atan2(toward.x);
+    let fits =
+        |closing: Vec2| object.width_along(closing) + 2.0 * params.finger_clearance <= open_width;
+    let h = object.height();
+    let side_z = object.bottom + (h / 2.0).max(params.min_grasp_height);
+    let top_z = object.bottom + (h - 0.03).max(params.min_grasp_height);
+    let mut scored: Vec<(f64, Grasp)> = Vec::new();
+    let mut narrowest = f64::INFINITY;
+    let steps = (params.yaw_range / params.yaw_step.max(1e-3)).ceil() as i64;
+    for k in -steps..=steps {
+        let yaw = facing + k as f64 * params.yaw_step;
+        let closing = Vec2::new(-yaw.sin(), yaw.cos());
+        narrowest = narrowest.min(object.width_along(closing));
+        if !fits(closing) {
+            continue;
+        }
+        let c3 = closing.extend(0.0);
+        for (kind, tilt, z) in params
+            .side_tilts
+            .iter()
+            .map(|&t| (GraspKind::Side, t, side_z))
+            .chain(std::iter::once((
+                GraspKind::Top,
+                std::f64::consts::FRAC_PI_2,
+                top_z,
+            )))
+        {
+            let a = Vec3::new(yaw.cos() * tilt.cos(), yaw.sin() * tilt.cos(), -tilt.sin());
+            let r = tool_rotation(g.approach(), g.closing(), a, c3);
+            let grasp = Grasp {
+                kind,
+                world_from_tool: Pose::from_parts(c.extend(z), r),
+                approach: a,
+            };
+            let level = Vec3::new(a.x, a.y, 0.0).normalize_or(Vec3::X);
+            let some_pre = params.rise_offsets.iter().any(|&rise| {
+                let back = match kind {
+                    GraspKind::Side => -level * params.pregrasp_distance + Vec3::Z * rise,
+                    GraspKind::Top => Vec3::Z * (params.pregrasp_distance + rise),
+                };
+                let pre = Pose::from_parts(grasp.world_from_tool.translation + back, r);
+                group.ik(&pre, start).is_ok()
+            });
+            if group.ik(&grasp.world_from_tool, start).is_err() || !some_pre {
+                continue;
+            }
+            let score = k.unsigned_abs() as f64 * params.yaw_step
+                + tilt
+                + if kind == GraspKind::Top { 0.5 } else { 0.0 };
+            scored.push((score, grasp));
+        }
+    }
+    if scored.is_empty() && narrowest + 2.0 * params.finger_clearance > open_width {
+        return Err(PickPlaceError::TooWide(narrowest));
+    }
+    scored.sort_by(|a, b| a.0.total_cmp(&b.0));
+    Ok(scored
+        .into_iter()
+        .take(params.max_planned_grasps)
+        .map(|(_, g)| g)
+        .collect())
+}
+
+fn motion_error(e: MoveError) -> PickPlaceError {
+    match e {
+        MoveError::Unreachable => PickPlaceError::Unreachable,
+        MoveError::GoalInCollision(why) => {
+            PickPlaceError::NoPath(format!("every IK solution collides: {why}"))
+        }
+        other => PickPlaceError::NoPath(other.to_string()),
+    }
+}
+
+/// Plans every stage of one grasp candidate; the group's world is left as it was;
+/// `stage` names the stage being planned (the failing one on error).
+#[allow(clippy::too_many_arguments)]
+fn plan_sequence(
+    group: &mut MoveGroup,
+    object: &SeenObject,
+    support: &Support,
+    request: &PickPlaceRequest,
+    grasp: &Grasp,
+    start: &[f64],
+    params: &PickPlaceParams,
+    stage: &mut &'static str,
+) -> Result<Sequence, PickPlaceError> {
+    let full = group.world.clone();
+    let out = plan_sequence_in(
+        group, &full, object, support, request, grasp, start, params, stage,
+    );
+    group.world = full;
+    out
+}
+
+#[allow(clippy::too_many_arguments)]
+fn plan_sequence_in(
+    group: &mut MoveGroup,
+    full: &CollisionWorld,
+    object: &SeenObject,
+    support: &Support,
+    request: &PickPlaceRequest,
+    grasp: &Grasp,
+    start: &[f64],
+    params: &PickPlaceParams,
+    stage: &mut &'static str,
+) -> Result<Sequence, PickPlaceError> {
+    let world_from_object = object.world_from_object();
+    let (shape, object_from_shape) = object.collision_shape();
+    let up = Vec3::Z;
+    let shifted = |p: &Pose, d: Vec3| Pose::from_parts(p.translation + d, p.rotation);
+    let level_of = |a: Vec3| Vec3::new(a.x, a.y, 0.0).normalize_or(Vec3::X);
+    let driver_err = |e: tabula_motion::WorldError| PickPlaceError::Driver(e.to_string());
+    // Straight lines out of (or into) a pose: `back` along the level approach and
+    // `rise` up, for each rise offset; a top grasp backs straight up. Arms like
+    // Golem-III's reach few level lines, so lines that also rise are tried.
+    let lines = |kind: GraspKind, level: Vec3, backs: &[f64]| -> Vec<Vec3> {
+        let mut v = Vec::new();
+        for &b in backs {
+            for &r in &params.rise_offsets {
+                v.push(match kind {
+                    GraspKind::Side => -level * b + up * r,
+                    GraspKind::Top => up * (b + r),
+                });
+            }
+        }
+        v
+    };
+    let level = level_of(grasp.approach);
+    // Worlds of the stages.
+    let mut with_target = full.clone();
+    with_target
+        .add_object(
+            "target",
+            shape.clone(),
+            world_from_object * object_from_shape,
+        )
+        .map_err(driver_err)?;
+    let mut without_pick_support = full.clone();
+    without_pick_support
+        .remove_object("pick_support")
+        .map_err(driver_err)?;
+    let tool_from_object = grasp.world_from_tool.inverse() * world_from_object;
+    let holding = |group: &mut MoveGroup, world: &CollisionWorld| -> Result<(), PickPlaceError> {
+        group.world = world.clone();
+        group
+            .attach(
+                "target",
+                shape.clone(),
+                tool_from_object * object_from_shape,
+            )
+            .map_err(motion_error)
+    };
+    // 1–2. A pre-grasp whose straight approach works (the hand may touch the object
+    // on the way in), then a path to it that avoids the object.
+    *stage = "approach";
+    let mut found = None;
+    let mut last = PickPlaceError::Unreachable;
+    'pre: for offset in lines(grasp.kind, level, &[params.pregrasp_distance, 0.0]) {
+        if offset.length() < 0.05 {
+            continue;
+        }
+        let pregrasp = shifted(&grasp.world_from_tool, offset);
+        group.world = with_target.clone();
+        let Ok(goals) = group.valid_ik(&pregrasp, start) else {
+            continue;
+        };
+        for q_pre in goals.into_iter().take(3) {
+            group.world = full.clone();
+            let approach = match group.cartesian(&q_pre, &grasp.world_from_tool) {
+                Ok(a) => a,
+                Err(e) => {
+                    last = motion_error(e);
+                    continue;
+                }
+            };
+            group.world = with_target.clone();
+            *stage = "move to pre-grasp";
+            match group.plan_to_joints(start, &[q_pre]) {
+                Ok(to) => {
+                    found = Some((to, approach));
+                    break 'pre;
+                }
+                Err(e) => last = motion_error(e),
+            }
+            *stage = "approach";
+        }
+    }
+    let (to_pregrasp, approach) = found.ok_or(last)?;
+    // 3. Lift the object off its support (backing out a little as it rises is fine).
+    *stage = "lift";
+    holding(group, &without_pick_support)?;
+    let mut lifted_plan = Err(PickPlaceError::Unreachable);
+    for back in [0.0, 0.02, 0.04] {
+        let lifted = shifted(&grasp.world_from_tool, up * params.lift - level * back);
+        lifted_plan = group
+            .cartesian(approach.end(), &lifted)
+            .map_err(motion_error);
+        if lifted_plan.is_ok() {
+            break;
+        }
+    }
+    let lift = lifted_plan?;
+    // 4. Retreat out of the shelf (side) or further up (top); the transfer's planner
+    // takes it from there.
+    *stage = "retreat";
+    let lifted_pose = group.tip_pose(lift.end()).map_err(motion_error)?;
+    // With the object lifted clear of its support, the support is an obstacle again.
+    holding(group, full)?;
+    let mut retreat_plan = None;
+    for offset in lines(
+        grasp.kind,
+        level,
+        &[params.retreat, params.retreat / 2.0, 0.0],
+    ) {
+        if offset.length() < 0.03 {
+            continue;
+        }
+        if let Ok(p) = group.cartesian(lift.end(), &shifted(&lifted_pose, offset)) {
+            retreat_plan = Some(p);
+            break;
+        }
+    }
+    // No line out: the transfer's planner starts where the lift ended.
+    let retreat =
+        retreat_plan.unwrap_or_else(|| group.timed(lift.end(), vec![lift.end().to_vec()], 0.0));
+    // 5. Placements reachable by IK, nearest the direction facing the target first.
+    let base = group
+        .world
+        .world_from_chain_base()
+        .map_err(|e| PickPlaceError::Driver(e.to_string()))?;
+    let toward = request.place.truncate() - base.translation.truncate();
+    let facing = toward.y.atan2(toward.x);
+    let current_yaw = grasp.approach.y.atan2(grasp.approach.x);
+    let steps = (params.yaw_range / params.yaw_step.max(1e-3)).ceil() as i64;
+    let mut placements = Vec::new();
+    for k in -steps..=steps {
+        // Side grasps turn the held object about the vertical with the approach; top
+        // grasps may turn it freely.
+        let turn = match grasp.kind {
+            GraspKind::Side => {
+                tabula_geom::wrap_angle(facing + k as f64 * params.yaw_step - current_yaw)
+            }
+            GraspKind::Top => k as f64 * params.yaw_step,
+        };
+        let spin = Quat::from_rotation_z(turn);
+        let placed_object = Pose::from_parts(
+            Vec3::new(
+                request.place.x,
+                request.place.y,
+                support.z + params.release_height,
+            ),
+            spin * world_from_object.rotation,
+        );
+        let place_tool = placed_object * tool_from_object.inverse();
+        if group.ik(&place_tool, retreat.end()).is_err() {
+            continue;
+        }
+        placements.push((
+            k.unsigned_abs(),
+            placed_object,
+            place_tool,
+            level_of(spin * grasp.approach),
+        ));
+    }
+    placements.sort_by_key(|p| p.0);
+    *stage = "placement IK";
+    let mut without_both = without_pick_support.clone();
+    without_both
+        .remove_object("place_support")
+        .map_err(driver_err)?;
+    let mut last = PickPlaceError::Unreachable;
+    let mut planned = 0;
+    for (_, placed_object, place_tool, place_level) in placements {
+        if planned >= params.max_planned_grasps {
+            break;
+        }
+        // 6. A pre-place whose straight line down onto the target works; then the
+        // transfer to it.
+        *stage = "place";
+        let mut place_found = None;
+        'pp: for offset in lines(grasp.kind, place_level, &[params.place_approach, 0.0]) {
+            if offset.z < 0.0 || offset.length() < 0.05 {
+                continue;
+            }
+            let pre_place = shifted(&place_tool, offset);
+            holding(group, &without_pick_support)?;
+            let Ok(goals) = group.valid_ik(&pre_place, retreat.end()) else {
+                continue;
+            };
+            planned += 1;
+            for q_pp in goals.into_iter().take(2) {
+                holding(group, &without_both)?;
+                let place = match group.cartesian(&q_pp, &place_tool) {
+                    Ok(p) => p,
+                    Err(e) => {
+                        last = motion_error(e);
+                        continue;
+                    }
+                };
+                holding(group, full)?;
+                *stage = "transfer";
+                match group.plan_to_joints(retreat.end(), &[q_pp]) {
+                    Ok(t) => {
+                        place_found = Some((t, place));
+                        break 'pp;
+                    }
+                    Err(e) => last = motion_error(e),
+                }
+                *stage = "place";
+            }
+        }
+        let Some((transfer, place)) = place_found else {
+            continue;
+        };
+        // 7. Released, the hand backs away; the object stays where it was put.
+        *stage = "retreat from object";
+        group.world = without_both.clone();
+        let mut back_plan = Err(PickPlaceError::Unreachable);
+        for offset in lines(
+            grasp.kind,
+            place_level,
+            &[params.place_retreat, params.place_retreat / 2.0],
+        ) {
+            if offset.z < 0.0 {
+                continue;
+            }
+            back_plan = group
+                .cartesian(place.end(), &shifted(&place_tool, offset))
+                .map_err(motion_error);
+            if back_plan.is_ok() {
+                break;
+            }
+        }
+        let Ok(release_retreat) = back_plan else {
+            last = back_plan.err().unwrap_or(PickPlaceError::Unreachable);
+            continue;
+        };
+        // 8. Back to where the arm started.
+        *stage = "return";
+        let mut after = without_pick_support.clone();
+        after
+            .add_object("placed", shape.clone(), placed_object * object_from_shape)
+            .map_err(driver_err)?;
+        group.world = after;
+        let home = match group.plan_to_joints(release_retreat.end(), &[start.to_vec()]) {
+            Ok(h) => h,
+            Err(e) => {
+                last = motion_error(e);
+                continue;
+            }
+        };
+        return Ok(Sequence {
+            to_pregrasp,
+            approach,
+            lift,
+            retreat,
+            transfer,
+            place,
+            release_retreat,
+            home,
+            planned_object: placed_object,
+        });
+    }
+    Err(last)
+}
