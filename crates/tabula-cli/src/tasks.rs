@@ -243,10 +243,12 @@ pub fn run(a: PickPlaceArgs) -> Result<()> {
         }
         for p in &r.phases {
             println!(
-                "  {:<22} {:>9.1} ms  {}",
+                "  {:<22} {:>9.1} ms  {}{}",
                 p.name,
                 p.ms,
-                if p.ok { "ok" } else { "failed" }
+                if p.ok { "ok" } else { "failed" },
+                p.plan_ms
+                    .map_or(String::new(), |m| format!("  (planned in {m:.1} ms)"))
             );
         }
         println!("  decision (CPU)        {:>9.1} ms", r.decision_cpu_ms);

@@ -626,8 +626,10 @@ impl CollisionWorld {
     }
 
     /// An occupancy map from a point cloud (world frame, NaN points skipped): every
-    /// occupied `voxel`-sized cell becomes a box, all of them one compound object whose
-    /// own bounding-volume hierarchy keeps queries fast (the role of MoveIt's octomap).
+    /// occupied `voxel`-sized cell is covered, all of it one compound object whose own
+    /// bounding-volume hierarchy keeps queries fast (the role of MoveIt's octomap).
+    /// Cells are merged greedily into boxes — runs along x, then equal runs along y —
+    /// so a table top or a shelf board is a handful of boxes, not thousands of cubes.
     /// Returns the number of occupied cells.
     pub fn add_occupancy(
         &mut self,
@@ -649,22 +651,42 @@ impl CollisionWorld {
                 ]
             })
             .collect();
-        cells.sort_unstable();
+        // Sorted by z, then y, then x: x-runs are consecutive.
+        cells.sort_unstable_by_key(|c| (c[2], c[1], c[0]));
         cells.dedup();
         if cells.is_empty() {
             return Ok(0);
         }
-        let half = voxel / 2.0;
-        let cube = SharedShape::cuboid(half, half, half);
-        let parts: Vec<(Pose, SharedShape)> = cells
+        let count = cells.len();
+        // Runs along x: (z, y, x0, x1).
+        let mut runs: Vec<(i64, i64, i64, i64)> = Vec::new();
+        for c in &cells {
+            match runs.last_mut() {
+                Some(r) if r.0 == c[2] && r.1 == c[1] && r.3 + 1 == c[0] => r.3 = c[0],
+                _ => runs.push((c[2], c[1], c[0], c[0])),
+            }
+        }
+        // Equal x-runs on consecutive y rows merge: (z, x0, x1, y0, y1).
+        runs.sort_unstable_by_key(|r| (r.0, r.2, r.3, r.1));
+        let mut boxes: Vec<(i64, i64, i64, i64, i64)> = Vec::new();
+        for r in &runs {
+            match boxes.last_mut() {
+                Some(b) if b.0 == r.0 && b.1 == r.2 && b.2 == r.3 && b.4 + 1 == r.1 => b.4 = r.1,
+                _ => boxes.push((r.0, r.2, r.3, r.1, r.1)),
+            }
+        }
+        let parts: Vec<(Pose, SharedShape)> = boxes
             .iter()
-            .map(|c| {
-                let centre =
-                    Vec3::new(c[0] as f64 + 0.5, c[1] as f64 + 0.5, c[2] as f64 + 0.5) * voxel;
-                (Pose::from_translation(centre), cube.clone())
+            .map(|&(z, x0, x1, y0, y1)| {
+                let lo = Vec3::new(x0 as f64, y0 as f64, z as f64) * voxel;
+                let hi = Vec3::new((x1 + 1) as f64, (y1 + 1) as f64, (z + 1) as f64) * voxel;
+                let half = (hi - lo) / 2.0;
+                (
+                    Pose::from_translation((lo + hi) / 2.0),
+                    SharedShape::cuboid(half.x, half.y, half.z),
+                )
             })
             .collect();
-        let count = parts.len();
         self.add_object(name, SharedShape::compound(parts), Pose::IDENTITY)?;
         Ok(count)
     }
@@ -838,19 +860,29 @@ impl CollisionWorld {
         let hits = |p1: &Pose, s1: &SharedShape, p2: &Pose, s2: &SharedShape, pad: f64| {
             query::distance(p1, s1.as_ref(), p2, s2.as_ref()).is_ok_and(|d| d.distance <= pad)
         };
+        // Against a compound (an occupancy map) only the parts near the shape count:
+        // the compound's own distance would look for the nearest of all of them.
+        let hits_object =
+            |p1: &Pose, s1: &SharedShape, aabb: &Aabb, o: &WorldObject, pad: f64| match o
+                .shape
+                .as_compound()
+            {
+                Some(c) => {
+                    let local = aabb.transform_by(&o.world_from_object.inverse());
+                    c.bvh().intersect_aabb(&local).any(|i| {
+                        let (part_pose, part) = &c.shapes()[i as usize];
+                        hits(p1, s1, &(o.world_from_object * *part_pose), part, pad)
+                    })
+                }
+                None => hits(p1, s1, &o.world_from_object, &o.shape, pad),
+            };
         // Robot against the world (only what moves can newly collide).
         for (b, w, s, aabb) in &placed {
             if !self.bodies[*b].moving {
                 continue;
             }
             for o in self.objects_near(aabb) {
-                if hits(
-                    w,
-                    s,
-                    &o.world_from_object,
-                    &o.shape,
-                    self.bodies[*b].padding,
-                ) {
+                if hits_object(w, s, aabb, o, self.bodies[*b].padding) {
                     return Ok(Some((self.bodies[*b].name.clone(), o.name.clone())));
                 }
             }
@@ -882,7 +914,7 @@ impl CollisionWorld {
         for (_, w, a, aabb) in &attached {
             let pad = self.bodies[a.body].padding;
             for o in self.objects_near(aabb) {
-                if hits(w, &a.shape, &o.world_from_object, &o.shape, pad) {
+                if hits_object(w, &a.shape, aabb, o, pad) {
                     return Ok(Some((a.name.clone(), o.name.clone())));
                 }
             }
@@ -960,9 +992,24 @@ impl CollisionWorld {
                         s2: &SharedShape,
                         a2: &Aabb,
                         best: &mut f64| {
-            if a1.loosened(*best).intersects(a2)
-                && let Ok(d) = query::distance(p1, s1.as_ref(), p2, s2.as_ref())
-            {
+            if !a1.loosened(*best).intersects(a2) {
+                return;
+            }
+            // Nearest of a compound's parts near the shape (an occupancy map).
+            if let Some(c) = s2.as_compound() {
+                let local = a1.loosened(*best).transform_by(&p2.inverse());
+                let parts: Vec<u32> = c.bvh().intersect_aabb(&local).collect();
+                for i in parts {
+                    let (part_pose, part) = &c.shapes()[i as usize];
+                    if let Ok(d) =
+                        query::distance(p1, s1.as_ref(), &(*p2 * *part_pose), part.as_ref())
+                    {
+                        *best = best.min(d.distance);
+                    }
+                }
+                return;
+            }
+            if let Ok(d) = query::distance(p1, s1.as_ref(), p2, s2.as_ref()) {
                 *best = best.min(d.distance);
             }
         };

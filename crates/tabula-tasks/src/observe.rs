@@ -33,6 +33,11 @@ pub struct ObserveParams {
     pub min_object_points: usize,
     /// Occupancy voxel for the collision world (m).
     pub voxel: f64,
+    /// Frames are downsampled to this leaf before anything else (m), SPEC §6: 5 mm.
+    pub leaf: f64,
+    /// Points farther than this from the camera are dropped (m): beyond any arm's reach
+    /// they only cost time.
+    pub max_range: f64,
 }
 
 impl Default for ObserveParams {
@@ -47,6 +52,8 @@ impl Default for ObserveParams {
             cluster_gap: 0.015,
             min_object_points: 40,
             voxel: 0.02,
+            leaf: 0.005,
+            max_range: 2.5,
         }
     }
 }
@@ -100,15 +107,17 @@ pub fn robot_solids(model: &RobotModel, values: &[f64], world_from_root: Pose) -
     out
 }
 
-/// The finite points of a frame in the world, minus those on the robot's body.
+/// The finite points of a frame in the world, downsampled, minus those on the robot's
+/// body.
 pub fn world_points(frame: &CameraFrame, solids: &[PlacedSolid], p: &ObserveParams) -> Vec<Vec3> {
-    let pts: Vec<Vec3> = frame
+    let near: Vec<Vec3> = frame
         .cloud
         .points
         .iter()
-        .filter(|q| q.is_finite())
+        .filter(|q| q.is_finite() && q.length() <= p.max_range)
         .map(|q| frame.world_from_camera.transform_point(*q))
         .collect();
+    let pts = tabula_perception::filters::voxel_grid(&near, p.leaf).unwrap_or(near);
     let keep = self_filter(&pts, solids, &p.self_filter);
     pts.into_iter()
         .zip(keep)

@@ -159,6 +159,9 @@ pub struct Phase {
     pub name: String,
     pub ms: f64,
     pub ok: bool,
+    /// For a motion: CPU ms spent planning it.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub plan_ms: Option<f64>,
 }
 
 /// The object as perceived.
@@ -277,6 +280,7 @@ fn timed_phase<T>(
         name: name.into(),
         ms,
         ok: out.is_ok(),
+        plan_ms: None,
     });
     out
 }
@@ -320,6 +324,12 @@ fn run(
         })?;
     }
     let decision_start = thread_cpu();
+    let trace = std::env::var_os("TABULA_TRACE").is_some();
+    let mark = |what: &str| {
+        if trace {
+            eprintln!("{:>9.1} ms  {what}", (thread_cpu() - decision_start) * 1e3);
+        }
+    };
     // ---- The object, the target surface, the occupancy around them.
     let object = timed_phase(report, "perceive object", true, || {
         object_near(&points, request.pick, obs).map_err(|e| match e {
@@ -377,6 +387,7 @@ fn run(
         Ok(s)
     })?;
     report.target_surface = Some(support.z);
+    mark("perceived");
     let column = |center: Vec2| object.footprint.size.length() / 2.0 + 0.04 + 0.0 * center.x;
     let occupancy = Occupancy {
         scene: others
@@ -459,42 +470,33 @@ fn run(
             v.into_iter().map(|(_, n)| n).collect()
         }
     };
-    let setup = Instant::now();
-    let mut template: Option<MoveGroup> = None;
+    // The allowed-collision matrix is sampled once per robot (MoveIt keeps it in the
+    // SRDF); it is setup, not part of a decision.
+    let c0 = thread_cpu();
+    let first = arms.first().ok_or(PickPlaceError::Unreachable)?;
+    let mut template = MoveGroup::new(robot, first, &state, world_from_root, params.motion.clone())
+        .map_err(|e| PickPlaceError::Driver(e.to_string()))?;
+    let setup_cpu = thread_cpu() - c0;
+    add_occupancy(&mut template.world, &occupancy, obs.voxel)
+        .map_err(|e| PickPlaceError::Driver(e.to_string()))?;
+    mark("move group");
     let mut last_error = PickPlaceError::Unreachable;
     let mut chosen: Option<(MoveGroup, Sequence, GraspKind)> = None;
-    let mut setup_cpu = 0.0;
     'arms: for arm in &arms {
-        let c0 = thread_cpu();
-        let group = match &template {
-            None => MoveGroup::new(robot, arm, &state, world_from_root, params.motion.clone()),
-            Some(t) => t.for_arm(robot, arm),
-        };
-        let mut group = match group {
+        let mut group = match template.for_arm(robot, arm) {
             Ok(g) => g,
             Err(e) => {
                 last_error = PickPlaceError::Driver(e.to_string());
                 continue;
             }
         };
-        if template.is_none() {
-            setup_cpu += thread_cpu() - c0;
-            add_occupancy(&mut group.world, &occupancy, obs.voxel)
-                .map_err(|e| PickPlaceError::Driver(e.to_string()))?;
-            template = Some(
-                MoveGroup::new(robot, arm, &state, world_from_root, params.motion.clone())
-                    .and_then(|mut t| {
-                        add_occupancy(&mut t.world, &occupancy, obs.voxel)?;
-                        Ok(t)
-                    })
-                    .map_err(|e| PickPlaceError::Driver(e.to_string()))?,
-            );
-        }
         let Some(gripper) = group.gripper.clone() else {
             continue;
         };
         let start = group.arm_values(&state);
-        for grasp in grasp_candidates(&group, &object, &start, params, gripper.open_width)? {
+        let candidates = grasp_candidates(&group, &object, &start, params, gripper.open_width)?;
+        mark(&format!("{} grasp candidates for {arm}", candidates.len()));
+        for grasp in candidates {
             report.candidates_tried += 1;
             let mut stage = "";
             match plan_sequence(
@@ -505,6 +507,7 @@ fn run(
                     break 'arms;
                 }
                 Err(e) => {
+                    mark(&format!("candidate failed at {stage}"));
                     let a = grasp.approach;
                     report.rejected.push(format!(
                         "{arm} {:?} approach ({:.2}, {:.2}, {:.2}) at {stage}: {e}",
@@ -520,14 +523,15 @@ fn run(
             }
         }
     }
-    let _ = setup;
     let decision = thread_cpu() - decision_start - setup_cpu + decision_cpu;
     report.decision_cpu_ms = decision * 1e3;
     report.phases.push(Phase {
         name: "plan".into(),
         ms: report.decision_cpu_ms,
         ok: chosen.is_some(),
+        plan_ms: None,
     });
+    mark("planned");
     let (group, seq, kind) = chosen.ok_or(last_error)?;
     report.arm = Some(group.arm.name.clone());
     report.grasp = Some(kind);
@@ -541,7 +545,11 @@ fn run(
         &tabula_robot::driver::JointTrajectory,
     ) -> Result<(), DriverError>| {
         report.trajectories.push(plan.trajectory.clone());
-        timed_phase(report, name, false, || Ok(d(&plan.trajectory)?))
+        let out = timed_phase(report, name, false, || Ok(d(&plan.trajectory)?));
+        if let Some(p) = report.phases.last_mut() {
+            p.plan_ms = Some(plan.planning_time * 1e3);
+        }
+        out
     };
     driver.open(&gripper.name)?;
     exec(report, "move to pre-grasp", &seq.to_pregrasp, &mut |t| {
@@ -885,6 +893,11 @@ fn plan_sequence_in(
         // transfer to it.
         *stage = "place";
         let mut place_found = None;
+        let mut after = without_pick_support.clone();
+        after
+            .add_object("placed", shape.clone(), placed_object * object_from_shape)
+            .map_err(driver_err)?;
+        let mut counted = false;
         'pp: for offset in lines(grasp.kind, place_level, &[params.place_approach, 0.0]) {
             if offset.z < 0.0 || offset.length() < 0.05 {
                 continue;
@@ -894,8 +907,9 @@ fn plan_sequence_in(
             let Ok(goals) = group.valid_ik(&pre_place, retreat.end()) else {
                 continue;
             };
-            planned += 1;
+            counted = true;
             for q_pp in goals.into_iter().take(2) {
+                // The line down onto the target, holding the object.
                 holding(group, &without_both)?;
                 let place = match group.cartesian(&q_pp, &place_tool) {
                     Ok(p) => p,
@@ -904,11 +918,35 @@ fn plan_sequence_in(
                         continue;
                     }
                 };
-                holding(group, full)?;
+                // 7. Released, the hand backs away far enough that the placed object
+                // is an obstacle again.
+                *stage = "retreat from object";
+                group.world = without_both.clone();
+                let back = lines(
+                    grasp.kind,
+                    place_level,
+                    &[params.place_retreat, params.place_retreat / 2.0],
+                )
+                .into_iter()
+                .filter(|o| o.z >= 0.0)
+                .find_map(|o| {
+                    group
+                        .cartesian(place.end(), &shifted(&place_tool, o))
+                        .ok()
+                        .filter(|p| after.is_valid(p.end()))
+                });
+                let Some(release_retreat) = back else {
+                    last = PickPlaceError::NoPath(
+                        "the hand cannot back away from the placed object".into(),
+                    );
+                    continue;
+                };
+                // The transfer, last: it is the costly plan.
                 *stage = "transfer";
+                holding(group, full)?;
                 match group.plan_to_joints(retreat.end(), &[q_pp]) {
                     Ok(t) => {
-                        place_found = Some((t, place));
+                        place_found = Some((t, place, release_retreat));
                         break 'pp;
                     }
                     Err(e) => last = motion_error(e),
@@ -916,38 +954,14 @@ fn plan_sequence_in(
                 *stage = "place";
             }
         }
-        let Some((transfer, place)) = place_found else {
-            continue;
-        };
-        // 7. Released, the hand backs away; the object stays where it was put.
-        *stage = "retreat from object";
-        group.world = without_both.clone();
-        let mut back_plan = Err(PickPlaceError::Unreachable);
-        for offset in lines(
-            grasp.kind,
-            place_level,
-            &[params.place_retreat, params.place_retreat / 2.0],
-        ) {
-            if offset.z < 0.0 {
-                continue;
-            }
-            back_plan = group
-                .cartesian(place.end(), &shifted(&place_tool, offset))
-                .map_err(motion_error);
-            if back_plan.is_ok() {
-                break;
-            }
+        if counted {
+            planned += 1;
         }
-        let Ok(release_retreat) = back_plan else {
-            last = back_plan.err().unwrap_or(PickPlaceError::Unreachable);
+        let Some((transfer, place, release_retreat)) = place_found else {
             continue;
         };
         // 8. Back to where the arm started.
         *stage = "return";
-        let mut after = without_pick_support.clone();
-        after
-            .add_object("placed", shape.clone(), placed_object * object_from_shape)
-            .map_err(driver_err)?;
         group.world = after;
         let home = match group.plan_to_joints(release_retreat.end(), &[start.to_vec()]) {
             Ok(h) => h,
