@@ -31,12 +31,118 @@ pub enum BenchCommand {
         #[arg(long)]
         json: bool,
     },
+    /// Seed 001's integral test on generated Golem-III shelf scenes: success by physics,
+    /// decision CPU time (perceive → grasp choice → every motion plan).
+    PickPlace {
+        /// Generated variants (seeds 1..=N) besides scenes/golem_shelves.toml.
+        #[arg(long, default_value_t = 20)]
+        variants: u64,
+        #[arg(long)]
+        json: bool,
+    },
 }
 
 pub fn run(c: BenchCommand) -> Result<()> {
     match c {
         BenchCommand::Perception { scenes, reps, json } => perception(scenes, reps.max(1), json),
+        BenchCommand::PickPlace { variants, json } => pick_place(variants, json),
     }
+}
+
+#[derive(serde::Serialize)]
+struct PickPlaceRow {
+    seed: u64,
+    target: String,
+    success: bool,
+    arm: Option<String>,
+    error: Option<String>,
+    decision_cpu_ms: f64,
+    target_error_cm: f64,
+}
+
+/// Runs the generated shelf tasks (both cores, one task each) and prints a table.
+fn pick_place(variants: u64, json: bool) -> Result<()> {
+    use rayon::prelude::*;
+    use tabula_tasks::pick_place::{PickPlaceParams, PickPlaceRequest};
+    let rows: Vec<Result<PickPlaceRow>> = (1..=variants)
+        .into_par_iter()
+        .map(|seed| {
+            let task = tabula_sim::generate::golem_shelf_task(seed);
+            let scene = tabula_sim::Scene::parse(&task.scene, "generated")?;
+            let world = tabula_sim::SimWorld::from_scene(&scene, Default::default())?;
+            let request = PickPlaceRequest {
+                arm: None,
+                pick: tabula_geom::Vec3::from_array(task.pick),
+                place: tabula_geom::Vec3::from_array(task.place),
+            };
+            let (out, _) = crate::tasks::pick_place_in(
+                world,
+                None,
+                &request,
+                &PickPlaceParams::default(),
+                seed,
+            )?;
+            Ok(PickPlaceRow {
+                seed,
+                target: task.target,
+                success: out.success,
+                arm: out.report.arm.clone(),
+                error: out
+                    .error_message
+                    .clone()
+                    .map(|e| match out.report.rejected.last() {
+                        Some(why) => format!("{e} (last: {why})"),
+                        None => e,
+                    })
+                    .or_else(|| (!out.success).then(|| format!("{:?}", out.verdict))),
+                decision_cpu_ms: out.report.decision_cpu_ms,
+                target_error_cm: out.verdict.target_error * 100.0,
+            })
+        })
+        .collect();
+    let rows: Vec<PickPlaceRow> = rows.into_iter().collect::<Result<_>>()?;
+    let ok = rows.iter().filter(|r| r.success).count();
+    let decisions: Vec<f64> = rows
+        .iter()
+        .filter(|r| r.success)
+        .map(|r| r.decision_cpu_ms)
+        .collect();
+    if json {
+        println!(
+            "{}",
+            serde_json::json!({
+                "variants": rows.len(),
+                "succeeded": ok,
+                "median_decision_cpu_ms": if decisions.is_empty() { f64::NAN } else { median(decisions.clone()) },
+                "rows": rows,
+            })
+        );
+        return Ok(());
+    }
+    println!("| seed | to | arm | success | decision CPU ms | error cm | why |");
+    println!("|---|---|---|---|---|---|---|");
+    for r in &rows {
+        println!(
+            "| {} | {} | {} | {} | {:.1} | {:.2} | {} |",
+            r.seed,
+            r.target,
+            r.arm.as_deref().unwrap_or("-"),
+            if r.success { "yes" } else { "NO" },
+            r.decision_cpu_ms,
+            r.target_error_cm,
+            r.error.as_deref().unwrap_or("")
+        );
+    }
+    println!(
+        "\n{ok} of {} placed (physics verdict); median decision {:.1} ms CPU",
+        rows.len(),
+        if decisions.is_empty() {
+            f64::NAN
+        } else {
+            median(decisions)
+        }
+    );
+    Ok(())
 }
 
 #[derive(serde::Serialize)]

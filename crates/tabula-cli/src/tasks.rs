@@ -3,11 +3,11 @@
 use anyhow::{Context, Result, bail};
 use clap::Args;
 use serde::Serialize;
-use std::cell::RefCell;
 use std::path::{Path, PathBuf};
-use std::rc::Rc;
-use tabula_geom::{Pose, Vec3};
-use tabula_sim::world::EntityKind;
+use tabula_geom::Vec3;
+use tabula_sim::verdict::{
+    ContactWatch, PlaceTolerance, PlaceVerdict, judge_placement, nearest_object,
+};
 use tabula_sim::{PhysicsParams, Scene, SimDriver, SimWorld};
 use tabula_tasks::pick_place::{PickPlaceParams, PickPlaceRequest, pick_place};
 
@@ -41,24 +41,6 @@ pub struct PickPlaceArgs {
     /// Write a report (run.json and index.html) into this folder.
     #[arg(long)]
     pub report: Option<PathBuf>,
-}
-
-/// The physics verdict on a placement (ground truth, never used for decisions).
-#[derive(Debug, Clone, Serialize)]
-pub struct Verdict {
-    pub success: bool,
-    /// The object the task was asked to move (the one nearest the pick position).
-    pub object: String,
-    /// Horizontal distance of the object's footprint centre from the target (m).
-    pub target_error: f64,
-    /// Angle between the object's up axis before and after (rad).
-    pub tilt: f64,
-    pub resting: bool,
-    /// Robot–furniture contacts seen during the motions (link, furniture).
-    pub furniture_contacts: Vec<(String, String)>,
-    /// Other objects moved by more than 1 cm.
-    pub disturbed: Vec<String>,
-    pub final_pose: [f64; 6],
 }
 
 pub fn load_world(scene_path: &Path) -> Result<(Scene, SimWorld)> {
@@ -96,7 +78,7 @@ pub struct PickPlaceJson {
     pub error_message: Option<String>,
     #[serde(flatten)]
     pub report: tabula_tasks::pick_place::PickPlaceReport,
-    pub verdict: Verdict,
+    pub verdict: PlaceVerdict,
     pub final_pose: [f64; 6],
 }
 
@@ -112,110 +94,68 @@ pub fn run_pick_place(a: &PickPlaceArgs) -> Result<PickPlaceJson> {
         }
         None => PickPlaceParams::default(),
     };
-    let (_, mut world) = load_world(&a.scene)?;
-    world.settle();
-    let robot_name = scene_robot(&world, a.robot.as_deref())?;
-    let robot = {
-        let r = world.robot(&robot_name)?;
-        tabula_robot::robots::NamedRobot::new(r.model.clone(), r.description.clone(), &robot_name)
-    };
-    let before = world.object_poses();
-    let target_object = before
-        .iter()
-        .min_by(|x, y| {
-            (x.1.translation - pick)
-                .length()
-                .total_cmp(&(y.1.translation - pick).length())
-        })
-        .map(|(n, p)| (n.clone(), *p))
-        .context("the scene has no objects")?;
-    let mut driver = SimDriver::new(world, &robot_name, a.seed)?;
-    let contacts: Rc<RefCell<Vec<(String, String)>>> = Rc::default();
-    {
-        let contacts = contacts.clone();
-        let robot_name = robot_name.clone();
-        driver.observe(move |w| {
-            if let Ok(found) = w.robot_contacts(&robot_name, &[EntityKind::Furniture], 1e-3) {
-                let mut c = contacts.borrow_mut();
-                for pair in found {
-                    if !c.contains(&pair) {
-                        c.push(pair);
-                    }
-                }
-            }
-        });
-    }
+    let (_, world) = load_world(&a.scene)?;
     let request = PickPlaceRequest {
         arm: (a.arm != "auto").then(|| a.arm.clone()),
         pick,
         place,
     };
-    let outcome = pick_place(&mut driver, &robot, &request, &params);
-    let mut world = driver.world;
-    world.settle();
-    let (object, start_pose) = target_object;
-    let now = world.pose(&object)?;
-    let tilt = (now.rotation * Vec3::Z).angle_between(start_pose.rotation * Vec3::Z);
-    let target_error = (now.translation.truncate() - place.truncate()).length();
-    let resting = world
-        .physics
-        .bodies
-        .iter()
-        .all(|(_, b)| !b.is_dynamic() || b.linvel().length() < 0.01);
-    let disturbed: Vec<String> = before
-        .iter()
-        .filter(|(n, _)| *n != object)
-        .filter(|(n, p)| {
-            world
-                .pose(n)
-                .is_ok_and(|q| (q.translation - p.translation).length() > 0.01)
-        })
-        .map(|(n, _)| n.clone())
-        .collect();
-    let furniture_contacts = contacts.borrow().clone();
-    let final_pose = pose6(&now);
-    let success = outcome.error.is_none()
-        && target_error <= 0.02
-        && tilt <= 0.1
-        && resting
-        && furniture_contacts.is_empty()
-        && world.held_objects(&robot_name).is_empty();
-    if let Some(out) = &a.save_scene {
+    let (out, world) = pick_place_in(world, a.robot.as_deref(), &request, &params, a.seed)?;
+    if let Some(path) = &a.save_scene {
         let text = world
             .to_scene()
             .to_toml()
             .map_err(|e| anyhow::anyhow!("cannot write the scene: {e}"))?;
-        std::fs::write(out, text).with_context(|| format!("cannot write {}", out.display()))?;
+        std::fs::write(path, text).with_context(|| format!("cannot write {}", path.display()))?;
     }
-    Ok(PickPlaceJson {
-        success,
-        error: outcome.error.as_ref().map(|e| e.kind().to_string()),
-        error_message: outcome.error.as_ref().map(|e| e.to_string()),
-        report: outcome.report,
-        verdict: Verdict {
-            success,
-            object,
-            target_error,
-            tilt,
-            resting,
-            furniture_contacts,
-            disturbed,
-            final_pose,
-        },
-        final_pose,
-    })
+    Ok(out)
 }
 
-fn pose6(p: &Pose) -> [f64; 6] {
-    let rpy = tabula_geom::rpy_from_quat(p.rotation);
-    [
-        p.translation.x,
-        p.translation.y,
-        p.translation.z,
-        rpy[0],
-        rpy[1],
-        rpy[2],
-    ]
+/// A pick and place in `world`, judged by its physics; returns the world afterwards.
+pub fn pick_place_in(
+    mut world: SimWorld,
+    robot: Option<&str>,
+    request: &PickPlaceRequest,
+    params: &PickPlaceParams,
+    seed: u64,
+) -> Result<(PickPlaceJson, SimWorld)> {
+    world.settle();
+    let robot_name = scene_robot(&world, robot)?;
+    let robot = {
+        let r = world.robot(&robot_name)?;
+        tabula_robot::robots::NamedRobot::new(r.model.clone(), r.description.clone(), &robot_name)
+    };
+    let before = world.object_poses();
+    let (object, start_pose) =
+        nearest_object(&before, request.pick).context("the scene has no objects")?;
+    let mut driver = SimDriver::new(world, &robot_name, seed)?;
+    let watch = ContactWatch::default();
+    driver.observe(watch.observer(&robot_name));
+    let outcome = pick_place(&mut driver, &robot, request, params);
+    let mut world = driver.world;
+    world.settle();
+    let mut verdict = judge_placement(
+        &world,
+        &robot_name,
+        &object,
+        &start_pose,
+        request.place.truncate(),
+        &before,
+        watch.seen(),
+        PlaceTolerance::default(),
+    )?;
+    verdict.success &= outcome.error.is_none();
+    Ok((
+        PickPlaceJson {
+            success: verdict.success,
+            error: outcome.error.as_ref().map(|e| e.kind().to_string()),
+            error_message: outcome.error.as_ref().map(|e| e.to_string()),
+            report: outcome.report,
+            final_pose: verdict.final_pose,
+            verdict,
+        },
+        world,
+    ))
 }
 
 pub fn run(a: PickPlaceArgs) -> Result<()> {

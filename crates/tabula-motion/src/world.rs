@@ -629,7 +629,9 @@ impl CollisionWorld {
     /// occupied `voxel`-sized cell is covered, all of it one compound object whose own
     /// bounding-volume hierarchy keeps queries fast (the role of MoveIt's octomap).
     /// Cells are merged greedily into boxes — runs along x, then equal runs along y —
-    /// so a table top or a shelf board is a handful of boxes, not thousands of cubes.
+    /// so a table top or a shelf board is a handful of boxes, not thousands of cubes;
+    /// each box is the bounding box of the points in its cells (at least `voxel / 4`
+    /// thick), not of the cells, so a surface is not raised by up to a voxel.
     /// Returns the number of occupied cells.
     pub fn add_occupancy(
         &mut self,
@@ -640,47 +642,64 @@ impl CollisionWorld {
         if !(voxel.is_finite() && voxel > 0.0) {
             return Err(WorldError::NonFinite);
         }
-        let mut cells: Vec<[i64; 3]> = world_points
+        let key = |p: &Vec3| {
+            [
+                (p.x / voxel).floor() as i64,
+                (p.y / voxel).floor() as i64,
+                (p.z / voxel).floor() as i64,
+            ]
+        };
+        // Sorted by z, then y, then x, so x-runs are consecutive.
+        let mut cells: Vec<([i64; 3], Vec3, Vec3)> = Vec::new();
+        let mut keyed: Vec<([i64; 3], Vec3)> = world_points
             .iter()
             .filter(|p| p.is_finite())
-            .map(|p| {
-                [
-                    (p.x / voxel).floor() as i64,
-                    (p.y / voxel).floor() as i64,
-                    (p.z / voxel).floor() as i64,
-                ]
-            })
+            .map(|p| (key(p), *p))
             .collect();
-        // Sorted by z, then y, then x: x-runs are consecutive.
-        cells.sort_unstable_by_key(|c| (c[2], c[1], c[0]));
-        cells.dedup();
+        keyed.sort_unstable_by_key(|(c, _)| (c[2], c[1], c[0]));
+        for (c, p) in keyed {
+            match cells.last_mut() {
+                Some((k, lo, hi)) if *k == c => {
+                    *lo = lo.min(p);
+                    *hi = hi.max(p);
+                }
+                _ => cells.push((c, p, p)),
+            }
+        }
         if cells.is_empty() {
             return Ok(0);
         }
         let count = cells.len();
-        // Runs along x: (z, y, x0, x1).
-        let mut runs: Vec<(i64, i64, i64, i64)> = Vec::new();
-        for c in &cells {
+        // Runs along x: (z, y, x0, x1, lo, hi).
+        let mut runs: Vec<(i64, i64, i64, i64, Vec3, Vec3)> = Vec::new();
+        for (c, lo, hi) in &cells {
             match runs.last_mut() {
-                Some(r) if r.0 == c[2] && r.1 == c[1] && r.3 + 1 == c[0] => r.3 = c[0],
-                _ => runs.push((c[2], c[1], c[0], c[0])),
+                Some(r) if r.0 == c[2] && r.1 == c[1] && r.3 + 1 == c[0] => {
+                    r.3 = c[0];
+                    r.4 = r.4.min(*lo);
+                    r.5 = r.5.max(*hi);
+                }
+                _ => runs.push((c[2], c[1], c[0], c[0], *lo, *hi)),
             }
         }
-        // Equal x-runs on consecutive y rows merge: (z, x0, x1, y0, y1).
+        // Equal x-runs on consecutive y rows merge: (z, x0, x1, y1, lo, hi).
         runs.sort_unstable_by_key(|r| (r.0, r.2, r.3, r.1));
-        let mut boxes: Vec<(i64, i64, i64, i64, i64)> = Vec::new();
+        let mut boxes: Vec<(i64, i64, i64, i64, Vec3, Vec3)> = Vec::new();
         for r in &runs {
             match boxes.last_mut() {
-                Some(b) if b.0 == r.0 && b.1 == r.2 && b.2 == r.3 && b.4 + 1 == r.1 => b.4 = r.1,
-                _ => boxes.push((r.0, r.2, r.3, r.1, r.1)),
+                Some(b) if b.0 == r.0 && b.1 == r.2 && b.2 == r.3 && b.3 + 1 == r.1 => {
+                    b.3 = r.1;
+                    b.4 = b.4.min(r.4);
+                    b.5 = b.5.max(r.5);
+                }
+                _ => boxes.push((r.0, r.2, r.3, r.1, r.4, r.5)),
             }
         }
+        let min_half = voxel / 8.0;
         let parts: Vec<(Pose, SharedShape)> = boxes
             .iter()
-            .map(|&(z, x0, x1, y0, y1)| {
-                let lo = Vec3::new(x0 as f64, y0 as f64, z as f64) * voxel;
-                let hi = Vec3::new((x1 + 1) as f64, (y1 + 1) as f64, (z + 1) as f64) * voxel;
-                let half = (hi - lo) / 2.0;
+            .map(|&(_, _, _, _, lo, hi)| {
+                let half = ((hi - lo) / 2.0).max(Vec3::splat(min_half));
                 (
                     Pose::from_translation((lo + hi) / 2.0),
                     SharedShape::cuboid(half.x, half.y, half.z),

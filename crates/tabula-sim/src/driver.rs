@@ -20,7 +20,7 @@ pub struct SimDriver {
     /// Called after every physics step of a command (e.g. to record a replay or watch
     /// for contacts); gets the world after the step.
     #[allow(clippy::type_complexity)]
-    observer: Option<Box<dyn FnMut(&SimWorld)>>,
+    observer: Option<Box<dyn FnMut(&SimWorld) + Send>>,
 }
 
 impl From<SimError> for DriverError {
@@ -51,7 +51,7 @@ impl SimDriver {
     }
 
     /// Watches every physics step of the commands that follow.
-    pub fn observe(&mut self, observer: impl FnMut(&SimWorld) + 'static) {
+    pub fn observe(&mut self, observer: impl FnMut(&SimWorld) + Send + 'static) {
         self.observer = Some(Box::new(observer));
     }
 

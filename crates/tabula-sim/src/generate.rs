@@ -316,3 +316,175 @@ pub fn tabletop_frame(
         world,
     })
 }
+
+/// A generated pick-and-place task for Golem-III (seed 001's integral test, SPEC §2.5):
+/// the scene text, which object to move, where it is (approximately, as the seed gave
+/// it) and where it goes.
+#[derive(Debug, Clone)]
+pub struct ShelfTask {
+    pub scene: String,
+    pub object: String,
+    /// Approximate centre of the object (a centimetre of error, as a person gives it).
+    pub pick: [f64; 3],
+    /// The target: footprint centre on the target surface, z at the object's centre.
+    pub place: [f64; 3],
+    /// `shelf_right`, `shelf_left` or `table`: where the object goes.
+    pub target: String,
+}
+
+/// A bookshelf facing the robot: centre, yaw, size, and the board the task uses.
+struct Shelf {
+    name: &'static str,
+    center: [f64; 2],
+    yaw: f64,
+    width: f64,
+    height: f64,
+    /// Top of the middle board (of two sections).
+    board_top: f64,
+}
+
+const SHELF_DEPTH: f64 = 0.35;
+const BOARD: f64 = 0.02;
+
+impl Shelf {
+    /// World xy of a point `depth` m inside the open face, `lateral` m to its side.
+    fn inside(&self, depth: f64, lateral: f64) -> [f64; 2] {
+        let lx = SHELF_DEPTH / 2.0 - depth;
+        let (s, c) = self.yaw.sin_cos();
+        [
+            self.center[0] + c * lx - s * lateral,
+            self.center[1] + s * lx + c * lateral,
+        ]
+    }
+}
+
+/// Golem-III between two bookshelves that face it from the front-left and front-right,
+/// with a table in front: shelf angles, distances, sizes and board heights, the table's
+/// place and height, the object (a can or a box of graspable size, any yaw) and a second
+/// object vary with `seed`. The object stands on a board of one shelf (which one
+/// alternates with the seed's parity, so both arms are exercised); it goes to the table
+/// or to the other shelf's board. Everything stays within the band Golem-III's arms
+/// reach with a side grasp (boards near 1 m, shelves 0.85–1.0 m away).
+pub fn golem_shelf_task(seed: u64) -> ShelfTask {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed ^ 0x5E1F_0001);
+    let lift = rng.random_range(-0.08..-0.02);
+    let shelf = |name: &'static str, side: f64, rng: &mut ChaCha8Rng| {
+        let angle = side * rng.random_range(40f64..58.0).to_radians();
+        let distance = rng.random_range(0.92..1.0);
+        let board_top = rng.random_range(0.97..1.06);
+        // Two sections: the middle board's top is at (h − t)/2 + t, and the top board
+        // is far above the head camera, which would see a board at its own height only
+        // edge-on (not at all).
+        let height = (board_top - BOARD) * 2.0 + BOARD;
+        Shelf {
+            name,
+            center: [distance * angle.cos(), distance * angle.sin()],
+            yaw: angle + std::f64::consts::PI,
+            width: rng.random_range(0.7..0.9),
+            height,
+            board_top,
+        }
+    };
+    let shelves = [
+        shelf("shelf_right", -1.0, &mut rng),
+        shelf("shelf_left", 1.0, &mut rng),
+    ];
+    let table_center = [rng.random_range(0.98..1.05), rng.random_range(-0.08..0.08)];
+    let table_height = rng.random_range(0.9..0.97);
+    let from = (seed % 2) as usize;
+    let other = 1 - from;
+    let object_shape = if rng.random_bool(0.5) {
+        Shape::Cylinder {
+            radius: rng.random_range(0.028..0.036),
+            height: rng.random_range(0.10..0.14),
+        }
+    } else {
+        Shape::Box([
+            rng.random_range(0.04..0.065),
+            rng.random_range(0.04..0.065),
+            rng.random_range(0.09..0.14),
+        ])
+    };
+    let yaw = rng.random_range(-3.14..3.14);
+    let depth = rng.random_range(0.075..0.10);
+    let lateral = rng.random_range(-0.08..0.08);
+    let source = &shelves[from];
+    let at = source.inside(depth, lateral);
+    let h = object_shape.height();
+    let z = source.board_top + h / 2.0 + 1e-3;
+    // A second object on the same board, at least 20 cm to the side.
+    let side = if lateral > 0.0 { -1.0 } else { 1.0 };
+    let other_at = source.inside(0.12, lateral + side * rng.random_range(0.2..0.26));
+    let other_shape = random_shape(&mut rng);
+    let to_table = rng.random_bool(0.5);
+    let (place_xy, place_surface, target) = if to_table {
+        let front = table_center[0] - 0.25;
+        (
+            [
+                front + rng.random_range(0.07..0.11),
+                table_center[1] + rng.random_range(-0.15..0.15),
+            ],
+            table_height,
+            "table".to_string(),
+        )
+    } else {
+        let t = &shelves[other];
+        (
+            t.inside(rng.random_range(0.075..0.10), rng.random_range(-0.08..0.08)),
+            t.board_top,
+            t.name.to_string(),
+        )
+    };
+    let noise = |rng: &mut ChaCha8Rng| rng.random_range(-0.01..0.01);
+    let pick = [
+        at[0] + noise(&mut rng),
+        at[1] + noise(&mut rng),
+        z + noise(&mut rng),
+    ];
+    let place = [place_xy[0], place_xy[1], place_surface + h / 2.0];
+
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "# Generated by tabula_sim::generate::golem_shelf_task({seed}).\n\n[floor]\n"
+    );
+    for sh in &shelves {
+        let _ = writeln!(
+            s,
+            "[[furniture]]\nname = \"{}\"\nkind = \"bookshelf\"\npose = {{ xyz = [{:.4}, {:.4}, 0.0], rpy = [0.0, 0.0, {:.4}] }}\nsize = [{SHELF_DEPTH}, {:.4}, {:.4}]\nshelves = 2\n",
+            sh.name, sh.center[0], sh.center[1], sh.yaw, sh.width, sh.height
+        );
+    }
+    let _ = writeln!(
+        s,
+        "[[furniture]]\nname = \"table\"\nkind = \"table\"\npose = {{ xyz = [{:.4}, {:.4}, 0.0] }}\nsize = [0.5, 0.7, {table_height:.4}]\n",
+        table_center[0], table_center[1]
+    );
+    let _ = writeln!(
+        s,
+        "[[object]]\nname = \"target\"\nshape = {}\npose = {{ xyz = [{:.4}, {:.4}, {:.4}], rpy = [0.0, 0.0, {yaw:.4}] }}\nmass = 0.3\ncolor = [0.85, 0.15, 0.1]\n",
+        object_shape.toml(),
+        at[0],
+        at[1],
+        z
+    );
+    let _ = writeln!(
+        s,
+        "[[object]]\nname = \"other\"\nshape = {}\npose = {{ xyz = [{:.4}, {:.4}, {:.4}] }}\nmass = 0.3\ncolor = [0.1, 0.5, 0.8]\n",
+        other_shape.toml(),
+        other_at[0],
+        other_at[1],
+        source.board_top + other_shape.height() / 2.0 + 1e-3
+    );
+    let _ = writeln!(
+        s,
+        "[[robot]]\nname = \"golem\"\nurdf = \"golem3\"\njoints = {{ torso_lift_joint = {lift:.4}, right_arm_joint4 = 0.3, left_arm_joint4 = 0.3 }}\n\n[[camera]]\nname = \"head\"\nrobot = \"golem\"\nlink = \"head_camera_optical_frame\""
+    );
+    ShelfTask {
+        scene: s,
+        object: "target".into(),
+        pick,
+        place,
+        target,
+    }
+}

@@ -8,6 +8,7 @@ pub mod driver;
 pub mod generate;
 pub mod robot;
 pub mod scene;
+pub mod verdict;
 pub mod world;
 
 pub use camera::{Camera, DepthFrame};

@@ -14,6 +14,7 @@ use crate::observe::{
     voxel_keys, world_points,
 };
 use std::time::Instant;
+use tabula_geom::parry::shape::SharedShape;
 use tabula_geom::{Mat3, Pose, Quat, Vec2, Vec3};
 use tabula_motion::group::thread_cpu;
 use tabula_motion::{CollisionWorld, MoveError, MoveGroup, MoveGroupParams, Plan};
@@ -239,12 +240,39 @@ fn tool_rotation(tool_approach: Vec3, tool_closing: Vec3, approach: Vec3, closin
     Quat::from_mat3(&(world * tool.transpose())).normalize()
 }
 
-/// Occupancy for the collision world, in three parts: the scene, and the columns under
-/// the pick and place footprints (removed while the object sits on them).
+/// The collision world's view of the surroundings: occupancy of everything seen,
+/// except the supports under the object and under the target, which are exact slabs at
+/// their measured height (seed 000 added the found surface to the planning scene) —
+/// so the fingers may pass a centimetre above a board, and the slab can be taken away
+/// while the object leaves it or arrives on it.
 struct Occupancy {
     scene: Vec<Vec3>,
-    pick_support: Vec<Vec3>,
-    place_support: Vec<Vec3>,
+    pick_support: Option<(SharedShape, Pose)>,
+    place_support: Option<(SharedShape, Pose)>,
+}
+
+/// A slab whose top is at `z`, under the seen surface points of a column.
+fn support_slab(points: &[Vec3], z: f64) -> Option<(SharedShape, Pose)> {
+    let near: Vec<Vec2> = points
+        .iter()
+        .filter(|q| (q.z - z).abs() <= 0.015)
+        .map(|q| q.truncate())
+        .collect();
+    if near.len() < 10 {
+        return None;
+    }
+    let lo = near
+        .iter()
+        .fold(Vec2::splat(f64::INFINITY), |a, b| a.min(*b));
+    let hi = near
+        .iter()
+        .fold(Vec2::splat(f64::NEG_INFINITY), |a, b| a.max(*b));
+    let half = ((hi - lo) / 2.0).max(Vec2::splat(0.005));
+    let thickness = 0.02;
+    Some((
+        SharedShape::cuboid(half.x, half.y, thickness / 2.0),
+        Pose::from_translation(((lo + hi) / 2.0).extend(z - thickness / 2.0)),
+    ))
 }
 
 fn in_column(q: Vec3, center: Vec2, radius: f64, z: f64) -> bool {
@@ -388,54 +416,25 @@ fn run(
     })?;
     report.target_surface = Some(support.z);
     mark("perceived");
-    let column = |center: Vec2| object.footprint.size.length() / 2.0 + 0.04 + 0.0 * center.x;
+    let column_radius = object.footprint.size.length() / 2.0 + 0.04;
+    let pick_xy = object.footprint.center;
+    let place_xy = request.place.truncate();
+    let in_pick = |q: &Vec3| in_column(*q, pick_xy, column_radius, object.bottom);
+    let in_place = |q: &Vec3| in_column(*q, place_xy, column_radius, support.z);
+    let pick_column: Vec<Vec3> = others.iter().copied().filter(|q| in_pick(q)).collect();
+    let place_column: Vec<Vec3> = others
+        .iter()
+        .copied()
+        .filter(|q| in_place(q) && !in_pick(q))
+        .collect();
     let occupancy = Occupancy {
         scene: others
             .iter()
             .copied()
-            .filter(|q| {
-                !in_column(
-                    *q,
-                    object.footprint.center,
-                    column(object.footprint.center),
-                    object.bottom,
-                ) && !in_column(
-                    *q,
-                    request.place.truncate(),
-                    column(request.place.truncate()),
-                    support.z,
-                )
-            })
+            .filter(|q| !in_pick(q) && !in_place(q))
             .collect(),
-        pick_support: others
-            .iter()
-            .copied()
-            .filter(|q| {
-                in_column(
-                    *q,
-                    object.footprint.center,
-                    column(object.footprint.center),
-                    object.bottom,
-                )
-            })
-            .collect(),
-        place_support: others
-            .iter()
-            .copied()
-            .filter(|q| {
-                in_column(
-                    *q,
-                    request.place.truncate(),
-                    column(request.place.truncate()),
-                    support.z,
-                ) && !in_column(
-                    *q,
-                    object.footprint.center,
-                    column(object.footprint.center),
-                    object.bottom,
-                )
-            })
-            .collect(),
+        pick_support: support_slab(&pick_column, object.bottom),
+        place_support: support_slab(&place_column, support.z),
     };
     // ---- Arms to try, nearest first.
     let state = driver.joint_state()?;
@@ -545,6 +544,12 @@ fn run(
         &tabula_robot::driver::JointTrajectory,
     ) -> Result<(), DriverError>| {
         report.trajectories.push(plan.trajectory.clone());
+        if trace {
+            eprintln!(
+                "phase {name}: {:.2} s of motion",
+                plan.trajectory.duration()
+            );
+        }
         let out = timed_phase(report, name, false, || Ok(d(&plan.trajectory)?));
         if let Some(p) = report.phases.last_mut() {
             p.plan_ms = Some(plan.planning_time * 1e3);
@@ -582,12 +587,20 @@ fn run(
 }
 
 fn add_occupancy(world: &mut CollisionWorld, o: &Occupancy, voxel: f64) -> Result<(), MoveError> {
-    for (name, pts) in [
-        ("scene", &o.scene),
+    world.add_occupancy("scene", &o.scene, voxel)?;
+    // Absent slabs are empty placeholders, so stages can always remove them by name.
+    let nothing = || {
+        (
+            SharedShape::ball(1e-6),
+            Pose::from_translation(Vec3::splat(1e6)),
+        )
+    };
+    for (name, slab) in [
         ("pick_support", &o.pick_support),
         ("place_support", &o.place_support),
     ] {
-        world.add_occupancy(name, pts, voxel)?;
+        let (shape, pose) = slab.clone().unwrap_or_else(nothing);
+        world.add_object(name, shape, pose)?;
     }
     Ok(())
 }

@@ -124,3 +124,17 @@ fn reach_map() {
         }
     }
 }
+
+#[test]
+fn dump_task() {
+    let seed: u64 = std::env::var("SEED")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(4);
+    let t = tabula_sim::generate::golem_shelf_task(seed);
+    std::fs::write("/tmp/task.toml", &t.scene).unwrap();
+    println!(
+        "--pick {} {} {} --place {} {} {}",
+        t.pick[0], t.pick[1], t.pick[2], t.place[0], t.place[1], t.place[2]
+    );
+}

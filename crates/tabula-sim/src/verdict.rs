@@ -1,0 +1,141 @@
+//! Verdicts from ground truth: did the object end where and how the task meant it to,
+//! did anything else move, did the robot touch the furniture. Only tests, reports and
+//! benchmarks read these; no decision does.
+
+use crate::world::{EntityKind, SimError, SimWorld};
+use std::sync::{Arc, Mutex};
+use tabula_geom::{Pose, Vec2, Vec3};
+
+/// What physics says about a placement.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct PlaceVerdict {
+    /// Within `tolerance` of the target, upright, resting, nothing held, no furniture
+    /// touched.
+    pub success: bool,
+    pub object: String,
+    /// Horizontal distance of the object's origin from the target (m).
+    pub target_error: f64,
+    /// Angle between the object's up axis before and after (rad).
+    pub tilt: f64,
+    pub resting: bool,
+    /// Robot–furniture contacts seen during the motions (link or held object, furniture).
+    pub furniture_contacts: Vec<(String, String)>,
+    /// Other objects moved by more than 1 cm.
+    pub disturbed: Vec<String>,
+    /// x y z roll pitch yaw of the object at the end.
+    pub final_pose: [f64; 6],
+}
+
+/// Pass/fail limits of a placement (the integral test's: 2 cm, upright, resting).
+#[derive(Debug, Clone, Copy)]
+pub struct PlaceTolerance {
+    pub position: f64,
+    pub tilt: f64,
+    pub speed: f64,
+}
+
+impl Default for PlaceTolerance {
+    fn default() -> Self {
+        Self {
+            position: 0.02,
+            tilt: 0.1,
+            speed: 0.01,
+        }
+    }
+}
+
+/// Records every robot–furniture contact deeper than 1 mm; hand [`Self::observer`] to
+/// [`crate::SimDriver::observe`] so every physics step of a motion is checked.
+#[derive(Debug, Clone, Default)]
+pub struct ContactWatch {
+    pub contacts: Arc<Mutex<Vec<(String, String)>>>,
+}
+
+impl ContactWatch {
+    pub fn observer(&self, robot: &str) -> impl FnMut(&SimWorld) + Send + 'static {
+        let contacts = self.contacts.clone();
+        let robot = robot.to_string();
+        move |w: &SimWorld| {
+            if let Ok(found) = w.robot_contacts(&robot, &[EntityKind::Furniture], 1e-3)
+                && let Ok(mut c) = contacts.lock()
+            {
+                for pair in found {
+                    if !c.contains(&pair) {
+                        if std::env::var_os("TABULA_TRACE").is_some() {
+                            eprintln!(
+                                "contact at t = {:.2} s: {pair:?} at {:?}",
+                                w.time(),
+                                w.pose(&pair.0).map(|p| p.translation)
+                            );
+                        }
+                        c.push(pair);
+                    }
+                }
+            }
+        }
+    }
+
+    pub fn seen(&self) -> Vec<(String, String)> {
+        self.contacts.lock().map(|c| c.clone()).unwrap_or_default()
+    }
+}
+
+/// The object (among `before`, everything's poses at the start) nearest `point`.
+pub fn nearest_object(before: &[(String, Pose)], point: Vec3) -> Option<(String, Pose)> {
+    before
+        .iter()
+        .min_by(|a, b| {
+            (a.1.translation - point)
+                .length()
+                .total_cmp(&(b.1.translation - point).length())
+        })
+        .map(|(n, p)| (n.clone(), *p))
+}
+
+/// Judges a placement of `object` (which started at `start`) at `target` (xy), after
+/// the world has settled.
+pub fn judge_placement(
+    world: &SimWorld,
+    robot: &str,
+    object: &str,
+    start: &Pose,
+    target: Vec2,
+    before: &[(String, Pose)],
+    furniture_contacts: Vec<(String, String)>,
+    tolerance: PlaceTolerance,
+) -> Result<PlaceVerdict, SimError> {
+    let now = world.pose(object)?;
+    let tilt = (now.rotation * Vec3::Z).angle_between(start.rotation * Vec3::Z);
+    let target_error = (now.translation.truncate() - target).length();
+    let resting = world
+        .physics
+        .bodies
+        .iter()
+        .all(|(_, b)| !b.is_dynamic() || b.linvel().length() < tolerance.speed);
+    let disturbed: Vec<String> = before
+        .iter()
+        .filter(|(n, _)| n != object)
+        .filter(|(n, p)| {
+            world
+                .pose(n)
+                .is_ok_and(|q| (q.translation - p.translation).length() > 0.01)
+        })
+        .map(|(n, _)| n.clone())
+        .collect();
+    let rpy = tabula_geom::rpy_from_quat(now.rotation);
+    let t = now.translation;
+    Ok(PlaceVerdict {
+        success: target_error <= tolerance.position
+            && tilt <= tolerance.tilt
+            && resting
+            && furniture_contacts.is_empty()
+            && world.held_objects(robot).is_empty(),
+        object: object.to_string(),
+        target_error,
+        tilt,
+        resting,
+        furniture_contacts,
+        disturbed,
+        final_pose: [t.x, t.y, t.z, rpy[0], rpy[1], rpy[2]],
+    })
+}
