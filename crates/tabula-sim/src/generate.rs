@@ -366,7 +366,70 @@ impl Shelf {
 /// or to the other shelf's board. Everything stays within the band Golem-III's arms
 /// reach with a side grasp (boards near 1 m, shelves 0.85–1.0 m away).
 pub fn golem_shelf_task(seed: u64) -> ShelfTask {
-    let mut rng = ChaCha8Rng::seed_from_u64(seed ^ 0x5E1F_0001);
+    // SPEC §3's advice for generated scenes: check them with IK. A draw whose pick or
+    // place no arm reaches with a side grasp (any approach yaw, level or tilted down,
+    // with a pre-grasp) is drawn again; the planner still has to find the motions.
+    let golem = tabula_robot::robots::load("golem3").ok();
+    let mut draw = 0u64;
+    loop {
+        let task = draw_shelf_task(seed, draw);
+        let reachable = golem
+            .as_ref()
+            .is_none_or(|g| side_grasp_reachable(g, &task));
+        if reachable || draw >= 50 {
+            return task.task;
+        }
+        draw += 1;
+    }
+}
+
+struct Drawn {
+    task: ShelfTask,
+    lift: f64,
+    /// Tool heights (world) of a side grasp at the pick and at the place.
+    pick_grasp_z: f64,
+    place_grasp_z: f64,
+}
+
+/// Whether one arm has IK for a side grasp and its pre-grasp at both ends.
+fn side_grasp_reachable(robot: &tabula_robot::robots::NamedRobot, d: &Drawn) -> bool {
+    use tabula_geom::{Pose, Quat, Vec3};
+    use tabula_robot::ik::{IkMode, NumericIkParams};
+    let reach = |solver: &dyn tabula_robot::ik::IkSolver, xy: [f64; 2], z: f64| {
+        let facing = xy[1].atan2(xy[0]);
+        (-30..=30).any(|k| {
+            let yaw = facing + k as f64 * 0.05;
+            [0.0f64, 0.2, 0.4].iter().any(|&tilt| {
+                let r = Quat::from_rotation_z(yaw) * Quat::from_rotation_y(tilt);
+                let at = Vec3::new(xy[0], xy[1], z - d.lift);
+                let approach = r * Vec3::X;
+                let ok = |p: Vec3| {
+                    solver
+                        .solve(&Pose::from_parts(p, r), IkMode::Full, &[0.0; 6])
+                        .is_ok()
+                };
+                ok(at) && (ok(at - approach * 0.1) || ok(at + Vec3::Z * 0.1))
+            })
+        })
+    };
+    robot.description.arms.iter().any(|arm| {
+        arm.ik_solver(&robot.model, NumericIkParams::default())
+            .is_ok_and(|solver| {
+                reach(
+                    solver.as_ref(),
+                    [d.task.pick[0], d.task.pick[1]],
+                    d.pick_grasp_z,
+                ) && reach(
+                    solver.as_ref(),
+                    [d.task.place[0], d.task.place[1]],
+                    d.place_grasp_z,
+                )
+            })
+    })
+}
+
+fn draw_shelf_task(seed: u64, draw: u64) -> Drawn {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed ^ 0x5E1F_0001 ^ draw.wrapping_mul(0x9E37_79B9));
     let lift = rng.random_range(-0.08..-0.02);
     let shelf = |name: &'static str, side: f64, rng: &mut ChaCha8Rng| {
         let angle = side * rng.random_range(40f64..58.0).to_radians();
@@ -480,11 +543,17 @@ pub fn golem_shelf_task(seed: u64) -> ShelfTask {
         s,
         "[[robot]]\nname = \"golem\"\nurdf = \"golem3\"\njoints = {{ torso_lift_joint = {lift:.4}, right_arm_joint4 = 0.3, left_arm_joint4 = 0.3 }}\n\n[[camera]]\nname = \"head\"\nrobot = \"golem\"\nlink = \"head_camera_optical_frame\""
     );
-    ShelfTask {
-        scene: s,
-        object: "target".into(),
-        pick,
-        place,
-        target,
+    let grasp_height = (h / 2.0).max(0.035);
+    Drawn {
+        task: ShelfTask {
+            scene: s,
+            object: "target".into(),
+            pick,
+            place,
+            target,
+        },
+        lift,
+        pick_grasp_z: source.board_top + grasp_height,
+        place_grasp_z: place_surface + grasp_height,
     }
 }

@@ -38,6 +38,10 @@ pub struct ObserveParams {
     /// Points farther than this from the camera are dropped (m): beyond any arm's reach
     /// they only cost time.
     pub max_range: f64,
+    /// Seen surfaces are taken to be solid this far behind themselves along the camera
+    /// ray (m), in the collision world: the side of a panel seen only by its front edge
+    /// is there too.
+    pub thickness: f64,
 }
 
 impl Default for ObserveParams {
@@ -54,7 +58,18 @@ impl Default for ObserveParams {
             voxel: 0.02,
             leaf: 0.005,
             max_range: 2.5,
+            thickness: 0.04,
         }
+    }
+}
+
+impl ObserveParams {
+    /// A seen point and points behind it along `ray` (unit) at half-voxel steps down to
+    /// the thickness.
+    pub fn thickness_steps(&self, point: Vec3, ray: Vec3) -> impl Iterator<Item = Vec3> {
+        let step = (self.voxel / 2.0).max(1e-3);
+        let n = (self.thickness.max(0.0) / step).ceil().min(64.0) as usize;
+        (0..=n).map(move |k| point + ray * (k as f64 * step))
     }
 }
 

@@ -59,6 +59,9 @@ pub struct PickPlaceParams {
     /// Straight lines into and out of a grasp or a placement may also rise by these
     /// (m): an arm whose level lines are short still gets in and out.
     pub rise_offsets: Vec<f64>,
+    /// The grasp point may also sit this far deeper (+) or shallower (−) along the
+    /// approach than the object's centre (m).
+    pub grasp_depth_offsets: Vec<f64>,
     /// Margin around the object's footprint that must be free at the target (m).
     pub place_margin: f64,
 }
@@ -85,6 +88,7 @@ impl Default for PickPlaceParams {
             side_tilts: vec![0.0, 0.2, 0.4],
             max_planned_grasps: 8,
             rise_offsets: vec![0.0, 0.03, 0.06, 0.09, 0.12],
+            grasp_depth_offsets: vec![0.015, -0.01],
             place_margin: 0.01,
         }
     }
@@ -328,10 +332,15 @@ fn run(
     let obs = &params.observe;
     // ---- Look at the object and at the target with the head camera.
     let mut points = Vec::new();
+    // The camera each point was seen from (to give surfaces thickness behind them).
+    let mut origins = Vec::new();
     let mut decision_cpu = 0.0;
+    // The object, the target, and the way between them (the transfer passes there).
+    let between = (request.pick + request.place) / 2.0;
     for (name, at) in [
         ("look at object", request.pick),
         ("look at target", request.place),
+        ("look between", between),
     ] {
         timed_phase(report, name, false, || {
             match driver.look_at(at) {
@@ -346,7 +355,12 @@ fn run(
                 &state.model_values(&robot.model),
                 driver.world_from_root()?,
             );
-            points.extend(world_points(&frame, &solids, obs));
+            let seen = world_points(&frame, &solids, obs);
+            origins.extend(std::iter::repeat_n(
+                frame.world_from_camera.translation,
+                seen.len(),
+            ));
+            points.extend(seen);
             decision_cpu += thread_cpu() - c0;
             Ok(())
         })?;
@@ -390,6 +404,17 @@ fn run(
         })
     };
     let others: Vec<Vec3> = points.iter().copied().filter(|q| !near_object(q)).collect();
+    // What stands behind a seen surface is solid for a few centimetres: a shelf's side
+    // panel seen only by its front edge, a board seen from above, are thick.
+    let solid: Vec<Vec3> = points
+        .iter()
+        .zip(&origins)
+        .filter(|(q, _)| !near_object(q))
+        .flat_map(|(q, o)| {
+            let ray = (*q - *o).normalize_or(Vec3::ZERO);
+            obs.thickness_steps(*q, ray)
+        })
+        .collect();
     let support = timed_phase(report, "perceive target", true, || {
         let s = support_under(&others, request.place, request.place.z + 0.03, obs).ok_or_else(
             || {
@@ -428,7 +453,7 @@ fn run(
         .filter(|q| in_place(q) && !in_pick(q))
         .collect();
     let occupancy = Occupancy {
-        scene: others
+        scene: solid
             .iter()
             .copied()
             .filter(|q| !in_pick(q) && !in_place(q))
@@ -493,7 +518,15 @@ fn run(
             continue;
         };
         let start = group.arm_values(&state);
-        let candidates = grasp_candidates(&group, &object, &start, params, gripper.open_width)?;
+        let candidates = grasp_candidates(
+            &group,
+            &object,
+            &support,
+            request,
+            &start,
+            params,
+            gripper.open_width,
+        )?;
         mark(&format!("{} grasp candidates for {arm}", candidates.len()));
         for grasp in candidates {
             report.candidates_tried += 1;
@@ -613,6 +646,8 @@ fn add_occupancy(world: &mut CollisionWorld, o: &Occupancy, voxel: f64) -> Resul
 fn grasp_candidates(
     group: &MoveGroup,
     object: &SeenObject,
+    support: &Support,
+    request: &PickPlaceRequest,
     start: &[f64],
     params: &PickPlaceParams,
     open_width: f64,
@@ -655,27 +690,36 @@ fn grasp_candidates(
         {
             let a = Vec3::new(yaw.cos() * tilt.cos(), yaw.sin() * tilt.cos(), -tilt.sin());
             let r = tool_rotation(g.approach(), g.closing(), a, c3);
-            let grasp = Grasp {
-                kind,
-                world_from_tool: Pose::from_parts(c.extend(z), r),
-                approach: a,
-            };
             let level = Vec3::new(a.x, a.y, 0.0).normalize_or(Vec3::X);
-            let some_pre = params.rise_offsets.iter().any(|&rise| {
-                let back = match kind {
-                    GraspKind::Side => -level * params.pregrasp_distance + Vec3::Z * rise,
-                    GraspKind::Top => Vec3::Z * (params.pregrasp_distance + rise),
+            // The grasp point may sit a little deeper or shallower, higher or lower on
+            // the object: an arm with few joints reaches some of these and not others.
+            for (depth, rise) in grasp_offsets(kind, h, params) {
+                let grasp = Grasp {
+                    kind,
+                    world_from_tool: Pose::from_parts(c.extend(z) + a * depth + Vec3::Z * rise, r),
+                    approach: a,
                 };
-                let pre = Pose::from_parts(grasp.world_from_tool.translation + back, r);
-                group.ik(&pre, start).is_ok()
-            });
-            if group.ik(&grasp.world_from_tool, start).is_err() || !some_pre {
-                continue;
+                let some_pre = params.rise_offsets.iter().any(|&rise| {
+                    let back = match kind {
+                        GraspKind::Side => -level * params.pregrasp_distance + Vec3::Z * rise,
+                        GraspKind::Top => Vec3::Z * (params.pregrasp_distance + rise),
+                    };
+                    let pre = Pose::from_parts(grasp.world_from_tool.translation + back, r);
+                    group.ik(&pre, start).is_ok()
+                });
+                if group.ik(&grasp.world_from_tool, start).is_err() || !some_pre {
+                    continue;
+                }
+                // And somewhere to put it down, holding it so.
+                if placements(group, object, support, request, &grasp, start, params).is_empty() {
+                    continue;
+                }
+                let score = k.unsigned_abs() as f64 * params.yaw_step
+                    + tilt
+                    + 2.0 * (depth.abs() + rise.abs())
+                    + if kind == GraspKind::Top { 0.5 } else { 0.0 };
+                scored.push((score, grasp));
             }
-            let score = k.unsigned_abs() as f64 * params.yaw_step
-                + tilt
-                + if kind == GraspKind::Top { 0.5 } else { 0.0 };
-            scored.push((score, grasp));
         }
     }
     if scored.is_empty() && narrowest + 2.0 * params.finger_clearance > open_width {
@@ -687,6 +731,80 @@ fn grasp_candidates(
         .take(params.max_planned_grasps)
         .map(|(_, g)| g)
         .collect())
+}
+
+/// Offsets (along the approach, up) of the grasp point from the object's centre line.
+fn grasp_offsets(kind: GraspKind, height: f64, params: &PickPlaceParams) -> Vec<(f64, f64)> {
+    let mut out = vec![(0.0, 0.0)];
+    for &d in &params.grasp_depth_offsets {
+        out.push((d, 0.0));
+    }
+    if kind == GraspKind::Side && height > 2.0 * params.min_grasp_height + 0.03 {
+        for &d in &[
+            0.0,
+            params.grasp_depth_offsets.first().copied().unwrap_or(0.0),
+        ] {
+            out.push((d, 0.015));
+            out.push((d, -0.015));
+        }
+    }
+    out
+}
+
+/// Poses where the held object can be put down (and the tool poses that do it), each
+/// with IK, nearest the direction facing the target first: `(rank, world_from_object,
+/// world_from_tool, level approach)`.
+fn placements(
+    group: &MoveGroup,
+    object: &SeenObject,
+    support: &Support,
+    request: &PickPlaceRequest,
+    grasp: &Grasp,
+    seed: &[f64],
+    params: &PickPlaceParams,
+) -> Vec<(u64, Pose, Pose, Vec3)> {
+    let Ok(base) = group.world.world_from_chain_base() else {
+        return Vec::new();
+    };
+    let world_from_object = object.world_from_object();
+    let tool_from_object = grasp.world_from_tool.inverse() * world_from_object;
+    let toward = request.place.truncate() - base.translation.truncate();
+    let facing = toward.y.atan2(toward.x);
+    let current_yaw = grasp.approach.y.atan2(grasp.approach.x);
+    let steps = (params.yaw_range / params.yaw_step.max(1e-3)).ceil() as i64;
+    let mut out = Vec::new();
+    for k in -steps..=steps {
+        // Side grasps turn the held object about the vertical with the approach; top
+        // grasps may turn it freely.
+        let turn = match grasp.kind {
+            GraspKind::Side => {
+                tabula_geom::wrap_angle(facing + k as f64 * params.yaw_step - current_yaw)
+            }
+            GraspKind::Top => k as f64 * params.yaw_step,
+        };
+        let spin = Quat::from_rotation_z(turn);
+        let placed_object = Pose::from_parts(
+            Vec3::new(
+                request.place.x,
+                request.place.y,
+                support.z + params.release_height,
+            ),
+            spin * world_from_object.rotation,
+        );
+        let place_tool = placed_object * tool_from_object.inverse();
+        if group.ik(&place_tool, seed).is_err() {
+            continue;
+        }
+        let a = spin * grasp.approach;
+        out.push((
+            k.unsigned_abs(),
+            placed_object,
+            place_tool,
+            Vec3::new(a.x, a.y, 0.0).normalize_or(Vec3::X),
+        ));
+    }
+    out.sort_by_key(|p| p.0);
+    out
 }
 
 fn motion_error(e: MoveError) -> PickPlaceError {
@@ -852,46 +970,16 @@ fn plan_sequence_in(
     let retreat =
         retreat_plan.unwrap_or_else(|| group.timed(lift.end(), vec![lift.end().to_vec()], 0.0));
     // 5. Placements reachable by IK, nearest the direction facing the target first.
-    let base = group
-        .world
-        .world_from_chain_base()
-        .map_err(|e| PickPlaceError::Driver(e.to_string()))?;
-    let toward = request.place.truncate() - base.translation.truncate();
-    let facing = toward.y.atan2(toward.x);
-    let current_yaw = grasp.approach.y.atan2(grasp.approach.x);
-    let steps = (params.yaw_range / params.yaw_step.max(1e-3)).ceil() as i64;
-    let mut placements = Vec::new();
-    for k in -steps..=steps {
-        // Side grasps turn the held object about the vertical with the approach; top
-        // grasps may turn it freely.
-        let turn = match grasp.kind {
-            GraspKind::Side => {
-                tabula_geom::wrap_angle(facing + k as f64 * params.yaw_step - current_yaw)
-            }
-            GraspKind::Top => k as f64 * params.yaw_step,
-        };
-        let spin = Quat::from_rotation_z(turn);
-        let placed_object = Pose::from_parts(
-            Vec3::new(
-                request.place.x,
-                request.place.y,
-                support.z + params.release_height,
-            ),
-            spin * world_from_object.rotation,
-        );
-        let place_tool = placed_object * tool_from_object.inverse();
-        if group.ik(&place_tool, retreat.end()).is_err() {
-            continue;
-        }
-        placements.push((
-            k.unsigned_abs(),
-            placed_object,
-            place_tool,
-            level_of(spin * grasp.approach),
-        ));
-    }
-    placements.sort_by_key(|p| p.0);
     *stage = "placement IK";
+    let placements = placements(
+        group,
+        object,
+        support,
+        request,
+        grasp,
+        retreat.end(),
+        params,
+    );
     let mut without_both = without_pick_support.clone();
     without_both
         .remove_object("place_support")
