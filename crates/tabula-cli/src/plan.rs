@@ -125,7 +125,10 @@ pub fn run(a: PlanArgs) -> Result<()> {
         };
         println!("{}", serde_json::to_string_pretty(&value)?);
         return match result {
-            Ok(_) | Err(NoPlan::Unsolvable) => Ok(()),
+            Ok(_) => Ok(()),
+            // Not an error of the input, but no plan either: scripts must be able to
+            // tell (exit status 2, as `pick-place` uses for a task that failed).
+            Err(NoPlan::Unsolvable) => std::process::exit(2),
             Err(e) => Err(e.into()),
         };
     }
@@ -148,7 +151,7 @@ pub fn run(a: PlanArgs) -> Result<()> {
         }
         Err(NoPlan::Unsolvable) => {
             println!("; unsolvable: the search space was exhausted, no plan exists");
-            Ok(())
+            std::process::exit(2)
         }
         Err(e) => Err(e.into()),
     }

@@ -33,9 +33,42 @@ const FINGER_WIDTH: f64 = 0.03;
 /// Gripper clearance behind an object when pushing (SPEC §3.2: 5 cm behind).
 const PUSH_STANDOFF: f64 = 0.05;
 
-/// The PDDL problem text of a random `n`-object table for seed 002's domain.
+/// Seed 002's domain (`pddl/tablewclear-domain.pddl`), against which generated tables
+/// are checked.
+const DOMAIN: &str = include_str!("../../../pddl/tablewclear-domain.pddl");
+
+/// The PDDL problem text of a random `n`-object table for seed 002's domain, solvable:
+/// a draw whose IK-infeasible facts and blocks leave some object with no way off the
+/// table (a stacked object whose grasp is IK-infeasible, say) is drawn again, so every
+/// generated table can be cleared. Solvable draws are the same as they always were.
 pub fn table_clearing_problem(n: usize, seed: u64) -> String {
-    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let domain = crate::parse_domain(DOMAIN).ok();
+    let mut text = draw_problem(n, seed, 0);
+    for draw in 1..=20u64 {
+        let solvable = domain.as_ref().is_none_or(|d| {
+            crate::parse_problem(&text, d)
+                .ok()
+                .and_then(|p| crate::Planner::new(d.clone(), p, Default::default()).ok())
+                .is_none_or(|planner| {
+                    !matches!(
+                        planner.plan(
+                            crate::SearchMode::Fast,
+                            Some(std::time::Duration::from_secs(2))
+                        ),
+                        Err(crate::NoPlan::Unsolvable)
+                    )
+                })
+        });
+        if solvable {
+            break;
+        }
+        text = draw_problem(n, seed, draw);
+    }
+    text
+}
+
+fn draw_problem(n: usize, seed: u64, draw: u64) -> String {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed ^ draw.wrapping_mul(0x2545_F491_4F6C_DD1D));
     let side = (n.max(1) as f64).sqrt() * 0.16;
     let mut rects: Vec<Rect> = Vec::with_capacity(n);
     let mut on: Vec<(usize, usize)> = Vec::new();
