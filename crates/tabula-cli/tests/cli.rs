@@ -607,10 +607,26 @@ fn pick_place_moves_the_can_and_saves_the_world() {
     let dir = std::env::temp_dir().join(format!("tabula-pp-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let saved = dir.join("after.toml");
-    let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/../../scenes/golem_shelves.toml");
+    let scene = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../scenes/golem_shelves.toml"
+    );
     let out = tabula(&[
-        "pick-place", "--scene", scene, "--arm", "auto", "--pick", "0.556", "-0.663", "1.07",
-        "--place", "0.82", "-0.2", "1.01", "--json", "--save-scene",
+        "pick-place",
+        "--scene",
+        scene,
+        "--arm",
+        "auto",
+        "--pick",
+        "0.556",
+        "-0.663",
+        "1.07",
+        "--place",
+        "0.82",
+        "-0.2",
+        "1.01",
+        "--json",
+        "--save-scene",
         saved.to_str().unwrap(),
     ]);
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON");
@@ -620,13 +636,29 @@ fn pick_place_moves_the_can_and_saves_the_world() {
     let fp = v["final_pose"].as_array().unwrap();
     assert!((fp[0].as_f64().unwrap() - 0.82).abs() < 0.02);
     // The saved scene loads (from anywhere) and the can rests where it was put.
-    let settled = tabula_json(&["sim", "settle", "--scene", saved.to_str().unwrap(), "--json"]);
+    let settled = tabula_json(&[
+        "sim",
+        "settle",
+        "--scene",
+        saved.to_str().unwrap(),
+        "--json",
+    ]);
     let text = settled.to_string();
     assert!(text.contains("can_a"), "{text}");
     // An object nobody can reach is a typed failure, not a crash.
     let out = tabula(&[
-        "pick-place", "--scene", scene, "--pick", "3.0", "3.0", "1.0", "--place", "0.82",
-        "-0.2", "1.01", "--json",
+        "pick-place",
+        "--scene",
+        scene,
+        "--pick",
+        "3.0",
+        "3.0",
+        "1.0",
+        "--place",
+        "0.82",
+        "-0.2",
+        "1.01",
+        "--json",
     ]);
     assert_eq!(out.status.code(), Some(2));
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON");

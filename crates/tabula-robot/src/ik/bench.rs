@@ -149,7 +149,7 @@ fn time_rejections(
         let t0 = Instant::now();
         let r = solver.solve(target, mode, seed);
         let us = t0.elapsed().as_secs_f64() * 1e6;
-        if matches!(r, Err(IkError::NoSolution)) {
+        if matches!(r, Err(IkError::NoSolution | IkError::NotFound { .. })) {
             times.push(us);
         }
     }

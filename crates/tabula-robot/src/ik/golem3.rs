@@ -347,7 +347,7 @@ impl Golem3Ik {
         if sols.is_empty() {
             return Err(IkError::NoSolution);
         }
-        Ok(sort_and_dedup(&self.chain, sols, seed))
+        Ok(sort_and_dedup(&self.chain, sols, seed, 1e-6))
     }
 }
 

@@ -40,6 +40,12 @@ pub enum IkError {
     /// The target is valid but no configuration within limits reaches it (in the budget).
     #[error("no solution: the target is out of reach within the joint limits")]
     NoSolution,
+    /// A numeric solver found none within its budget; unlike [`IkError::NoSolution`]
+    /// this proves nothing (another start, more time, might find one).
+    #[error(
+        "no solution found in {attempts} attempts (a numeric solver cannot prove that none exists)"
+    )]
+    NotFound { attempts: usize },
     #[error("target pose is not finite (NaN or infinite component)")]
     NonFiniteTarget,
     #[error("seed has {got} joint values, the chain has {expected}")]
@@ -140,17 +146,19 @@ pub(crate) fn sort_and_dedup(
     chain: &Chain,
     mut sols: Vec<IkSolution>,
     seed: &[f64],
+    min_separation: f64,
 ) -> Vec<IkSolution> {
     sols.sort_by(|a, b| {
         joint_distance(chain, &a.joints, seed).total_cmp(&joint_distance(chain, &b.joints, seed))
     });
     let mut out: Vec<IkSolution> = Vec::with_capacity(sols.len());
     for s in sols {
-        // Within a micro-radian two branches are one configuration (a stretched elbow
-        // gives θ = ±4e-8 for the same target).
+        // Closer than `min_separation` two solutions are one configuration (a stretched
+        // elbow gives θ = ±4e-8 for the same target; near a singularity a numeric solver
+        // lands anywhere along a shallow valley).
         if !out
             .iter()
-            .any(|o| joint_distance(chain, &o.joints, &s.joints) < 1e-6)
+            .any(|o| joint_distance(chain, &o.joints, &s.joints) < min_separation)
         {
             out.push(s);
         }

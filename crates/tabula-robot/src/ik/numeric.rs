@@ -44,6 +44,9 @@ pub struct NumericIkParams {
     pub damping: f64,
     /// Seed of the restart sampler: same seed, same answer.
     pub random_seed: u64,
+    /// Solutions closer than this (rad, Euclidean over the joints) count as one when
+    /// collecting `max_solutions`.
+    pub min_separation: f64,
 }
 
 impl Default for NumericIkParams {
@@ -57,6 +60,7 @@ impl Default for NumericIkParams {
             max_solutions: 1,
             damping: 1e-4,
             random_seed: 0,
+            min_separation: 0.05,
         }
     }
 }
@@ -142,14 +146,17 @@ impl NumericIk {
                     position_error,
                     rotation_error,
                 });
-                solutions = sort_and_dedup(&self.chain, solutions, seed);
+                solutions =
+                    sort_and_dedup(&self.chain, solutions, seed, self.params.min_separation);
                 if solutions.len() >= self.params.max_solutions.max(1) {
                     break;
                 }
             }
         }
         if solutions.is_empty() {
-            Err(IkError::NoSolution)
+            Err(IkError::NotFound {
+                attempts: stats.attempts,
+            })
         } else {
             Ok((solutions, stats))
         }
