@@ -5,10 +5,8 @@ use clap::Args;
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 use tabula_geom::Vec3;
-use tabula_sim::verdict::{
-    ContactWatch, PlaceTolerance, PlaceVerdict, judge_placement, nearest_object,
-};
-use tabula_sim::{PhysicsParams, Scene, SimDriver, SimWorld};
+use tabula_sim::verdict::{PlaceVerdict, run_judged};
+use tabula_sim::{PhysicsParams, Scene, SimWorld};
 use tabula_tasks::pick_place::{PickPlaceParams, PickPlaceRequest, pick_place};
 
 #[derive(Args)]
@@ -113,36 +111,24 @@ pub fn run_pick_place(a: &PickPlaceArgs) -> Result<PickPlaceJson> {
 
 /// A pick and place in `world`, judged by its physics; returns the world afterwards.
 pub fn pick_place_in(
-    mut world: SimWorld,
+    world: SimWorld,
     robot: Option<&str>,
     request: &PickPlaceRequest,
     params: &PickPlaceParams,
     seed: u64,
 ) -> Result<(PickPlaceJson, SimWorld)> {
-    world.settle();
     let robot_name = scene_robot(&world, robot)?;
     let robot = {
         let r = world.robot(&robot_name)?;
         tabula_robot::robots::NamedRobot::new(r.model.clone(), r.description.clone(), &robot_name)
     };
-    let before = world.object_poses();
-    let (object, start_pose) =
-        nearest_object(&before, request.pick).context("the scene has no objects")?;
-    let mut driver = SimDriver::new(world, &robot_name, seed)?;
-    let watch = ContactWatch::default();
-    driver.observe(watch.observer(&robot_name));
-    let outcome = pick_place(&mut driver, &robot, request, params);
-    let mut world = driver.world;
-    world.settle();
-    let mut verdict = judge_placement(
-        &world,
+    let (outcome, mut verdict, world) = run_judged(
+        world,
         &robot_name,
-        &object,
-        &start_pose,
+        request.pick,
         request.place.truncate(),
-        &before,
-        watch.seen(),
-        PlaceTolerance::default(),
+        seed,
+        |driver| pick_place(driver, &robot, request, params),
     )?;
     verdict.success &= outcome.error.is_none();
     Ok((

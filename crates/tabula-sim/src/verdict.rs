@@ -139,3 +139,38 @@ pub fn judge_placement(
         final_pose: [t.x, t.y, t.z, rpy[0], rpy[1], rpy[2]],
     })
 }
+
+/// Runs `task` on robot `robot` of `world` through a [`crate::SimDriver`] (camera noise
+/// from `seed`), watching every step for furniture contacts, then settles the world and
+/// judges the placement of the object nearest `pick` at `target`. Returns the task's
+/// own answer, the verdict and the world afterwards.
+pub fn run_judged<R>(
+    mut world: SimWorld,
+    robot: &str,
+    pick: Vec3,
+    target: Vec2,
+    seed: u64,
+    task: impl FnOnce(&mut crate::SimDriver) -> R,
+) -> Result<(R, PlaceVerdict, SimWorld), SimError> {
+    world.settle();
+    let before = world.object_poses();
+    let (object, start) = nearest_object(&before, pick)
+        .ok_or_else(|| SimError::UnknownEntity("any object".into()))?;
+    let mut driver = crate::SimDriver::new(world, robot, seed)?;
+    let watch = ContactWatch::default();
+    driver.observe(watch.observer(robot));
+    let answer = task(&mut driver);
+    let mut world = driver.world;
+    world.settle();
+    let verdict = judge_placement(
+        &world,
+        robot,
+        &object,
+        &start,
+        target,
+        &before,
+        watch.seen(),
+        PlaceTolerance::default(),
+    )?;
+    Ok((answer, verdict, world))
+}
