@@ -130,6 +130,52 @@ pub fn parse_mesh(
     Ok((points.into_iter().map(|p| p * s).collect(), triangles))
 }
 
+/// Enclosed volume of a triangle mesh (divergence theorem; orientation-consistent).
+pub fn mesh_volume(points: &[Vec3], triangles: &[[u32; 3]]) -> f64 {
+    triangles
+        .iter()
+        .filter(|t| t.iter().all(|&i| (i as usize) < points.len()))
+        .map(|t| {
+            points[t[0] as usize].dot(points[t[1] as usize].cross(points[t[2] as usize])) / 6.0
+        })
+        .sum::<f64>()
+        .abs()
+}
+
+/// The one way a mesh becomes a solid collision shape, everywhere in tabula: its convex
+/// hull when the mesh is (nearly) convex or `decompose` is off, a convex decomposition
+/// (V-HACD) when it is notably concave, so a cup's hollow stays hollow and a concave
+/// body cannot tunnel as a dynamic trimesh would. (A trimesh is a surface: a point
+/// inside it does not "intersect" it.)
+pub fn mesh_shape(
+    points: &[Vec3],
+    triangles: &[[u32; 3]],
+    decompose: bool,
+) -> Result<crate::parry::shape::SharedShape, String> {
+    use crate::parry::shape::SharedShape;
+    if points.iter().any(|p| !p.is_finite()) {
+        return Err("non-finite vertex".into());
+    }
+    let (hull_points, hull_triangles) = crate::parry::transformation::try_convex_hull(points)
+        .map_err(|_| "degenerate (flat or collinear) vertices: no convex hull".to_string())?;
+    let hull = SharedShape::convex_mesh(hull_points, &hull_triangles)
+        .ok_or_else(|| "degenerate (flat or collinear) vertices: no convex hull".to_string())?;
+    if !decompose || triangles.is_empty() {
+        return Ok(hull);
+    }
+    let hull_volume = hull.mass_properties(1.0).mass();
+    if mesh_volume(points, triangles) >= 0.95 * hull_volume {
+        return Ok(hull);
+    }
+    // V-HACD is third-party code on arbitrary input: a panic there is a mesh error.
+    let (pts, tris) = (points.to_vec(), triangles.to_vec());
+    let hook = std::panic::take_hook();
+    std::panic::set_hook(Box::new(|_| {}));
+    let out = std::panic::catch_unwind(move || SharedShape::convex_decomposition(&pts, &tris));
+    std::panic::set_hook(hook);
+    out.map_err(|_| "convex decomposition failed".to_string())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -190,50 +236,4 @@ mod tests {
             let _ = parse_mesh(&bytes, ext, [1.0; 3]);
         }
     }
-}
-
-/// Enclosed volume of a triangle mesh (divergence theorem; orientation-consistent).
-pub fn mesh_volume(points: &[Vec3], triangles: &[[u32; 3]]) -> f64 {
-    triangles
-        .iter()
-        .filter(|t| t.iter().all(|&i| (i as usize) < points.len()))
-        .map(|t| {
-            points[t[0] as usize].dot(points[t[1] as usize].cross(points[t[2] as usize])) / 6.0
-        })
-        .sum::<f64>()
-        .abs()
-}
-
-/// The one way a mesh becomes a solid collision shape, everywhere in tabula: its convex
-/// hull when the mesh is (nearly) convex or `decompose` is off, a convex decomposition
-/// (V-HACD) when it is notably concave, so a cup's hollow stays hollow and a concave
-/// body cannot tunnel as a dynamic trimesh would. (A trimesh is a surface: a point
-/// inside it does not "intersect" it.)
-pub fn mesh_shape(
-    points: &[Vec3],
-    triangles: &[[u32; 3]],
-    decompose: bool,
-) -> Result<crate::parry::shape::SharedShape, String> {
-    use crate::parry::shape::SharedShape;
-    if points.iter().any(|p| !p.is_finite()) {
-        return Err("non-finite vertex".into());
-    }
-    let (hull_points, hull_triangles) = crate::parry::transformation::try_convex_hull(points)
-        .map_err(|_| "degenerate (flat or collinear) vertices: no convex hull".to_string())?;
-    let hull = SharedShape::convex_mesh(hull_points, &hull_triangles)
-        .ok_or_else(|| "degenerate (flat or collinear) vertices: no convex hull".to_string())?;
-    if !decompose || triangles.is_empty() {
-        return Ok(hull);
-    }
-    let hull_volume = hull.mass_properties(1.0).mass();
-    if mesh_volume(points, triangles) >= 0.95 * hull_volume {
-        return Ok(hull);
-    }
-    // V-HACD is third-party code on arbitrary input: a panic there is a mesh error.
-    let (pts, tris) = (points.to_vec(), triangles.to_vec());
-    let hook = std::panic::take_hook();
-    std::panic::set_hook(Box::new(|_| {}));
-    let out = std::panic::catch_unwind(move || SharedShape::convex_decomposition(&pts, &tris));
-    std::panic::set_hook(hook);
-    out.map_err(|_| "convex decomposition failed".to_string())
 }

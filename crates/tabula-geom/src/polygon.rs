@@ -86,58 +86,6 @@ pub fn distance_to_boundary(poly: &[Vec2], p: Vec2) -> f64 {
         .fold(f64::INFINITY, f64::min)
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use proptest::prelude::*;
-
-    #[test]
-    fn hull_of_a_square_with_inner_and_collinear_points() {
-        let pts: Vec<Vec2> = [
-            (0.0, 0.0),
-            (1.0, 0.0),
-            (1.0, 1.0),
-            (0.0, 1.0),
-            (0.5, 0.5),
-            (0.5, 0.0),
-            (1.0, 1.0),
-        ]
-        .iter()
-        .map(|&(x, y)| Vec2::new(x, y))
-        .collect();
-        let h = convex_hull_2d(&pts);
-        assert_eq!(h.len(), 4);
-        let poly: Vec<Vec2> = h.iter().map(|&i| pts[i]).collect();
-        assert!((polygon_area(&poly) - 1.0).abs() < 1e-12);
-        assert!(inside_convex(&poly, Vec2::new(0.5, 0.5)));
-        assert!(!inside_convex(&poly, Vec2::new(1.5, 0.5)));
-        assert!(inside_polygon(&poly, Vec2::new(0.2, 0.9)));
-        assert!((distance_to_boundary(&poly, Vec2::new(0.5, 0.4)) - 0.4).abs() < 1e-12);
-        assert!(convex_hull_2d(&[]).is_empty());
-        assert_eq!(convex_hull_2d(&[Vec2::ONE, Vec2::ONE, Vec2::NAN]).len(), 1);
-        // Collinear input: the two ends.
-        let line: Vec<Vec2> = (0..5).map(|i| Vec2::new(i as f64, i as f64)).collect();
-        assert_eq!(convex_hull_2d(&line).len(), 2);
-    }
-
-    proptest! {
-        #[test]
-        fn every_point_is_inside_its_hull(pts in prop::collection::vec((-10.0..10.0f64, -10.0..10.0f64), 3..60)) {
-            let pts: Vec<Vec2> = pts.into_iter().map(|(x, y)| Vec2::new(x, y)).collect();
-            let h = convex_hull_2d(&pts);
-            let poly: Vec<Vec2> = h.iter().map(|&i| pts[i]).collect();
-            if poly.len() >= 3 {
-                prop_assert!(polygon_area(&poly) > 0.0);
-                for p in &pts {
-                    // Inside up to rounding: nudge towards the centroid.
-                    let c = poly.iter().copied().sum::<Vec2>() / poly.len() as f64;
-                    prop_assert!(inside_convex(&poly, *p + (c - *p) * 1e-9));
-                }
-            }
-        }
-    }
-}
-
 /// The smallest-area rectangle holding `points` (rotating calipers over the convex
 /// hull's edges: one side of the optimum lies on a hull edge). A square object gets its
 /// own square, not the √2-larger box a PCA frame gives it.
@@ -193,6 +141,57 @@ pub fn min_area_rectangle(points: &[Vec2]) -> Option<Rectangle> {
     best.map(|(_, r)| r)
 }
 
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    #[test]
+    fn hull_of_a_square_with_inner_and_collinear_points() {
+        let pts: Vec<Vec2> = [
+            (0.0, 0.0),
+            (1.0, 0.0),
+            (1.0, 1.0),
+            (0.0, 1.0),
+            (0.5, 0.5),
+            (0.5, 0.0),
+            (1.0, 1.0),
+        ]
+        .iter()
+        .map(|&(x, y)| Vec2::new(x, y))
+        .collect();
+        let h = convex_hull_2d(&pts);
+        assert_eq!(h.len(), 4);
+        let poly: Vec<Vec2> = h.iter().map(|&i| pts[i]).collect();
+        assert!((polygon_area(&poly) - 1.0).abs() < 1e-12);
+        assert!(inside_convex(&poly, Vec2::new(0.5, 0.5)));
+        assert!(!inside_convex(&poly, Vec2::new(1.5, 0.5)));
+        assert!(inside_polygon(&poly, Vec2::new(0.2, 0.9)));
+        assert!((distance_to_boundary(&poly, Vec2::new(0.5, 0.4)) - 0.4).abs() < 1e-12);
+        assert!(convex_hull_2d(&[]).is_empty());
+        assert_eq!(convex_hull_2d(&[Vec2::ONE, Vec2::ONE, Vec2::NAN]).len(), 1);
+        // Collinear input: the two ends.
+        let line: Vec<Vec2> = (0..5).map(|i| Vec2::new(i as f64, i as f64)).collect();
+        assert_eq!(convex_hull_2d(&line).len(), 2);
+    }
+
+    proptest! {
+        #[test]
+        fn every_point_is_inside_its_hull(pts in prop::collection::vec((-10.0..10.0f64, -10.0..10.0f64), 3..60)) {
+            let pts: Vec<Vec2> = pts.into_iter().map(|(x, y)| Vec2::new(x, y)).collect();
+            let h = convex_hull_2d(&pts);
+            let poly: Vec<Vec2> = h.iter().map(|&i| pts[i]).collect();
+            if poly.len() >= 3 {
+                prop_assert!(polygon_area(&poly) > 0.0);
+                for p in &pts {
+                    // Inside up to rounding: nudge towards the centroid.
+                    let c = poly.iter().copied().sum::<Vec2>() / poly.len() as f64;
+                    prop_assert!(inside_convex(&poly, *p + (c - *p) * 1e-9));
+                }
+            }
+        }
+    }
+}
 #[cfg(test)]
 mod rectangle_tests {
     use super::*;

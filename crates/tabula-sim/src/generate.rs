@@ -468,7 +468,7 @@ fn draw_shelf_task(seed: u64, draw: u64) -> Drawn {
             rng.random_range(0.09..0.14),
         ])
     };
-    let yaw = rng.random_range(-3.14..3.14);
+    let yaw = rng.random_range(-std::f64::consts::PI..std::f64::consts::PI);
     let depth = rng.random_range(0.075..0.10);
     let lateral = rng.random_range(-0.08..0.08);
     let source = &shelves[from];

@@ -92,13 +92,12 @@ pub fn nearest_object(before: &[(String, Pose)], point: Vec3) -> Option<(String,
         .map(|(n, p)| (n.clone(), *p))
 }
 
-/// Judges a placement of `object` (which started at `start`) at `target` (xy), after
-/// the world has settled.
+/// Judges a placement of `moved` (an object and the pose it started at) at `target`
+/// (xy), after the world has settled.
 pub fn judge_placement(
     world: &SimWorld,
     robot: &str,
-    object: &str,
-    start: &Pose,
+    (object, start): (&str, &Pose),
     target: Vec2,
     before: &[(String, Pose)],
     furniture_contacts: Vec<(String, String)>,
@@ -165,8 +164,7 @@ pub fn run_judged<R>(
     let verdict = judge_placement(
         &world,
         robot,
-        &object,
-        &start,
+        (&object, &start),
         target,
         &before,
         watch.seen(),

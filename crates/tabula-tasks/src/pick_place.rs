@@ -598,7 +598,9 @@ fn run(
     })?;
     let grip = timed_phase(report, "grasp", false, || Ok(driver.close(&gripper.name)?))?;
     if !grip.holding {
-        report.phases.last_mut().map(|p| p.ok = false);
+        if let Some(p) = report.phases.last_mut() {
+            p.ok = false;
+        }
         driver.open(&gripper.name)?;
         return Err(PickPlaceError::GraspSlipped);
     }
