@@ -16,8 +16,62 @@ pub fn run() -> Result<()> {
     let frame = simulator()?;
     perception(&frame)?;
     motion()?;
+    pick_place()?;
     Ok(())
 }
+
+/// Seed 001's integral test (SPEC §2.5): Golem-III looks at a can on a shelf board,
+/// plans every motion, carries it to the table, and physics judges the result.
+fn pick_place() -> Result<()> {
+    use tabula_tasks::pick_place::{PickPlaceParams, PickPlaceRequest};
+    println!("6. Pick and place by coordinates (seed 001's integral test): Golem-III, shelf → table\n");
+    let scene = tabula_sim::Scene::parse(GOLEM_SHELVES, "scenes/golem_shelves.toml")?;
+    let world = tabula_sim::SimWorld::from_scene(&scene, Default::default())?;
+    let request = PickPlaceRequest {
+        arm: None,
+        pick: Vec3::new(0.556, -0.663, 1.07),
+        place: Vec3::new(0.82, -0.2, 1.01),
+    };
+    let t0 = Instant::now();
+    let (out, _) =
+        crate::tasks::pick_place_in(world, None, &request, &PickPlaceParams::default(), 1)?;
+    let r = &out.report;
+    println!(
+        "  {} with the {} arm ({} grasp); decision {:.0} ms CPU (perceive → grasp → every plan), {:.1} s in all",
+        if out.success { "placed" } else { "FAILED" },
+        r.arm.as_deref().unwrap_or("-"),
+        r.grasp.map_or("-".into(), |g| format!("{g:?}").to_lowercase()),
+        r.decision_cpu_ms,
+        t0.elapsed().as_secs_f64()
+    );
+    if let Some(o) = &r.object {
+        println!(
+            "  seen: {:.0} × {:.0} × {:.0} mm at ({:.3}, {:.3}, {:.3}), {} points",
+            o.size[0] * 1e3,
+            o.size[1] * 1e3,
+            o.size[2] * 1e3,
+            o.position[0],
+            o.position[1],
+            o.position[2],
+            o.points
+        );
+    }
+    let v = &out.verdict;
+    println!(
+        "  physics: {:.1} cm from the target, tilted {:.1}°, {}, {} furniture contacts{}\n",
+        v.target_error * 100.0,
+        v.tilt.to_degrees(),
+        if v.resting { "resting" } else { "moving" },
+        v.furniture_contacts.len(),
+        out.error_message
+            .as_ref()
+            .map_or(String::new(), |e| format!("; {e}"))
+    );
+    println!("  run it: cargo run --release -- pick-place --scene scenes/golem_shelves.toml --pick 0.556 -0.663 1.07 --place 0.82 -0.2 1.01\n");
+    Ok(())
+}
+
+const GOLEM_SHELVES: &str = include_str!("../../../scenes/golem_shelves.toml");
 
 /// Seed 002's perception on the simulator's frame: the table, the objects on it, and
 /// where a new box would fit; then the nine-object frame scored against the
