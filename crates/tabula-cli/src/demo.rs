@@ -24,7 +24,9 @@ pub fn run() -> Result<()> {
 /// plans every motion, carries it to the table, and physics judges the result.
 fn pick_place() -> Result<()> {
     use tabula_tasks::pick_place::{PickPlaceParams, PickPlaceRequest};
-    println!("6. Pick and place by coordinates (seed 001's integral test): Golem-III, shelf → table\n");
+    println!(
+        "6. Pick and place by coordinates (seed 001's integral test): Golem-III, shelf → table\n"
+    );
     let scene = tabula_sim::Scene::parse(GOLEM_SHELVES, "scenes/golem_shelves.toml")?;
     let world = tabula_sim::SimWorld::from_scene(&scene, Default::default())?;
     let request = PickPlaceRequest {
@@ -40,7 +42,8 @@ fn pick_place() -> Result<()> {
         "  {} with the {} arm ({} grasp); decision {:.0} ms CPU (perceive → grasp → every plan), {:.1} s in all",
         if out.success { "placed" } else { "FAILED" },
         r.arm.as_deref().unwrap_or("-"),
-        r.grasp.map_or("-".into(), |g| format!("{g:?}").to_lowercase()),
+        r.grasp
+            .map_or("-".into(), |g| format!("{g:?}").to_lowercase()),
         r.decision_cpu_ms,
         t0.elapsed().as_secs_f64()
     );
@@ -67,7 +70,9 @@ fn pick_place() -> Result<()> {
             .as_ref()
             .map_or(String::new(), |e| format!("; {e}"))
     );
-    println!("  run it: cargo run --release -- pick-place --scene scenes/golem_shelves.toml --pick 0.556 -0.663 1.07 --place 0.82 -0.2 1.01\n");
+    println!(
+        "  run it: cargo run --release -- pick-place --scene scenes/golem_shelves.toml --pick 0.556 -0.663 1.07 --place 0.82 -0.2 1.01\n"
+    );
     Ok(())
 }
 

@@ -122,9 +122,14 @@ pub fn robot_solids(model: &RobotModel, values: &[f64], world_from_root: Pose) -
     out
 }
 
-/// The finite points of a frame in the world, downsampled, minus those on the robot's
-/// body.
-pub fn world_points(frame: &CameraFrame, solids: &[PlacedSolid], p: &ObserveParams) -> Vec<Vec3> {
+/// The finite points of a frame in the world, downsampled to `leaf`, minus those on the
+/// robot's body.
+pub fn world_points(
+    frame: &CameraFrame,
+    solids: &[PlacedSolid],
+    p: &ObserveParams,
+    leaf: f64,
+) -> Vec<Vec3> {
     let near: Vec<Vec3> = frame
         .cloud
         .points
@@ -132,7 +137,7 @@ pub fn world_points(frame: &CameraFrame, solids: &[PlacedSolid], p: &ObservePara
         .filter(|q| q.is_finite() && q.length() <= p.max_range)
         .map(|q| frame.world_from_camera.transform_point(*q))
         .collect();
-    let pts = tabula_perception::filters::voxel_grid(&near, p.leaf).unwrap_or(near);
+    let pts = tabula_perception::filters::voxel_grid(&near, leaf).unwrap_or(near);
     let keep = self_filter(&pts, solids, &p.self_filter);
     pts.into_iter()
         .zip(keep)

@@ -54,6 +54,11 @@ pub struct PickPlaceParams {
     pub yaw_step: f64,
     /// Downward tilts of a side grasp's approach (rad): lower boards need some.
     pub side_tilts: Vec<f64>,
+    /// Head pan angles (rad, from the robot's heading) of the sweep that maps the
+    /// workspace, SPEC §6: −90°…+90° in 45° steps …
+    pub sweep_angles: Vec<f64>,
+    /// … looking at points this far out (m) at the working height.
+    pub sweep_radius: f64,
     /// Grasps (and, per grasp, placements) planned at most, best first.
     pub max_planned_grasps: usize,
     /// Straight lines into and out of a grasp or a placement may also rise by these
@@ -87,6 +92,11 @@ impl Default for PickPlaceParams {
             yaw_step: 0.05,
             side_tilts: vec![0.0, 0.2, 0.4],
             max_planned_grasps: 8,
+            sweep_angles: [-90.0f64, -45.0, 0.0, 45.0, 90.0]
+                .iter()
+                .map(|d| d.to_radians())
+                .collect(),
+            sweep_radius: 0.8,
             rise_offsets: vec![0.0, 0.03, 0.06, 0.09, 0.12],
             grasp_depth_offsets: vec![0.015, -0.01],
             place_margin: 0.01,
@@ -335,14 +345,36 @@ fn run(
     // The camera each point was seen from (to give surfaces thickness behind them).
     let mut origins = Vec::new();
     let mut decision_cpu = 0.0;
-    // The object, the target, and the way between them (the transfer passes there).
-    let between = (request.pick + request.place) / 2.0;
-    for (name, at) in [
-        ("look at object", request.pick),
-        ("look at target", request.place),
-        ("look between", between),
-    ] {
-        timed_phase(report, name, false, || {
+    // The object and the target at the perception leaf, then a sweep of the head over
+    // the arm's working height at the collision voxel's resolution (seed 000 swept its
+    // head too): the motions between pass through space the camera must have seen, or
+    // the planner would take unseen furniture for free space.
+    let height = (request.pick.z + request.place.z) / 2.0;
+    let state = driver.joint_state()?;
+    let root = driver.world_from_root()?;
+    let sweep_center = root.translation;
+    let mut looks = vec![
+        ("look at object".to_string(), request.pick, obs.leaf),
+        ("look at target".to_string(), request.place, obs.leaf),
+    ];
+    if robot.description.head.is_some() {
+        let heading = {
+            let f = root.rotation * Vec3::X;
+            f.y.atan2(f.x)
+        };
+        for &a in &params.sweep_angles {
+            let dir = Vec3::new((heading + a).cos(), (heading + a).sin(), 0.0);
+            let at = Vec3::new(sweep_center.x, sweep_center.y, height) + dir * params.sweep_radius;
+            looks.push((
+                format!("sweep {:+.0}°", a.to_degrees()),
+                at,
+                obs.voxel / 2.0,
+            ));
+        }
+    }
+    let _ = state;
+    for (name, at, leaf) in looks {
+        timed_phase(report, &name, false, || {
             match driver.look_at(at) {
                 Ok(_) | Err(DriverError::Unsupported(_)) => {}
                 Err(e) => return Err(e.into()),
@@ -355,7 +387,7 @@ fn run(
                 &state.model_values(&robot.model),
                 driver.world_from_root()?,
             );
-            let seen = world_points(&frame, &solids, obs);
+            let seen = world_points(&frame, &solids, obs, leaf);
             origins.extend(std::iter::repeat_n(
                 frame.world_from_camera.translation,
                 seen.len(),
@@ -391,7 +423,19 @@ fn run(
         points: object.points.len(),
     });
     let object_keys = voxel_keys(&object.points, obs.cluster_gap);
+    // A box around the object first: most points are nowhere near it.
+    let (lo, hi) = object.points.iter().fold(
+        (Vec3::splat(f64::INFINITY), Vec3::splat(f64::NEG_INFINITY)),
+        |(a, b), p| (a.min(*p), b.max(*p)),
+    );
+    let (lo, hi) = (
+        lo - Vec3::splat(2.0 * obs.cluster_gap),
+        hi + Vec3::splat(2.0 * obs.cluster_gap),
+    );
     let near_object = |q: &Vec3| {
+        if q.cmplt(lo).any() || q.cmpgt(hi).any() {
+            return false;
+        }
         let k = [
             (q.x / obs.cluster_gap).floor() as i64,
             (q.y / obs.cluster_gap).floor() as i64,
@@ -406,10 +450,20 @@ fn run(
     let others: Vec<Vec3> = points.iter().copied().filter(|q| !near_object(q)).collect();
     // What stands behind a seen surface is solid for a few centimetres: a shelf's side
     // panel seen only by its front edge, a board seen from above, are thick.
+    // Occupancy needs no more than a few points per voxel: thin them first (the views
+    // overlap, and the perception leaf is finer than the collision voxel).
+    let mut keep = rustc_hash::FxHashSet::default();
+    let cell = obs.voxel / 2.0;
     let solid: Vec<Vec3> = points
         .iter()
         .zip(&origins)
-        .filter(|(q, _)| !near_object(q))
+        .filter(|(q, _)| {
+            keep.insert([
+                (q.x / cell).floor() as i64,
+                (q.y / cell).floor() as i64,
+                (q.z / cell).floor() as i64,
+            ]) && !near_object(q)
+        })
         .flat_map(|(q, o)| {
             let ray = (*q - *o).normalize_or(Vec3::ZERO);
             obs.thickness_steps(*q, ray)
@@ -452,6 +506,14 @@ fn run(
         .copied()
         .filter(|q| in_place(q) && !in_pick(q))
         .collect();
+    mark(&format!("{} solid points", solid.len()));
+    if let Some(path) = std::env::var_os("TABULA_DUMP") {
+        let text: String = solid
+            .iter()
+            .map(|p| format!("{} {} {}\n", p.x, p.y, p.z))
+            .collect();
+        let _ = std::fs::write(path, text);
+    }
     let occupancy = Occupancy {
         scene: solid
             .iter()
@@ -501,6 +563,7 @@ fn run(
     let mut template = MoveGroup::new(robot, first, &state, world_from_root, params.motion.clone())
         .map_err(|e| PickPlaceError::Driver(e.to_string()))?;
     let setup_cpu = thread_cpu() - c0;
+    mark("allowed collisions sampled");
     add_occupancy(&mut template.world, &occupancy, obs.voxel)
         .map_err(|e| PickPlaceError::Driver(e.to_string()))?;
     mark("move group");
@@ -1025,10 +1088,12 @@ fn plan_sequence_in(
                 // is an obstacle again.
                 *stage = "retreat from object";
                 group.world = without_both.clone();
+                // Straight back, back and up, or (side placements) straight up past the
+                // object's top with the fingers open around it.
                 let back = lines(
                     grasp.kind,
                     place_level,
-                    &[params.place_retreat, params.place_retreat / 2.0],
+                    &[params.place_retreat, params.place_retreat / 2.0, 0.0],
                 )
                 .into_iter()
                 .filter(|o| o.z >= 0.0)
