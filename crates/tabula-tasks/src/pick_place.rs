@@ -755,7 +755,6 @@ fn grasp_candidates(
         {
             let a = Vec3::new(yaw.cos() * tilt.cos(), yaw.sin() * tilt.cos(), -tilt.sin());
             let r = tool_rotation(g.approach(), g.closing(), a, c3);
-            let level = Vec3::new(a.x, a.y, 0.0).normalize_or(Vec3::X);
             // The grasp point may sit a little deeper or shallower, higher or lower on
             // the object: an arm with few joints reaches some of these and not others.
             for (depth, rise) in grasp_offsets(kind, h, params) {
@@ -764,11 +763,7 @@ fn grasp_candidates(
                     world_from_tool: Pose::from_parts(c.extend(z) + a * depth + Vec3::Z * rise, r),
                     approach: a,
                 };
-                let some_pre = params.rise_offsets.iter().any(|&rise| {
-                    let back = match kind {
-                        GraspKind::Side => -level * params.pregrasp_distance + Vec3::Z * rise,
-                        GraspKind::Top => Vec3::Z * (params.pregrasp_distance + rise),
-                    };
+                let some_pre = pregrasp_offsets(&grasp, params).into_iter().any(|back| {
                     let pre = Pose::from_parts(grasp.world_from_tool.translation + back, r);
                     group.ik(&pre, start).is_ok()
                 });
@@ -872,6 +867,40 @@ fn placements(
     out
 }
 
+/// Straight lines out of a pose: `back` along the level approach and up by each rise
+/// offset; a top grasp backs straight up. Arms like Golem-III's reach few level lines,
+/// so lines that also rise are tried.
+fn lines_out(kind: GraspKind, level: Vec3, backs: &[f64], params: &PickPlaceParams) -> Vec<Vec3> {
+    let mut v = Vec::new();
+    for &b in backs {
+        for &r in &params.rise_offsets {
+            v.push(match kind {
+                GraspKind::Side => -level * b + Vec3::Z * r,
+                GraspKind::Top => Vec3::Z * (b + r),
+            });
+        }
+    }
+    v
+}
+
+/// Where a pre-grasp may be relative to the grasp: straight back along the tool's own
+/// approach axis (SPEC §3.2's 10 cm, or less of it — MoveIt Task Constructor's approach
+/// takes a minimum and a desired distance), then the level and rising alternatives.
+fn pregrasp_offsets(grasp: &Grasp, params: &PickPlaceParams) -> Vec<Vec3> {
+    let level = Vec3::new(grasp.approach.x, grasp.approach.y, 0.0).normalize_or(Vec3::X);
+    [1.0, 0.7, 0.5, 0.3]
+        .iter()
+        .map(|f| -grasp.approach * params.pregrasp_distance * f)
+        .chain(lines_out(
+            grasp.kind,
+            level,
+            &[params.pregrasp_distance, 0.0],
+            params,
+        ))
+        .filter(|o| o.length() >= 0.025)
+        .collect()
+}
+
 fn motion_error(e: MoveError) -> PickPlaceError {
     match e {
         MoveError::Unreachable => PickPlaceError::Unreachable,
@@ -924,18 +953,7 @@ fn plan_sequence_in(
     // Straight lines out of (or into) a pose: `back` along the level approach and
     // `rise` up, for each rise offset; a top grasp backs straight up. Arms like
     // Golem-III's reach few level lines, so lines that also rise are tried.
-    let lines = |kind: GraspKind, level: Vec3, backs: &[f64]| -> Vec<Vec3> {
-        let mut v = Vec::new();
-        for &b in backs {
-            for &r in &params.rise_offsets {
-                v.push(match kind {
-                    GraspKind::Side => -level * b + up * r,
-                    GraspKind::Top => up * (b + r),
-                });
-            }
-        }
-        v
-    };
+    let lines = |kind: GraspKind, level: Vec3, backs: &[f64]| lines_out(kind, level, backs, params);
     let level = level_of(grasp.approach);
     // Worlds of the stages.
     let mut with_target = full.clone();
@@ -966,10 +984,7 @@ fn plan_sequence_in(
     *stage = "approach";
     let mut found = None;
     let mut last = PickPlaceError::Unreachable;
-    'pre: for offset in lines(grasp.kind, level, &[params.pregrasp_distance, 0.0]) {
-        if offset.length() < 0.05 {
-            continue;
-        }
+    'pre: for offset in pregrasp_offsets(grasp, params) {
         let pregrasp = shifted(&grasp.world_from_tool, offset);
         group.world = with_target.clone();
         let Ok(goals) = group.valid_ik(&pregrasp, start) else {
