@@ -257,10 +257,17 @@ impl SeenObject {
     /// A box of the footprint and height in the object's frame (origin at the bottom
     /// centre): what the collision world carries for it.
     pub fn collision_shape(&self) -> (SharedShape, Pose) {
+        self.shrunk_shape(0.0)
+    }
+
+    /// The collision box shrunk by `by` on every side (at least 2 mm thick): what a
+    /// hand that may touch the object must still not sweep through.
+    pub fn shrunk_shape(&self, by: f64) -> (SharedShape, Pose) {
         let s = self.footprint.size;
         let h = self.height().max(0.005);
+        let half = |v: f64| (v / 2.0 - by).max(0.001);
         (
-            SharedShape::cuboid(s.x / 2.0, s.y / 2.0, h / 2.0),
+            SharedShape::cuboid(half(s.x), half(s.y), half(h)),
             Pose::from_translation(Vec3::new(0.0, 0.0, h / 2.0)),
         )
     }

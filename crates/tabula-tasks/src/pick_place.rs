@@ -523,8 +523,17 @@ fn run(
         pick_support: support_slab(&pick_column, object.bottom),
         place_support: support_slab(&place_column, support.z),
     };
-    // ---- Arms to try, nearest first.
-    let state = driver.joint_state()?;
+    // ---- Arms to try, nearest first. Plans are made with every gripper open, as it
+    // will be (it opens before the first motion).
+    let mut state = driver.joint_state()?;
+    for g in &robot.description.grippers {
+        if let (Some(j), Some(i)) = (
+            robot.model.joint(&g.finger_joint),
+            state.names.iter().position(|n| *n == g.finger_joint),
+        ) {
+            state.positions[i] = robot.model.joints[j].limits.upper;
+        }
+    }
     let world_from_root = driver.world_from_root()?;
     let arms: Vec<String> = match &request.arm {
         Some(a) => {
@@ -652,7 +661,9 @@ fn run(
         }
         out
     };
-    driver.open(&gripper.name)?;
+    for g in &robot.description.grippers {
+        driver.open(&g.name)?;
+    }
     exec(report, "move to pre-grasp", &seq.to_pregrasp, &mut |t| {
         driver.execute(t)
     })?;
@@ -956,6 +967,14 @@ fn plan_sequence_in(
     let lines = |kind: GraspKind, level: Vec3, backs: &[f64]| lines_out(kind, level, backs, params);
     let level = level_of(grasp.approach);
     // Worlds of the stages.
+    // While the hand is at the object (approaching, backing away) it may touch it, but
+    // not sweep through it: the object's core, shrunk by the padding and a few mm.
+    let core_margin = group.world.params.padding + 0.004;
+    let (core, core_offset) = object.shrunk_shape(core_margin);
+    let mut touching_target = full.clone();
+    touching_target
+        .add_object("target core", core.clone(), world_from_object * core_offset)
+        .map_err(driver_err)?;
     let mut with_target = full.clone();
     with_target
         .add_object(
@@ -991,7 +1010,7 @@ fn plan_sequence_in(
             continue;
         };
         for q_pre in goals.into_iter().take(3) {
-            group.world = full.clone();
+            group.world = touching_target.clone();
             let approach = match group.cartesian(&q_pre, &grasp.world_from_tool) {
                 Ok(a) => a,
                 Err(e) => {
@@ -1103,6 +1122,9 @@ fn plan_sequence_in(
                 // is an obstacle again.
                 *stage = "retreat from object";
                 group.world = without_both.clone();
+                group
+                    .add_object("placed core", core.clone(), placed_object * core_offset)
+                    .map_err(motion_error)?;
                 // Straight back, back and up, or (side placements) straight up past the
                 // object's top with the fingers open around it.
                 let back = lines(

@@ -181,11 +181,12 @@ fn a_pick_and_place_through_a_mock_driver() {
         (object.position[0] - can[0]).abs() < 0.01 && (object.position[1] - can[1]).abs() < 0.01
     );
     assert!((object.size[2] - 0.12).abs() < 0.01, "{:?}", object.size);
-    // Open, close on the can, open to release — in that order.
+    // Both hands open (as planned), close on the can, open to release — in that order.
     assert_eq!(
         mock.gripper_log,
         [
             "open right_gripper",
+            "open left_gripper",
             "close right_gripper",
             "open right_gripper"
         ]
