@@ -373,9 +373,20 @@ pub fn golem_shelf_task(seed: u64) -> ShelfTask {
     let mut draw = 0u64;
     loop {
         let task = draw_shelf_task(seed, draw);
-        let reachable = golem
-            .as_ref()
-            .is_none_or(|g| side_grasp_reachable(g, &task));
+        // Furniture apart, and the target clear of every other piece of furniture.
+        let apart = !task.footprints.iter().enumerate().any(|(i, a)| {
+            task.footprints[i + 1..]
+                .iter()
+                .any(|b| footprints_overlap(a, b, 0.03))
+        }) && task
+            .footprints
+            .iter()
+            .filter(|f| f.name != task.task.target)
+            .all(|f| !f.contains([task.task.place[0], task.task.place[1]], 0.08));
+        let reachable = apart
+            && golem
+                .as_ref()
+                .is_none_or(|g| side_grasp_reachable(g, &task));
         if reachable || draw >= 50 {
             return task.task;
         }
@@ -383,8 +394,50 @@ pub fn golem_shelf_task(seed: u64) -> ShelfTask {
     }
 }
 
+/// A piece of furniture's footprint: centre, yaw, half sizes.
+struct Footprint {
+    name: String,
+    center: [f64; 2],
+    yaw: f64,
+    half: [f64; 2],
+}
+
+impl Footprint {
+    fn axes(&self) -> [[f64; 2]; 2] {
+        let (s, c) = self.yaw.sin_cos();
+        [[c, s], [-s, c]]
+    }
+
+    /// Whether `p` is within `margin` of the footprint.
+    fn contains(&self, p: [f64; 2], margin: f64) -> bool {
+        let d = [p[0] - self.center[0], p[1] - self.center[1]];
+        self.axes()
+            .iter()
+            .zip(self.half)
+            .all(|(a, h)| (d[0] * a[0] + d[1] * a[1]).abs() <= h + margin)
+    }
+
+    /// Half extent of the footprint projected on unit axis `n`.
+    fn radius_along(&self, n: [f64; 2]) -> f64 {
+        self.axes()
+            .iter()
+            .zip(self.half)
+            .map(|(a, h)| h * (a[0] * n[0] + a[1] * n[1]).abs())
+            .sum()
+    }
+}
+
+/// Separating-axis test of two rectangles grown by `margin`.
+fn footprints_overlap(a: &Footprint, b: &Footprint, margin: f64) -> bool {
+    let d = [b.center[0] - a.center[0], b.center[1] - a.center[1]];
+    a.axes().iter().chain(b.axes().iter()).all(|n| {
+        (d[0] * n[0] + d[1] * n[1]).abs() <= a.radius_along(*n) + b.radius_along(*n) + margin
+    })
+}
+
 struct Drawn {
     task: ShelfTask,
+    footprints: Vec<Footprint>,
     lift: f64,
     /// Tool heights (world) of a side grasp at the pick and at the place.
     pick_grasp_z: f64,
@@ -552,6 +605,21 @@ fn draw_shelf_task(seed: u64, draw: u64) -> Drawn {
             place,
             target,
         },
+        footprints: shelves
+            .iter()
+            .map(|sh| Footprint {
+                name: sh.name.to_string(),
+                center: sh.center,
+                yaw: sh.yaw,
+                half: [SHELF_DEPTH / 2.0, sh.width / 2.0],
+            })
+            .chain(std::iter::once(Footprint {
+                name: "table".into(),
+                center: table_center,
+                yaw: 0.0,
+                half: [0.25, 0.35],
+            }))
+            .collect(),
         lift,
         pick_grasp_z: source.board_top + grasp_height,
         place_grasp_z: place_surface + grasp_height,

@@ -131,8 +131,8 @@ pub enum PickPlaceError {
     ObjectNotFound(String),
     #[error("no surface at the target: {0}")]
     NoSurface(String),
-    #[error("the target is occupied")]
-    TargetOccupied,
+    #[error("the target is occupied: {points} points stand there, around ({:.3}, {:.3}, {:.3})", at[0], at[1], at[2])]
+    TargetOccupied { points: usize, at: [f64; 3] },
     #[error("the object ({0:.3} m across) is wider than the gripper opens")]
     TooWide(f64),
     #[error("unreachable: no arm reaches a grasp and a placement")]
@@ -151,7 +151,7 @@ impl PickPlaceError {
         match self {
             Self::ObjectNotFound(_) => "object not found",
             Self::NoSurface(_) => "no surface",
-            Self::TargetOccupied => "target occupied",
+            Self::TargetOccupied { .. } => "target occupied",
             Self::TooWide(_) => "too wide",
             Self::Unreachable => "unreachable",
             Self::NoPath(_) => "no collision-free path",
@@ -480,16 +480,21 @@ fn run(
         )?;
         // Free: nothing stands within the object's footprint (and margin) there.
         let radius = object.footprint.size.length() / 2.0 + params.place_margin;
-        let blocking = others
+        let blocking: Vec<Vec3> = others
             .iter()
+            .copied()
             .filter(|q| {
                 (q.truncate() - request.place.truncate()).length() <= radius
                     && q.z > s.z + obs.object_clearance + 0.01
                     && q.z < s.z + object.height()
             })
-            .count();
-        if blocking >= obs.min_object_points / 2 {
-            return Err(PickPlaceError::TargetOccupied);
+            .collect();
+        if blocking.len() >= obs.min_object_points / 2 {
+            let c = blocking.iter().sum::<Vec3>() / blocking.len() as f64;
+            return Err(PickPlaceError::TargetOccupied {
+                points: blocking.len(),
+                at: c.to_array(),
+            });
         }
         Ok(s)
     })?;
