@@ -57,8 +57,10 @@ pub struct PickPlaceParams {
     /// Head pan angles (rad, from the robot's heading) of the sweep that maps the
     /// workspace, SPEC §6: −90°…+90° in 45° steps …
     pub sweep_angles: Vec<f64>,
-    /// … looking at points this far out (m) at the working height.
+    /// … looking at points this far out (m) at the working height and at these heights
+    /// above it (the arm's motions rise above what a level sweep sees).
     pub sweep_radius: f64,
+    pub sweep_rises: Vec<f64>,
     /// Grasps (and, per grasp, placements) planned at most, best first.
     pub max_planned_grasps: usize,
     /// Straight lines into and out of a grasp or a placement may also rise by these
@@ -97,6 +99,7 @@ impl Default for PickPlaceParams {
                 .map(|d| d.to_radians())
                 .collect(),
             sweep_radius: 0.8,
+            sweep_rises: vec![0.0, 0.45],
             rise_offsets: vec![0.0, 0.03, 0.06, 0.09, 0.12],
             grasp_depth_offsets: vec![0.015, -0.01],
             place_margin: 0.01,
@@ -362,14 +365,17 @@ fn run(
             let f = root.rotation * Vec3::X;
             f.y.atan2(f.x)
         };
-        for &a in &params.sweep_angles {
-            let dir = Vec3::new((heading + a).cos(), (heading + a).sin(), 0.0);
-            let at = Vec3::new(sweep_center.x, sweep_center.y, height) + dir * params.sweep_radius;
-            looks.push((
-                format!("sweep {:+.0}°", a.to_degrees()),
-                at,
-                obs.voxel / 2.0,
-            ));
+        for &rise in &params.sweep_rises {
+            for &a in &params.sweep_angles {
+                let dir = Vec3::new((heading + a).cos(), (heading + a).sin(), 0.0);
+                let at = Vec3::new(sweep_center.x, sweep_center.y, height + rise)
+                    + dir * params.sweep_radius;
+                looks.push((
+                    format!("sweep {:+.0}° {:+.2} m", a.to_degrees(), rise),
+                    at,
+                    obs.voxel / 2.0,
+                ));
+            }
         }
     }
     let _ = state;
