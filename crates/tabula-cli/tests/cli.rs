@@ -666,3 +666,65 @@ fn pick_place_moves_the_can_and_saves_the_world() {
     assert!(v["error"].is_string(), "{v}");
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// A scene's `joints` table copied into `perceive --joint` describes the same robot:
+/// joints not given are at mid-range, where the simulator starts them (they were set to
+/// 0, and none of the PR2's ~17k points in its own holding scene were removed).
+#[test]
+fn perceive_joints_default_to_the_simulators_start() {
+    let dir = std::env::temp_dir().join(format!("tabula-pr2joints-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/../../scenes/pr2_holding.toml");
+    let frame = dir.join("held.pcd");
+    let out = tabula(&[
+        "sim",
+        "capture",
+        "--scene",
+        scene,
+        "--binary",
+        "--out",
+        frame.to_str().unwrap(),
+    ]);
+    assert!(out.status.success());
+    let text = String::from_utf8_lossy(&out.stdout).to_string();
+    let pose: Vec<String> = text
+        .split("--world-from-camera ")
+        .nth(1)
+        .and_then(|t| t.split(')').next())
+        .expect("capture prints the camera pose")
+        .split_whitespace()
+        .map(str::to_string)
+        .collect();
+    assert_eq!(pose.len(), 7);
+    let mut args: Vec<String> = vec![
+        "perceive".into(),
+        "--cloud".into(),
+        frame.display().to_string(),
+    ];
+    args.push("--world-from-camera".into());
+    args.extend(pose);
+    args.extend(["--robot", "pr2", "--json"].map(String::from));
+    // Exactly the scene's `joints` table.
+    for j in [
+        "torso_lift_joint=0.2",
+        "head_tilt_joint=0.5",
+        "r_shoulder_pan_joint=-0.3",
+        "r_shoulder_lift_joint=0.2",
+        "r_elbow_flex_joint=-1.0",
+        "r_wrist_flex_joint=-0.6",
+        "l_shoulder_pan_joint=1.5",
+        "l_elbow_flex_joint=-2.0",
+        "l_wrist_flex_joint=-0.5",
+    ] {
+        args.push("--joint".into());
+        args.push(j.into());
+    }
+    let refs: Vec<&str> = args.iter().map(String::as_str).collect();
+    let out = tabula(&refs);
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap_or_else(|_| {
+        panic!("{}", String::from_utf8_lossy(&out.stderr));
+    });
+    let removed = v["self_filtered_points"].as_u64().unwrap_or(0);
+    assert!(removed > 5000, "only {removed} robot points removed");
+    std::fs::remove_dir_all(&dir).ok();
+}
