@@ -123,14 +123,7 @@ impl MoveGroup {
         world_from_root: Pose,
         params: MoveGroupParams,
     ) -> Result<Self, MoveError> {
-        let group = robot
-            .description
-            .arm(arm)
-            .map_err(|e| MoveError::World(e.to_string()))?
-            .clone();
-        let chain = group
-            .chain(&robot.model)
-            .map_err(|e| MoveError::World(e.to_string()))?;
+        let (group, chain) = arm_and_chain(robot, arm)?;
         let world = CollisionWorld::new(
             robot.model.clone(),
             chain,
@@ -181,14 +174,7 @@ impl MoveGroup {
 
     /// The same scene (objects, allowed collisions) for another arm of the robot.
     pub fn for_arm(&self, robot: &NamedRobot, arm: &str) -> Result<Self, MoveError> {
-        let group = robot
-            .description
-            .arm(arm)
-            .map_err(|e| MoveError::World(e.to_string()))?
-            .clone();
-        let chain = group
-            .chain(&robot.model)
-            .map_err(|e| MoveError::World(e.to_string()))?;
+        let (group, chain) = arm_and_chain(robot, arm)?;
         let world = self.world.rebased(
             chain,
             self.world.values().to_vec(),
@@ -462,6 +448,17 @@ impl MoveGroup {
         let a = self.gripper.as_ref().map_or(Vec3::X, Gripper::approach);
         Ok(self.tip_pose(q)?.rotation * a)
     }
+}
+
+/// The arm group called `arm` and its chain.
+fn arm_and_chain(
+    robot: &NamedRobot,
+    arm: &str,
+) -> Result<(ArmGroup, tabula_robot::Chain), MoveError> {
+    let world_error = |e: tabula_robot::RobotError| MoveError::World(e.to_string());
+    let group = robot.description.arm(arm).map_err(world_error)?.clone();
+    let chain = group.chain(&robot.model).map_err(world_error)?;
+    Ok((group, chain))
 }
 
 /// CPU time of the calling thread (s): planning is measured in CPU time, as the

@@ -518,13 +518,6 @@ fn run(
         .filter(|q| in_place(q) && !in_pick(q))
         .collect();
     mark(&format!("{} solid points", solid.len()));
-    if let Some(path) = std::env::var_os("TABULA_DUMP") {
-        let text: String = solid
-            .iter()
-            .map(|p| format!("{} {} {}\n", p.x, p.y, p.z))
-            .collect();
-        let _ = std::fs::write(path, text);
-    }
     let occupancy = Occupancy {
         scene: solid
             .iter()
