@@ -108,6 +108,16 @@ impl PointCloud {
     }
 }
 
+/// The integer cell of a cubic grid of edge `size` that holds `p` (floor division):
+/// the one voxel key of occupancy maps, clusters and masks.
+pub fn voxel_key(p: crate::Vec3, size: f64) -> [i64; 3] {
+    [
+        (p.x / size).floor() as i64,
+        (p.y / size).floor() as i64,
+        (p.z / size).floor() as i64,
+    ]
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

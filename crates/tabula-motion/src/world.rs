@@ -642,13 +642,7 @@ impl CollisionWorld {
         if !(voxel.is_finite() && voxel > 0.0) {
             return Err(WorldError::NonFinite);
         }
-        let key = |p: &Vec3| {
-            [
-                (p.x / voxel).floor() as i64,
-                (p.y / voxel).floor() as i64,
-                (p.z / voxel).floor() as i64,
-            ]
-        };
+        let key = |p: &Vec3| tabula_geom::voxel_key(*p, voxel);
         // Sorted by z, then y, then x, so x-runs are consecutive.
         let mut cells: Vec<([i64; 3], Vec3, Vec3)> = Vec::new();
         let mut keyed: Vec<([i64; 3], Vec3)> = world_points

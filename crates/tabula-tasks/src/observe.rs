@@ -339,13 +339,7 @@ pub fn object_near(
 /// Connected components of points closer than `gap` (a voxel hash of cell `gap`).
 pub fn clusters(points: &[Vec3], gap: f64) -> Vec<Vec<usize>> {
     let gap = gap.max(1e-4);
-    let key = |q: Vec3| {
-        [
-            (q.x / gap).floor() as i64,
-            (q.y / gap).floor() as i64,
-            (q.z / gap).floor() as i64,
-        ]
-    };
+    let key = |q: Vec3| tabula_geom::voxel_key(q, gap);
     let mut cells: FxHashMap<[i64; 3], Vec<usize>> = FxHashMap::default();
     for (i, q) in points.iter().enumerate() {
         cells.entry(key(*q)).or_default().push(i);
@@ -390,12 +384,6 @@ pub fn voxel_keys(points: &[Vec3], voxel: f64) -> FxHashSet<[i64; 3]> {
     points
         .iter()
         .filter(|q| q.is_finite())
-        .map(|q| {
-            [
-                (q.x / voxel).floor() as i64,
-                (q.y / voxel).floor() as i64,
-                (q.z / voxel).floor() as i64,
-            ]
-        })
+        .map(|q| tabula_geom::voxel_key(*q, voxel))
         .collect()
 }

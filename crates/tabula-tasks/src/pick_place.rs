@@ -442,11 +442,7 @@ fn run(
         if q.cmplt(lo).any() || q.cmpgt(hi).any() {
             return false;
         }
-        let k = [
-            (q.x / obs.cluster_gap).floor() as i64,
-            (q.y / obs.cluster_gap).floor() as i64,
-            (q.z / obs.cluster_gap).floor() as i64,
-        ];
+        let k = tabula_geom::voxel_key(*q, obs.cluster_gap);
         (-1..=1).any(|dx| {
             (-1..=1).any(|dy| {
                 (-1..=1).any(|dz| object_keys.contains(&[k[0] + dx, k[1] + dy, k[2] + dz]))
@@ -463,13 +459,7 @@ fn run(
     let solid: Vec<Vec3> = points
         .iter()
         .zip(&origins)
-        .filter(|(q, _)| {
-            keep.insert([
-                (q.x / cell).floor() as i64,
-                (q.y / cell).floor() as i64,
-                (q.z / cell).floor() as i64,
-            ]) && !near_object(q)
-        })
+        .filter(|(q, _)| keep.insert(tabula_geom::voxel_key(**q, cell)) && !near_object(q))
         .flat_map(|(q, o)| {
             let ray = (*q - *o).normalize_or(Vec3::ZERO);
             obs.thickness_steps(*q, ray)
