@@ -1127,7 +1127,7 @@ fn plan_sequence_in(
                     &[params.place_retreat, params.place_retreat / 2.0, 0.0],
                 )
                 .into_iter()
-                .filter(|o| o.z >= 0.0)
+                .filter(|o| o.z >= 0.0 && o.length() >= 0.03)
                 .find_map(|o| {
                     group
                         .cartesian(place.end(), &shifted(&place_tool, o))
