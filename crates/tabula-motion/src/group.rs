@@ -4,6 +4,7 @@
 //! joint goal, to a pose goal and along Cartesian lines, each answer a timed trajectory
 //! with its start, its planning time and a typed failure reason.
 
+use crate::goals::follow_line;
 use crate::rrt::{
     PlanError, PlannerParams, rrt_connect, segment_valid, shortcut, time_parameterize,
 };
@@ -334,60 +335,34 @@ impl MoveGroup {
         None
     }
 
-    /// The straight line itself, IK step by step.
+    /// The straight line itself, IK step by step (the arm's own solver).
     fn straight_line(
         &self,
         start: &[f64],
         world_from_goal: &Pose,
     ) -> Result<Vec<Vec<f64>>, MoveError> {
-        let from = self.tip_pose(start)?;
         if let Some((a, b)) = self.world.first_collision(start)? {
             return Err(MoveError::CartesianIncomplete {
                 fraction: 0.0,
                 why: format!("the start collides: {a} touches {b}"),
             });
         }
-        let length = (world_from_goal.translation - from.translation).length();
-        let angle = tabula_geom::rotation_angle_between(from.rotation, world_from_goal.rotation);
-        let n = ((length / self.params.cartesian_step.max(1e-4)).max(angle / 0.05))
-            .ceil()
-            .clamp(1.0, 10_000.0) as usize;
-        let mut waypoints = vec![start.to_vec()];
-        for i in 1..=n {
-            let s = i as f64 / n as f64;
-            let pose = Pose::from_parts(
-                from.translation.lerp(world_from_goal.translation, s),
-                from.rotation.slerp(world_from_goal.rotation, s),
-            );
-            let prev = waypoints.last().cloned().unwrap_or_default();
-            let fail = |why: String| MoveError::CartesianIncomplete {
-                fraction: (i - 1) as f64 / n as f64,
-                why,
-            };
-            let q = self
-                .ik(&pose, &prev)
-                .map_err(|_| fail("no IK solution on the line".into()))?
-                .into_iter()
-                .next()
-                .ok_or_else(|| fail("no IK solution on the line".into()))?;
-            let jump = q
-                .iter()
-                .zip(&prev)
-                .map(|(a, b)| (a - b).abs())
-                .fold(0.0, f64::max);
-            if jump > self.params.cartesian_max_jump {
-                return Err(fail(format!("a joint would jump {jump:.2} rad")));
-            }
-            if !segment_valid(&self.world, &prev, &q, self.params.planner.resolution) {
-                let why = match self.world.first_collision(&q)? {
-                    Some((a, b)) => format!("{a} touches {b}"),
-                    None => "the segment collides".into(),
-                };
-                return Err(fail(why));
-            }
-            waypoints.push(q);
+        let (waypoints, stop) = follow_line(
+            &self.world,
+            start,
+            world_from_goal,
+            self.params.cartesian_step,
+            self.params.cartesian_max_jump,
+            self.params.planner.resolution,
+            |pose, seed| self.ik(pose, seed).ok()?.into_iter().next(),
+        );
+        match stop {
+            None => Ok(waypoints),
+            Some(s) => Err(MoveError::CartesianIncomplete {
+                fraction: s.fraction,
+                why: s.why,
+            }),
         }
-        Ok(waypoints)
     }
 
     /// Times a path under the arm's velocity and acceleration limits.

@@ -597,9 +597,12 @@ fn run(
         for grasp in candidates {
             report.candidates_tried += 1;
             let mut stage = "";
-            match plan_sequence(
-                &mut group, &object, &support, request, &grasp, &start, params, &mut stage,
-            ) {
+            let full = group.world.clone();
+            let planned = plan_sequence(
+                &mut group, &full, &object, &support, request, &grasp, &start, params, &mut stage,
+            );
+            group.world = full;
+            match planned {
                 Ok(seq) => {
                     chosen = Some((group, seq, grasp.kind));
                     break 'arms;
@@ -916,29 +919,11 @@ fn motion_error(e: MoveError) -> PickPlaceError {
     }
 }
 
-/// Plans every stage of one grasp candidate; the group's world is left as it was;
-/// `stage` names the stage being planned (the failing one on error).
+/// Plans every stage of one grasp candidate; `full` is the group's whole world (the
+/// stages plan in variants of it and leave the group's world changed); `stage` names
+/// the stage being planned (the failing one on error).
 #[allow(clippy::too_many_arguments)]
 fn plan_sequence(
-    group: &mut MoveGroup,
-    object: &SeenObject,
-    support: &Support,
-    request: &PickPlaceRequest,
-    grasp: &Grasp,
-    start: &[f64],
-    params: &PickPlaceParams,
-    stage: &mut &'static str,
-) -> Result<Sequence, PickPlaceError> {
-    let full = group.world.clone();
-    let out = plan_sequence_in(
-        group, &full, object, support, request, grasp, start, params, stage,
-    );
-    group.world = full;
-    out
-}
-
-#[allow(clippy::too_many_arguments)]
-fn plan_sequence_in(
     group: &mut MoveGroup,
     full: &CollisionWorld,
     object: &SeenObject,
