@@ -1,6 +1,7 @@
 //! `tabula`: the command-line face of the tabula manipulation stack.
 
 mod bench;
+mod clear;
 mod demo;
 mod ik;
 mod motion;
@@ -28,6 +29,9 @@ enum Command {
         #[command(subcommand)]
         command: bench::BenchCommand,
     },
+    /// Clear a cluttered table into the bin by grasps and pushes, replanning after every
+    /// action (seed 002), in the simulator, judged by its physics.
+    Clear(clear::ClearArgs),
     /// Inverse and forward kinematics: solve, benchmark, inspect robots.
     Ik {
         #[command(subcommand)]
@@ -64,6 +68,7 @@ fn main() {
     let result = match cli.command {
         Command::Demo => demo::run(),
         Command::Bench { command } => bench::run(command),
+        Command::Clear(args) => clear::run(args),
         Command::Ik { command } => ik::run(command),
         Command::Plan(args) => plan::run(args),
         Command::Motion { command } => motion::run(command),

@@ -95,6 +95,22 @@ impl Shape {
             Shape::Cylinder { radius, .. } => radius,
         }
     }
+    /// The same shape made narrow enough, across its narrower side, for a gripper
+    /// opening `width` (m).
+    fn fit_grip(self, width: Option<f64>) -> Self {
+        let Some(w) = width else { return self };
+        match self {
+            Shape::Box(mut s) => {
+                let k = usize::from(s[1] < s[0]);
+                s[k] = s[k].min(w);
+                Shape::Box(s)
+            }
+            Shape::Cylinder { radius, height } => Shape::Cylinder {
+                radius: radius.min(w / 2.0),
+                height,
+            },
+        }
+    }
     fn toml(&self) -> String {
         match *self {
             Shape::Box(s) => format!("{{ box = [{:.4}, {:.4}, {:.4}] }}", s[0], s[1], s[2]),
@@ -124,109 +140,31 @@ fn random_shape(rng: &mut ChaCha8Rng) -> Shape {
 struct Placed {
     shape: Shape,
     xyz: [f64; 3],
-    yaw: f64,
+    rpy: [f64; 3],
+}
+
+impl Placed {
+    fn upright(shape: Shape, xyz: [f64; 3], yaw: f64) -> Self {
+        Self {
+            shape,
+            xyz,
+            rpy: [0.0, 0.0, yaw],
+        }
+    }
 }
 
 /// A scene file (TOML) for `layout`, placed by `seed`; same inputs, same text.
 pub fn tabletop_scene(seed: u64, layout: &TabletopLayout) -> String {
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    let mut placed: Vec<Placed> = Vec::new();
-    // Footprints (centre, radius) already taken, for rejection sampling.
-    let mut taken: Vec<([f64; 2], f64)> = Vec::new();
-    let singles = layout
-        .objects
-        .saturating_sub(2 * (layout.touching_pairs + layout.stacked_pairs));
-    let groups = (0..layout.touching_pairs)
-        .map(|_| 1u8)
-        .chain((0..layout.stacked_pairs).map(|_| 2u8))
-        .chain((0..singles).map(|_| 0u8));
-    let margin = 0.1;
-    for kind in groups {
-        for _attempt in 0..200 {
-            let yaw: f64 = rng.random_range(-1.5..1.5);
-            let (dx, dy) = (yaw.cos(), yaw.sin());
-            let mut parts: Vec<Placed> = Vec::new();
-            match kind {
-                0 => parts.push(Placed {
-                    shape: random_shape(&mut rng),
-                    xyz: [0.0; 3],
-                    yaw,
-                }),
-                1 => {
-                    let a = Shape::Box([
-                        rng.random_range(0.035..0.07),
-                        rng.random_range(0.04..0.09),
-                        rng.random_range(0.04..0.13),
-                    ]);
-                    let b = random_shape(&mut rng);
-                    let d = a.half_x() + b.half_x() + 0.001;
-                    parts.push(Placed {
-                        shape: a,
-                        xyz: [-d / 2.0 * dx, -d / 2.0 * dy, 0.0],
-                        yaw,
-                    });
-                    parts.push(Placed {
-                        shape: b,
-                        xyz: [d / 2.0 * dx, d / 2.0 * dy, 0.0],
-                        yaw,
-                    });
-                }
-                _ => {
-                    let base = Shape::Box([
-                        rng.random_range(0.06..0.08),
-                        rng.random_range(0.06..0.09),
-                        rng.random_range(0.04..0.09),
-                    ]);
-                    let top = if rng.random_bool(0.5) {
-                        Shape::Box([
-                            rng.random_range(0.035..0.05),
-                            rng.random_range(0.035..0.05),
-                            rng.random_range(0.03..0.08),
-                        ])
-                    } else {
-                        Shape::Cylinder {
-                            radius: rng.random_range(0.018..0.025),
-                            height: rng.random_range(0.04..0.1),
-                        }
-                    };
-                    parts.push(Placed {
-                        shape: base,
-                        xyz: [0.0; 3],
-                        yaw,
-                    });
-                    parts.push(Placed {
-                        shape: top,
-                        xyz: [0.0, 0.0, base.height()],
-                        yaw: yaw + rng.random_range(-0.5..0.5),
-                    });
-                }
-            }
-            let reach = parts
-                .iter()
-                .map(|p| p.xyz[0].hypot(p.xyz[1]) + p.shape.reach())
-                .fold(0.0, f64::max);
-            let centre = [
-                TABLE_CENTER[0]
-                    + rng.random_range(-1.0..1.0) * (TABLE_SIZE[0] / 2.0 - margin - reach),
-                TABLE_CENTER[1]
-                    + rng.random_range(-1.0..1.0) * (TABLE_SIZE[1] / 2.0 - margin - reach),
-            ];
-            // At least 3 cm between separate groups, so "touching" only means the pairs.
-            let free = taken
-                .iter()
-                .all(|(c, r)| (c[0] - centre[0]).hypot(c[1] - centre[1]) > r + reach + 0.03);
-            if free {
-                taken.push((centre, reach));
-                for mut p in parts {
-                    p.xyz[0] += centre[0];
-                    p.xyz[1] += centre[1];
-                    p.xyz[2] += TABLE_TOP + p.shape.height() / 2.0 + 0.001;
-                    placed.push(p);
-                }
-                break;
-            }
-        }
-    }
+    let placed = place_groups(
+        &mut rng,
+        layout,
+        TABLE_CENTER,
+        [TABLE_SIZE[0] / 2.0 - 0.1, TABLE_SIZE[1] / 2.0 - 0.1],
+        TABLE_TOP,
+        0.03,
+        None,
+    );
     let mut s = String::new();
     let _ = writeln!(
         s,
@@ -242,25 +180,7 @@ pub fn tabletop_scene(seed: u64, layout: &TabletopLayout) -> String {
         s,
         "[[furniture]]\nname = \"wall\"\nkind = \"wall\"\npose = {{ xyz = [2.4, 0.0, 0.0] }}\nsize = [0.1, 5.0, 2.5]\n"
     );
-    for (i, p) in placed.iter().enumerate() {
-        let color = [
-            rng.random_range(0.2..0.95),
-            rng.random_range(0.2..0.95),
-            rng.random_range(0.2..0.95),
-        ];
-        let _ = writeln!(
-            s,
-            "[[object]]\nname = \"object{i}\"\nshape = {}\npose = {{ xyz = [{:.4}, {:.4}, {:.4}], rpy = [0.0, 0.0, {:.4}] }}\ndensity = 400.0\ncolor = [{:.2}, {:.2}, {:.2}]\n",
-            p.shape.toml(),
-            p.xyz[0],
-            p.xyz[1],
-            p.xyz[2],
-            p.yaw,
-            color[0],
-            color[1],
-            color[2]
-        );
-    }
+    write_objects(&mut s, &mut rng, &placed);
     let _ = writeln!(
         s,
         "[[camera]]\nname = \"head\"\nlook_at = {{ eye = [{:.3}, {:.3}, {:.3}], target = [{}, {}, {}] }}\nnoise_coefficient = {}\noutlier_fraction = {}",
@@ -274,6 +194,127 @@ pub fn tabletop_scene(seed: u64, layout: &TabletopLayout) -> String {
         layout.outlier_fraction
     );
     s
+}
+
+/// Objects as `[[object]]` tables named `object0`, `object1`, … with random colours.
+fn write_objects(s: &mut String, rng: &mut ChaCha8Rng, placed: &[Placed]) {
+    for (i, p) in placed.iter().enumerate() {
+        let color = [
+            rng.random_range(0.2..0.95),
+            rng.random_range(0.2..0.95),
+            rng.random_range(0.2..0.95),
+        ];
+        let _ = writeln!(
+            s,
+            "[[object]]\nname = \"object{i}\"\nshape = {}\npose = {{ xyz = [{:.4}, {:.4}, {:.4}], rpy = [{:.4}, {:.4}, {:.4}] }}\ndensity = 400.0\ncolor = [{:.2}, {:.2}, {:.2}]\n",
+            p.shape.toml(),
+            p.xyz[0],
+            p.xyz[1],
+            p.xyz[2],
+            p.rpy[0],
+            p.rpy[1],
+            p.rpy[2],
+            color[0],
+            color[1],
+            color[2]
+        );
+    }
+}
+
+/// Singles, touching pairs (1 mm apart) and stacked pairs of `layout`, by rejection
+/// sampling inside the rectangle `center ± half` on a surface at height `top`, groups at
+/// least `gap` apart.
+#[allow(clippy::too_many_arguments)]
+fn place_groups(
+    rng: &mut ChaCha8Rng,
+    layout: &TabletopLayout,
+    center: [f64; 2],
+    half: [f64; 2],
+    top: f64,
+    gap: f64,
+    grip: Option<f64>,
+) -> Vec<Placed> {
+    let mut placed: Vec<Placed> = Vec::new();
+    // Footprints (centre, radius) already taken.
+    let mut taken: Vec<([f64; 2], f64)> = Vec::new();
+    let singles = layout
+        .objects
+        .saturating_sub(2 * (layout.touching_pairs + layout.stacked_pairs));
+    let groups = (0..layout.touching_pairs)
+        .map(|_| 1u8)
+        .chain((0..layout.stacked_pairs).map(|_| 2u8))
+        .chain((0..singles).map(|_| 0u8));
+    for kind in groups {
+        for _attempt in 0..200 {
+            let yaw: f64 = rng.random_range(-1.5..1.5);
+            let (dx, dy) = (yaw.cos(), yaw.sin());
+            let mut parts: Vec<Placed> = Vec::new();
+            match kind {
+                0 => parts.push(Placed::upright(
+                    random_shape(rng).fit_grip(grip),
+                    [0.0; 3],
+                    yaw,
+                )),
+                1 => {
+                    let a = Shape::Box([
+                        rng.random_range(0.035..0.07),
+                        rng.random_range(0.04..0.09),
+                        rng.random_range(0.04..0.13),
+                    ])
+                    .fit_grip(grip);
+                    let b = random_shape(rng).fit_grip(grip);
+                    let d = a.half_x() + b.half_x() + 0.001;
+                    parts.push(Placed::upright(a, [-d / 2.0 * dx, -d / 2.0 * dy, 0.0], yaw));
+                    parts.push(Placed::upright(b, [d / 2.0 * dx, d / 2.0 * dy, 0.0], yaw));
+                }
+                _ => {
+                    let base = Shape::Box([
+                        rng.random_range(0.06..0.08),
+                        rng.random_range(0.06..0.09),
+                        rng.random_range(0.04..0.09),
+                    ])
+                    .fit_grip(grip);
+                    let top = if rng.random_bool(0.5) {
+                        Shape::Box([
+                            rng.random_range(0.035..0.05),
+                            rng.random_range(0.035..0.05),
+                            rng.random_range(0.03..0.08),
+                        ])
+                    } else {
+                        Shape::Cylinder {
+                            radius: rng.random_range(0.018..0.025),
+                            height: rng.random_range(0.04..0.1),
+                        }
+                    };
+                    let top_yaw = yaw + rng.random_range(-0.5..0.5);
+                    parts.push(Placed::upright(base, [0.0; 3], yaw));
+                    parts.push(Placed::upright(top, [0.0, 0.0, base.height()], top_yaw));
+                }
+            }
+            let reach = parts
+                .iter()
+                .map(|p| p.xyz[0].hypot(p.xyz[1]) + p.shape.reach())
+                .fold(0.0, f64::max);
+            let c = [
+                center[0] + rng.random_range(-1.0..1.0) * (half[0] - reach).max(0.0),
+                center[1] + rng.random_range(-1.0..1.0) * (half[1] - reach).max(0.0),
+            ];
+            let free = taken
+                .iter()
+                .all(|(t, r)| (t[0] - c[0]).hypot(t[1] - c[1]) > r + reach + gap);
+            if free {
+                taken.push((c, reach));
+                for mut p in parts {
+                    p.xyz[0] += c[0];
+                    p.xyz[1] += c[1];
+                    p.xyz[2] += top + p.shape.height() / 2.0 + 0.001;
+                    placed.push(p);
+                }
+                break;
+            }
+        }
+    }
+    placed
 }
 
 /// A generated scene, settled by physics, and one frame of its camera.
@@ -624,4 +665,180 @@ fn draw_shelf_task(seed: u64, draw: u64) -> Drawn {
         pick_grasp_z: source.board_top + grasp_height,
         place_grasp_z: place_surface + grasp_height,
     }
+}
+
+/// The scene families of the clearing benchmark (SPEC §3, issue "Clearing a cluttered
+/// table").
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ClearSuite {
+    /// Seed 002's scene (`scenes/clutter.toml`); the seed only changes camera noise.
+    Seed,
+    /// 3–12 boxes and cylinders, some touching, some stacked.
+    Random,
+    /// A grid of boxes a few millimetres apart: every grasp is blocked at first.
+    Packed,
+    /// 20–30 graspable objects dropped onto the table from above (VPG-style).
+    Pile,
+}
+
+impl std::str::FromStr for ClearSuite {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s {
+            "seed" => Ok(Self::Seed),
+            "random" => Ok(Self::Random),
+            "packed" => Ok(Self::Packed),
+            "pile" => Ok(Self::Pile),
+            other => Err(format!(
+                "unknown suite `{other}`: seed, random, packed or pile"
+            )),
+        }
+    }
+}
+
+/// The clearing cell: table centre and size, the region objects are put in (every point
+/// of it reachable from above by the WAM on its stand), the bin.
+pub const CLEAR_TABLE_CENTER: [f64; 2] = [0.62, 0.0];
+const CLEAR_TABLE_SIZE: [f64; 2] = [0.7, 1.0];
+const CLEAR_REGION_CENTER: [f64; 2] = [0.58, 0.0];
+const CLEAR_REGION_HALF: [f64; 2] = [0.17, 0.25];
+/// Widest object across its narrower side: seed 002's gripper opens 7 cm.
+const CLEAR_GRIP: f64 = 0.06;
+
+/// A clearing scene of `suite` drawn by `seed` (TOML; same inputs, same text): the WAM
+/// on a stand beside a table, the bin beside it, an overhead camera, the objects.
+pub fn clearing_scene(suite: ClearSuite, seed: u64) -> String {
+    if suite == ClearSuite::Seed {
+        return include_str!("../../../scenes/clutter.toml").to_string();
+    }
+    let mut rng = ChaCha8Rng::seed_from_u64(seed ^ 0xC1EA_7AB1);
+    let placed = match suite {
+        ClearSuite::Random => {
+            let objects = rng.random_range(3..=12usize);
+            let layout = TabletopLayout {
+                objects,
+                touching_pairs: rng.random_range(0..=(objects / 2).min(2)),
+                stacked_pairs: usize::from(objects >= 4 && rng.random_bool(0.6)),
+                ..TabletopLayout::nine()
+            };
+            place_groups(
+                &mut rng,
+                &layout,
+                CLEAR_REGION_CENTER,
+                CLEAR_REGION_HALF,
+                TABLE_TOP,
+                0.03,
+                Some(CLEAR_GRIP),
+            )
+        }
+        ClearSuite::Packed => packed_grid(&mut rng),
+        _ => pile(&mut rng),
+    };
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "# Generated by tabula_sim::generate::clearing_scene({suite:?}, {seed})\n\n[floor]\nsize = [8.0, 8.0]\n"
+    );
+    let _ = writeln!(
+        s,
+        "[[furniture]]\nname = \"table\"\nkind = \"table\"\npose = {{ xyz = [{}, {}, 0.0] }}\nsize = [{}, {}, {TABLE_TOP}]\n",
+        CLEAR_TABLE_CENTER[0], CLEAR_TABLE_CENTER[1], CLEAR_TABLE_SIZE[0], CLEAR_TABLE_SIZE[1]
+    );
+    let _ = writeln!(
+        s,
+        "[[furniture]]\nname = \"stand\"\nkind = \"table\"\nsize = [0.3, 0.3, 0.6]\n\n[[furniture]]\nname = \"bin\"\nkind = \"bin\"\npose = {{ xyz = [0.1, 0.62, 0.0] }}\nsize = [0.36, 0.36, 0.36]\n"
+    );
+    write_objects(&mut s, &mut rng, &placed);
+    let _ = writeln!(
+        s,
+        "[[robot]]\nname = \"wam\"\nurdf = \"wam\"\npose = {{ xyz = [0.0, 0.0, 0.6] }}\njoints = {{ wam_joint2 = -1.9, wam_joint4 = 2.6 }}\n\n[[camera]]\nname = \"overhead\"\nlook_at = {{ eye = [{0}, {1}, 1.75], target = [{0}, {1}, {TABLE_TOP}] }}",
+        CLEAR_TABLE_CENTER[0], CLEAR_TABLE_CENTER[1]
+    );
+    s
+}
+
+/// Boxes in a grid, 3–8 mm apart (less than a finger is thick), 2–3 rows of 2–4.
+fn packed_grid(rng: &mut ChaCha8Rng) -> Vec<Placed> {
+    let rows = rng.random_range(2..=3usize);
+    let cols = rng.random_range(2..=4usize);
+    let cell = [rng.random_range(0.04..0.06), rng.random_range(0.04..0.06)];
+    let gap = rng.random_range(0.003..0.008);
+    let yaw: f64 = rng.random_range(-0.8..0.8);
+    let (s, c) = yaw.sin_cos();
+    let reach = 0.5 * ((rows as f64) * (cell[0] + gap)).hypot((cols as f64) * (cell[1] + gap));
+    let center = [
+        CLEAR_REGION_CENTER[0]
+            + rng.random_range(-1.0..1.0) * (CLEAR_REGION_HALF[0] - reach).max(0.0),
+        CLEAR_REGION_CENTER[1]
+            + rng.random_range(-1.0..1.0) * (CLEAR_REGION_HALF[1] - reach).max(0.0),
+    ];
+    let mut out = Vec::new();
+    for r in 0..rows {
+        for k in 0..cols {
+            let size = [
+                cell[0] - rng.random_range(0.0..0.005),
+                cell[1] - rng.random_range(0.0..0.005),
+                rng.random_range(0.05..0.11),
+            ];
+            let lx = (r as f64 - (rows as f64 - 1.0) / 2.0) * (cell[0] + gap);
+            let ly = (k as f64 - (cols as f64 - 1.0) / 2.0) * (cell[1] + gap);
+            out.push(Placed::upright(
+                Shape::Box(size),
+                [
+                    center[0] + c * lx - s * ly,
+                    center[1] + s * lx + c * ly,
+                    TABLE_TOP + size[2] / 2.0 + 0.001,
+                ],
+                yaw,
+            ));
+        }
+    }
+    out
+}
+
+/// 20–30 graspable boxes and cylinders released from 5–30 cm above the table at random
+/// orientations, over a small area so they land on and against each other; physics
+/// makes the pile when the scene is settled.
+fn pile(rng: &mut ChaCha8Rng) -> Vec<Placed> {
+    let n = rng.random_range(20..=30usize);
+    let mut out: Vec<Placed> = Vec::new();
+    let mut height = TABLE_TOP + 0.05;
+    for _ in 0..n {
+        let shape = match random_shape(rng).fit_grip(Some(CLEAR_GRIP)) {
+            Shape::Box(s) => Shape::Box([s[0], s[1], s[2].min(0.08)]),
+            Shape::Cylinder { radius, height } => Shape::Cylinder {
+                radius,
+                height: height.min(0.09),
+            },
+        };
+        let r = shape.reach().max(shape.height() / 2.0);
+        // Drop each where it does not overlap one already in the air at that level.
+        let mut xyz = [0.0; 3];
+        for _ in 0..100 {
+            xyz = [
+                CLEAR_REGION_CENTER[0] + rng.random_range(-0.12..0.12),
+                CLEAR_REGION_CENTER[1] + rng.random_range(-0.18..0.18),
+                height + r,
+            ];
+            let free = out.iter().all(|p| {
+                let d = [p.xyz[0] - xyz[0], p.xyz[1] - xyz[1], p.xyz[2] - xyz[2]];
+                (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt()
+                    > r + p.shape.reach().max(p.shape.height() / 2.0) + 0.005
+            });
+            if free {
+                break;
+            }
+            height += 0.01;
+        }
+        out.push(Placed {
+            shape,
+            xyz,
+            rpy: [
+                rng.random_range(-3.1..3.1),
+                rng.random_range(-3.1..3.1),
+                rng.random_range(-3.1..3.1),
+            ],
+        });
+    }
+    out
 }

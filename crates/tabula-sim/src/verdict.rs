@@ -4,6 +4,7 @@
 
 use crate::world::{EntityKind, SimError, SimWorld};
 use std::sync::{Arc, Mutex};
+use tabula_geom::parry::bounding_volume::BoundingVolume;
 use tabula_geom::{Pose, Vec2, Vec3};
 
 /// What physics says about a placement.
@@ -77,6 +78,139 @@ impl ContactWatch {
 
     pub fn seen(&self) -> Vec<(String, String)> {
         self.contacts.lock().map(|c| c.clone()).unwrap_or_default()
+    }
+}
+
+/// Ground truth of a table-clearing run: which objects the arm touched besides the one
+/// it was acting on, which it moved by accident, and which ended in the bin.
+#[derive(Debug, Clone, Default)]
+pub struct ClearJudge {
+    /// The object the current action is meant for.
+    target: Arc<Mutex<Option<String>>>,
+    /// Arm (or held object) – object contacts with anything but the target.
+    contacts: Arc<Mutex<Vec<(String, String)>>>,
+    before: Vec<(String, Pose)>,
+    /// Objects (other than the target) moved more than 2 cm by an action, per action.
+    pub disturbed: Vec<String>,
+}
+
+/// The judged outcome of a clearing run.
+#[derive(Debug, Clone, Default, serde::Serialize)]
+pub struct ClearVerdict {
+    /// Objects on the table at the start (above the table top, inside its outline).
+    pub objects: usize,
+    /// Of those, how many rest inside the bin at the end.
+    pub in_bin: usize,
+    /// Of those, how many are still on the table.
+    pub left_on_table: usize,
+    /// Arm–object contacts with objects other than the target, as (link, object).
+    pub collisions: Vec<(String, String)>,
+    /// Objects moved more than 2 cm by an action not meant for them.
+    pub disturbed: Vec<String>,
+}
+
+impl ClearJudge {
+    /// Records every robot–object contact deeper than 1 mm with an object that is not
+    /// the current target; hand it to [`crate::SimDriver::observe`].
+    pub fn observer(&self, robot: &str) -> impl FnMut(&SimWorld) + Send + 'static {
+        let contacts = self.contacts.clone();
+        let target = self.target.clone();
+        let robot = robot.to_string();
+        move |w: &SimWorld| {
+            let Ok(found) = w.robot_contacts(&robot, &[EntityKind::Object], 1e-3) else {
+                return;
+            };
+            let target = target.lock().ok().and_then(|t| t.clone());
+            if let Ok(mut c) = contacts.lock() {
+                for pair in found {
+                    if Some(&pair.1) != target.as_ref() && !c.contains(&pair) {
+                        c.push(pair);
+                    }
+                }
+            }
+        }
+    }
+
+    /// An action on the object nearest `position` begins.
+    pub fn before(&mut self, world: &SimWorld, position: Vec3) {
+        self.before = world.object_poses();
+        let target = nearest_object(&self.before, position).map(|(n, _)| n);
+        if let Ok(mut t) = self.target.lock() {
+            *t = target;
+        }
+    }
+
+    /// The action ended: objects other than its target that moved more than 2 cm.
+    pub fn after(&mut self, world: &SimWorld) {
+        let target = self.target.lock().ok().and_then(|t| t.clone());
+        for (name, pose) in &self.before {
+            if Some(name) == target.as_ref() {
+                continue;
+            }
+            if world
+                .pose(name)
+                .is_ok_and(|p| (p.translation - pose.translation).length() > 0.02)
+                && !self.disturbed.contains(name)
+            {
+                self.disturbed.push(name.clone());
+            }
+        }
+        if let Ok(mut t) = self.target.lock() {
+            *t = None;
+        }
+    }
+
+    /// Counts `start`'s objects that stood on `table` and now rest inside `bin` (both
+    /// furniture names).
+    pub fn verdict(
+        &self,
+        start: &[(String, Pose)],
+        world: &SimWorld,
+        table: &str,
+        bin: &str,
+    ) -> ClearVerdict {
+        let bounds = |name: &str| {
+            world
+                .furniture_shapes()
+                .into_iter()
+                .filter(|(n, _, _)| n == name)
+                .map(|(_, s, p)| s.compute_aabb(&p))
+                .reduce(|a, b| a.merged(&b))
+        };
+        let (Some(t), Some(b)) = (bounds(table), bounds(bin)) else {
+            return ClearVerdict::default();
+        };
+        let on_table = |p: Vec3| {
+            p.x >= t.mins.x
+                && p.x <= t.maxs.x
+                && p.y >= t.mins.y
+                && p.y <= t.maxs.y
+                && p.z > t.maxs.z
+        };
+        let in_bin = |p: Vec3| {
+            p.x >= b.mins.x
+                && p.x <= b.maxs.x
+                && p.y >= b.mins.y
+                && p.y <= b.maxs.y
+                && p.z < b.maxs.z
+        };
+        let mut v = ClearVerdict {
+            collisions: self.contacts.lock().map(|c| c.clone()).unwrap_or_default(),
+            disturbed: self.disturbed.clone(),
+            ..ClearVerdict::default()
+        };
+        for (name, p0) in start {
+            if !on_table(p0.translation) {
+                continue;
+            }
+            v.objects += 1;
+            match world.pose(name) {
+                Ok(p) if in_bin(p.translation) => v.in_bin += 1,
+                Ok(p) if on_table(p.translation) => v.left_on_table += 1,
+                _ => {}
+            }
+        }
+        v
     }
 }
 

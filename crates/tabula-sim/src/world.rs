@@ -649,6 +649,24 @@ impl SimWorld {
         Ok(r.world_from_root * all[li])
     }
 
+    /// The collision shapes of every piece of furniture, in the world (a workcell's
+    /// known obstacles, as a MoveIt planning scene loads them).
+    pub fn furniture_shapes(&self) -> Vec<(String, SharedShape, Pose)> {
+        let mut out = Vec::new();
+        for e in self
+            .live_entities()
+            .filter(|e| e.kind == EntityKind::Furniture)
+        {
+            let body = &self.physics.bodies[e.body];
+            for &ch in body.colliders() {
+                let c = &self.physics.colliders[ch];
+                let pose = *body.position() * *c.position_wrt_parent().unwrap_or(&Pose::IDENTITY);
+                out.push((e.name.clone(), c.shared_shape().clone(), pose));
+            }
+        }
+        out
+    }
+
     /// Every object's name and pose.
     pub fn object_poses(&self) -> Vec<(String, Pose)> {
         self.live_entities()

@@ -4,8 +4,11 @@
 //!
 //! * [`pick_place`]: pick an object at given coordinates and place it at others (seed
 //!   001's integral test, SPEC §2.5), either arm.
+//! * [`clear`]: clear a cluttered table into a bin by grasps and pushes, replanning
+//!   after every action (seed 002, SPEC §3).
 //! * [`observe`]: what the robot sees — its own body filtered out, the object and the
 //!   surface near a position, the occupancy that becomes the collision world.
 
+pub mod clear;
 pub mod observe;
 pub mod pick_place;

@@ -1,0 +1,1592 @@
+//! Clearing a cluttered table — seed 002's system (SPEC §3): perceive the table, compute
+//! the predicates from geometry, plan with the seed's PDDL domain in process, check IK
+//! for the first action only (backtracking by `ik_unfeasible_*` facts), execute it
+//! through the driver — a grasp that drops the object into the bin, or a push with the
+//! closed gripper — and start again from a new frame.
+//!
+//! Beyond the seed (SPEC §3.7): a push is as long as it takes for the object's grasp to
+//! become free (not k × its box), objects are tracked across frames so none is pushed
+//! back where it came from, and every approach and transfer is planned collision-free
+//! against the other objects' hulls and the workcell.
+
+use crate::observe::robot_solids;
+use serde::Serialize;
+use std::time::Duration;
+use tabula_geom::parry::bounding_volume::{Aabb, BoundingVolume};
+use tabula_geom::parry::query;
+use tabula_geom::parry::shape::SharedShape;
+use tabula_geom::polygon::{Rectangle, convex_hull_2d, inside_convex, min_area_rectangle};
+use tabula_geom::{Mat3, PointCloud, Pose, Quat, Vec2, Vec3};
+use tabula_motion::group::thread_cpu;
+use tabula_motion::{MoveError, MoveGroup, MoveGroupParams, Plan};
+use tabula_pddl::{GroundAtom, Planner, SearchMode};
+use tabula_perception::selffilter::self_filter;
+use tabula_perception::tabletop::{TabletopParams, extract};
+use tabula_robot::description::Gripper;
+use tabula_robot::driver::{DriverError, RobotDriver};
+use tabula_robot::robots::NamedRobot;
+
+/// Seed 002's domain with `(not (removed ?o))` in every precondition (`pddl/README.md`).
+const DOMAIN: &str = include_str!("../../../pddl/tablewclear-domain-fixed.pddl");
+
+/// The four push directions of SPEC §3.2, in the domain's order: along the object's
+/// principal (longer) footprint axis, against it, along the other axis, against it.
+const DIRECTIONS: [&str; 4] = ["dir1", "dir2", "dir3", "dir4"];
+
+/// Parameters of clearing (SPEC §3.2 and §6, seed 002's repository, where it gives them).
+#[derive(Debug, Clone, serde::Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct ClearParams {
+    pub tabletop: TabletopParams,
+    pub motion: MoveGroupParams,
+    /// The fixed camera that sees the table.
+    pub camera: String,
+    /// Self-filter padding (m), SPEC §1.1: 0.9 cm.
+    pub self_filter_padding: f64,
+    /// The closing point lies this far below the object's top (m): SPEC §3.2's "lowered
+    /// by half the finger height" with SPEC §6's 6 cm fingers.
+    pub grasp_depth: f64,
+    /// Fingertips stay at least this far above what the object stands on (m), SPEC §6's
+    /// push height 1 cm.
+    pub fingertip_clearance: f64,
+    /// Pre-grasp distance back along the approach (m), SPEC §3.2: 10 cm.
+    pub pregrasp: f64,
+    /// Lift after grasping along the table normal (m), SPEC §3.2: 20 cm.
+    pub lift: f64,
+    /// The held object's bottom is let go this far above the drop point (m).
+    pub drop_clearance: f64,
+    /// The gripper opening must exceed the object's width by this much on each side (m).
+    pub grasp_margin: f64,
+    /// Distance between the closed fingers and the object before a push (m), SPEC §6
+    /// (the seed's code): 3 cm.
+    pub push_distance: f64,
+    /// Longest push (m), SPEC §6: 0.6 m.
+    pub push_max_length: f64,
+    /// Push sweep resolution (m), SPEC §6: 3 cm.
+    pub push_resolution: f64,
+    /// Seed's push length factor k (× the box size along the push), SPEC §6: 1.0 —
+    /// used when no length makes the grasp free.
+    pub push_factor: f64,
+    /// Pushed a little past the point where the grasp becomes free (m).
+    pub push_margin: f64,
+    /// Pre-push and post-push height above the push (m), SPEC §3.2: 20 cm.
+    pub pre_push_height: f64,
+    /// Clearance the predicates demand between the gripper or a moving hull and
+    /// another object (m).
+    pub clearance: f64,
+    /// An object counts as the same one across frames when it is this near where it was
+    /// (or where a push should have put it) (m).
+    pub track_radius: f64,
+    /// Pushes allowed per tracked object.
+    pub max_pushes_per_object: usize,
+    /// Grasp attempts per tracked object before its grasp counts as infeasible.
+    pub max_grasp_attempts: usize,
+    /// Frames in a row without a plan before giving up.
+    pub max_no_plan_frames: usize,
+    /// Search time per plan (s).
+    pub plan_timeout_s: f64,
+    /// Optimal (A* + LM-cut) plans up to this many objects, greedy plans above.
+    pub optimal_up_to: usize,
+    /// IK restarts for the feasibility check of the first action.
+    pub ik_attempts: usize,
+}
+
+impl Default for ClearParams {
+    fn default() -> Self {
+        let mut motion = MoveGroupParams::default();
+        // Pushes run the fingertips 1 cm above the table (SPEC §6).
+        motion.world.padding = 0.008;
+        Self {
+            tabletop: TabletopParams::default(),
+            motion,
+            camera: "overhead".into(),
+            self_filter_padding: 0.009,
+            grasp_depth: 0.03,
+            fingertip_clearance: 0.01,
+            pregrasp: 0.10,
+            lift: 0.20,
+            drop_clearance: 0.08,
+            grasp_margin: 0.0,
+            push_distance: 0.03,
+            push_max_length: 0.6,
+            push_resolution: 0.03,
+            push_factor: 1.0,
+            push_margin: 0.02,
+            pre_push_height: 0.20,
+            clearance: 0.004,
+            track_radius: 0.06,
+            max_pushes_per_object: 3,
+            max_grasp_attempts: 2,
+            max_no_plan_frames: 3,
+            plan_timeout_s: 1.0,
+            optimal_up_to: 10,
+            ik_attempts: 40,
+        }
+    }
+}
+
+/// What to clear and where things go.
+#[derive(Debug, Clone)]
+pub struct ClearRequest {
+    /// The arm to use (default: the robot's first arm with a gripper).
+    pub arm: Option<String>,
+    /// Where objects are let go (world): above the bin's opening.
+    pub drop_point: Vec3,
+    /// The workcell's fixed obstacles (world), as a planning scene knows them.
+    pub obstacles: Vec<(String, SharedShape, Pose)>,
+    /// Stop after this many actions (default: 3 per object seen first, plus 5).
+    pub max_actions: Option<usize>,
+}
+
+/// An action of the domain on a tracked object.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ActionKind {
+    Grasp,
+    Push(usize),
+}
+
+impl ActionKind {
+    fn pddl(self) -> String {
+        match self {
+            ActionKind::Grasp => "grasp".into(),
+            ActionKind::Push(k) => format!("push_{}", DIRECTIONS[k]),
+        }
+    }
+}
+
+/// One executed action.
+#[derive(Debug, Clone, Serialize)]
+pub struct ActionRecord {
+    pub frame: usize,
+    pub action: String,
+    /// Tracked object id.
+    pub object: usize,
+    /// Where the object was seen (world, footprint centre at mid-height).
+    pub position: [f64; 3],
+    /// For pushes: the direction (world, unit) and length (m).
+    pub push: Option<([f64; 2], f64)>,
+    pub ok: bool,
+    pub error: Option<String>,
+}
+
+/// Where the decision time of one frame went (CPU ms).
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct FrameReport {
+    pub objects: usize,
+    pub perception_ms: f64,
+    pub predicates_ms: f64,
+    pub planning_ms: f64,
+    pub ik_ms: f64,
+    /// Frame in → first action chosen.
+    pub decision_ms: f64,
+    pub plan: Vec<String>,
+    pub ik_backtracks: usize,
+}
+
+/// Median, 95th percentile and maximum.
+#[derive(Debug, Clone, Copy, Default, Serialize)]
+pub struct Stats {
+    pub median: f64,
+    pub p95: f64,
+    pub max: f64,
+}
+
+impl Stats {
+    pub fn of(values: &[f64]) -> Self {
+        let mut v: Vec<f64> = values.iter().copied().filter(|x| x.is_finite()).collect();
+        if v.is_empty() {
+            return Self::default();
+        }
+        v.sort_by(f64::total_cmp);
+        let at = |q: f64| v[((v.len() - 1) as f64 * q).round() as usize];
+        Self {
+            median: at(0.5),
+            p95: at(0.95),
+            max: v[v.len() - 1],
+        }
+    }
+}
+
+/// The metrics of a run (issue "Clearing a cluttered table", item 6); `collisions` and
+/// accidental moves are judged by whoever watches the world (the simulator's harness).
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct ClearReport {
+    /// Objects seen in the first frame.
+    pub objects: usize,
+    /// Objects grasped and let go over the drop point.
+    pub removed: usize,
+    pub actions: usize,
+    pub grasps: usize,
+    pub failed_grasps: usize,
+    pub pushes: usize,
+    pub no_plan_frames: usize,
+    pub ik_backtracks: usize,
+    /// Pushes of an object against the direction it was pushed before.
+    pub push_loops: usize,
+    /// Objects the planner found it can never remove (they left the goal).
+    pub dropped_from_goal: usize,
+    pub decision_ms: Stats,
+    /// Median CPU ms of each part of a decision.
+    pub perception_ms: f64,
+    pub predicates_ms: f64,
+    pub planning_ms: f64,
+    pub ik_ms: f64,
+    /// Why the loop ended.
+    pub stop: String,
+    pub frames: Vec<FrameReport>,
+    pub log: Vec<ActionRecord>,
+}
+
+/// Why a run could not start or had to stop.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ClearError {
+    #[error("driver: {0}")]
+    Driver(String),
+    #[error("robot: {0}")]
+    Robot(String),
+    #[error("perception: {0}")]
+    Perception(String),
+    #[error("planner: {0}")]
+    Planner(String),
+}
+
+impl ClearError {
+    pub fn kind(&self) -> &'static str {
+        match self {
+            ClearError::Driver(_) => "driver",
+            ClearError::Robot(_) => "robot",
+            ClearError::Perception(_) => "perception",
+            ClearError::Planner(_) => "planner",
+        }
+    }
+}
+
+impl From<DriverError> for ClearError {
+    fn from(e: DriverError) -> Self {
+        ClearError::Driver(e.to_string())
+    }
+}
+
+/// What a watcher of the run is told (the simulator's harness counts collisions and
+/// objects moved by accident with it).
+#[derive(Debug, Clone, Copy)]
+pub enum ClearEvent<'a> {
+    /// An action is about to run on the object seen at `position`.
+    Before(&'a ActionRecord),
+    /// It ran.
+    After(&'a ActionRecord),
+}
+
+/// A tabletop object as the predicates see it.
+#[derive(Debug, Clone)]
+pub struct SeenObject {
+    /// Tracked id (stable across frames).
+    pub id: usize,
+    /// Points seen (world).
+    pub points: Vec<Vec3>,
+    /// Footprint in the table plane (world xy) and its minimal-area rectangle.
+    pub footprint: Vec<Vec2>,
+    pub rect: Rectangle,
+    /// What it stands on (z of the table, or of the object under it) and its top (m).
+    pub bottom: f64,
+    pub top: f64,
+    /// Convex hull of its points and their projection onto what it stands on (SPEC
+    /// §3.1: the camera sees tops, the hull fills in the sides).
+    pub hull: SharedShape,
+    pub aabb: Aabb,
+}
+
+impl SeenObject {
+    /// Centre of the footprint at mid-height.
+    pub fn center(&self) -> Vec3 {
+        Vec3::new(
+            self.rect.center.x,
+            self.rect.center.y,
+            (self.bottom + self.top) / 2.0,
+        )
+    }
+
+    /// The principal (longer) and the other footprint axis.
+    fn axes(&self) -> (Vec2, Vec2) {
+        let a = self.rect.axis.normalize_or(Vec2::X);
+        if self.rect.size.x >= self.rect.size.y {
+            (a, a.perp())
+        } else {
+            (a.perp(), a)
+        }
+    }
+
+    /// Push direction `k` (world, unit).
+    fn direction(&self, k: usize) -> Vec2 {
+        let (major, minor) = self.axes();
+        match k {
+            0 => major,
+            1 => -major,
+            2 => minor,
+            _ => -minor,
+        }
+    }
+}
+
+/// The gripper's collision shapes in its tool frame, open and closed, from the URDF.
+#[derive(Clone)]
+struct Hand {
+    open: Vec<(SharedShape, Pose)>,
+    closed: Vec<(SharedShape, Pose)>,
+    /// Closed fingers only (what meets a pushed object).
+    closed_fingers: Vec<(SharedShape, Pose)>,
+    /// Fingertips' distance from the tool origin along the approach (m).
+    tip: f64,
+    /// Finger length along the approach (m).
+    finger_length: f64,
+    approach: Vec3,
+    closing: Vec3,
+    open_width: f64,
+}
+
+impl Hand {
+    fn new(robot: &NamedRobot, gripper: &Gripper) -> Result<Self, ClearError> {
+        let model = &robot.model;
+        let err = |e: String| ClearError::Robot(e);
+        let fj = model
+            .joint(&gripper.finger_joint)
+            .ok_or_else(|| err(format!("no finger joint `{}`", gripper.finger_joint)))?;
+        let limits = model.joints[fj].limits;
+        let tool = model
+            .link(&gripper.tool_link)
+            .map_err(|e| err(e.to_string()))?;
+        let shapes_at =
+            |finger: f64, links: &[&str]| -> Result<Vec<(SharedShape, Pose)>, ClearError> {
+                let mut values = tabula_robot::driver::JointState::default().model_values(model);
+                values[fj] = finger;
+                let fk = model
+                    .forward_kinematics(&values)
+                    .map_err(|e| err(e.to_string()))?;
+                let tool_from_root = fk[tool].inverse();
+                let mut out = Vec::new();
+                for name in links {
+                    let l = model.link(name).map_err(|e| err(e.to_string()))?;
+                    for s in &model.links[l].collision {
+                        let (shape, shape_pose) = s.geometry.collision_shape(false).map_err(err)?;
+                        out.push((
+                            shape,
+                            tool_from_root * fk[l] * s.link_from_shape * shape_pose,
+                        ));
+                    }
+                }
+                Ok(out)
+            };
+        let fingers = [gripper.fingers[0].as_str(), gripper.fingers[1].as_str()];
+        let all = [
+            gripper.palm.as_str(),
+            gripper.fingers[0].as_str(),
+            gripper.fingers[1].as_str(),
+        ];
+        let closed_fingers = shapes_at(limits.lower, &fingers)?;
+        let approach = gripper.approach();
+        let (lo, hi) = extent_along(&closed_fingers, approach);
+        Ok(Self {
+            open: shapes_at(limits.upper, &all)?,
+            closed: shapes_at(limits.lower, &all)?,
+            tip: hi,
+            finger_length: hi - lo,
+            closed_fingers,
+            approach,
+            closing: gripper.closing(),
+            open_width: gripper.open_width,
+        })
+    }
+
+    /// `world_from_tool` with the approach pointing down (against the table normal
+    /// `up`), the fingers closing along `closing` (world, horizontal) and the fingertips
+    /// at `tips` (world).
+    fn pose(&self, tips: Vec3, closing: Vec3, up: Vec3) -> Pose {
+        let approach = -up;
+        let closing = (closing - approach * closing.dot(approach)).normalize_or(Vec3::X);
+        let rotation = tool_rotation(self.approach, self.closing, approach, closing);
+        Pose::from_parts(tips - approach * self.tip, rotation)
+    }
+}
+
+/// Lowest and highest extent of shapes (tool frame) along unit direction `d`.
+fn extent_along(shapes: &[(SharedShape, Pose)], d: Vec3) -> (f64, f64) {
+    let mut lo = f64::INFINITY;
+    let mut hi = f64::NEG_INFINITY;
+    for (s, p) in shapes {
+        let b = s.compute_aabb(p);
+        for i in 0..8 {
+            let c = Vec3::new(
+                if i & 1 == 0 { b.mins.x } else { b.maxs.x },
+                if i & 2 == 0 { b.mins.y } else { b.maxs.y },
+                if i & 4 == 0 { b.mins.z } else { b.maxs.z },
+            );
+            lo = lo.min(c.dot(d));
+            hi = hi.max(c.dot(d));
+        }
+    }
+    (lo, hi)
+}
+
+/// Rotation taking the gripper's own approach/closing axes (tool frame) onto world
+/// directions `approach` and `closing` (orthonormal).
+pub(crate) fn tool_rotation(
+    tool_approach: Vec3,
+    tool_closing: Vec3,
+    approach: Vec3,
+    closing: Vec3,
+) -> Quat {
+    let tool = Mat3::from_cols(
+        tool_approach,
+        tool_closing,
+        tool_approach.cross(tool_closing),
+    );
+    let world = Mat3::from_cols(approach, closing, approach.cross(closing));
+    Quat::from_mat3(&(world * tool.transpose())).normalize()
+}
+
+/// The table as one frame sees it.
+struct Table {
+    z: f64,
+    up: Vec3,
+    /// Convex outline (world xy).
+    outline: Vec<Vec2>,
+}
+
+/// Perceives the table and its objects in a frame (world-frame cloud, organized or not).
+fn perceive(
+    cloud: &PointCloud,
+    viewpoint: Vec3,
+    params: &ClearParams,
+) -> Result<(Table, Vec<SeenObject>), ClearError> {
+    let top = extract(cloud, viewpoint, &params.tabletop)
+        .map_err(|e| ClearError::Perception(e.to_string()))?;
+    let up = top.plane.normal;
+    let height_at = |p: Vec2| -> f64 {
+        // Table plane: n·x + d = 0, solved for z.
+        let n = top.plane.normal;
+        if n.z.abs() < 1e-6 {
+            return f64::NAN;
+        }
+        -(top.plane.d + n.x * p.x + n.y * p.y) / n.z
+    };
+    let mut idx: Vec<usize> = convex_hull_2d(
+        &top.table
+            .hull
+            .iter()
+            .map(|q| q.truncate())
+            .collect::<Vec<_>>(),
+    );
+    if idx.is_empty() {
+        idx = (0..top.table.hull.len()).collect();
+    }
+    let outline: Vec<Vec2> = idx.iter().map(|&i| top.table.hull[i].truncate()).collect();
+    let table_z = height_at(top.table.centroid.truncate());
+    let mut raw: Vec<(Vec<Vec3>, Vec<Vec2>, Rectangle, f64)> = Vec::new();
+    for o in &top.objects {
+        let points: Vec<Vec3> = o
+            .indices
+            .iter()
+            .map(|&i| cloud.points[i])
+            .filter(|q| q.is_finite())
+            .collect();
+        let flat: Vec<Vec2> = points.iter().map(|q| q.truncate()).collect();
+        let hull = convex_hull_2d(&flat);
+        let footprint: Vec<Vec2> = hull.iter().map(|&i| flat[i]).collect();
+        let Some(rect) = min_area_rectangle(&footprint) else {
+            continue;
+        };
+        let top_z = points.iter().map(|q| q.z).fold(f64::NEG_INFINITY, f64::max);
+        raw.push((points, footprint, rect, top_z));
+    }
+    // What each object stands on: the table, or an object whose footprint holds most of
+    // its points and whose top is near its lowest point (seed eq. 4.2's overlap test,
+    // with shares instead of its 100-point counts so it holds at any resolution).
+    let mut objects = Vec::new();
+    for (i, (points, footprint, rect, top_z)) in raw.iter().enumerate() {
+        let table_here = height_at(rect.center);
+        let lowest = points.iter().map(|q| q.z).fold(f64::INFINITY, f64::min);
+        let mut bottom = if table_here.is_finite() {
+            table_here
+        } else {
+            table_z
+        };
+        if lowest > bottom + 0.015 {
+            let under = raw
+                .iter()
+                .enumerate()
+                .filter(|(j, r)| *j != i && r.3 < lowest + 0.02 && r.3 > bottom + 0.01)
+                .map(|(_, r)| {
+                    let inside = points
+                        .iter()
+                        .filter(|q| inside_convex(&r.1, q.truncate()))
+                        .count();
+                    (inside as f64 / points.len().max(1) as f64, r.3)
+                })
+                .filter(|(share, _)| *share > 0.5)
+                .map(|(_, z)| z)
+                .fold(f64::NEG_INFINITY, f64::max);
+            if under.is_finite() {
+                bottom = under;
+            }
+        }
+        let mut hull_points = points.clone();
+        hull_points.extend(footprint.iter().map(|p| Vec3::new(p.x, p.y, bottom)));
+        let Some(hull) = SharedShape::convex_hull(&hull_points) else {
+            continue;
+        };
+        let aabb = hull.compute_aabb(&Pose::IDENTITY);
+        objects.push(SeenObject {
+            id: usize::MAX,
+            points: points.clone(),
+            footprint: footprint.clone(),
+            rect: *rect,
+            bottom,
+            top: *top_z,
+            hull,
+            aabb,
+        });
+    }
+    Ok((
+        Table {
+            z: table_z,
+            up: if up.z < 0.0 { -up } else { up },
+            outline,
+        },
+        objects,
+    ))
+}
+
+/// `(on a b)` for every pair: `a`'s bottom is `b`'s top and most of `a`'s points are over
+/// `b`'s footprint.
+fn on_pairs(objects: &[SeenObject], table_z: f64) -> Vec<(usize, usize)> {
+    let mut out = Vec::new();
+    for (i, a) in objects.iter().enumerate() {
+        if a.bottom < table_z + 0.01 {
+            continue;
+        }
+        for (j, b) in objects.iter().enumerate() {
+            if i == j || (b.top - a.bottom).abs() > 0.02 {
+                continue;
+            }
+            let inside = a
+                .points
+                .iter()
+                .filter(|q| inside_convex(&b.footprint, q.truncate()))
+                .count();
+            if inside * 2 > a.points.len() {
+                out.push((i, j));
+            }
+        }
+    }
+    out
+}
+
+/// A moving shape's clearance test against object hulls: AABB first, then exact.
+fn hits(shapes: &[(SharedShape, Pose)], world_from: &Pose, other: &SeenObject, pad: f64) -> bool {
+    shapes.iter().any(|(s, p)| {
+        let w = *world_from * *p;
+        let aabb = s.compute_aabb(&w).loosened(pad);
+        aabb.intersects(&other.aabb)
+            && query::distance(&w, s.as_ref(), &Pose::IDENTITY, other.hull.as_ref())
+                .is_ok_and(|d| d.distance <= pad)
+    })
+}
+
+/// Whether two objects' hulls come within `pad` of each other.
+fn hulls_touch(a: &SeenObject, b: &SeenObject, pad: f64) -> bool {
+    a.aabb.loosened(pad).intersects(&b.aabb)
+        && query::distance(
+            &Pose::IDENTITY,
+            a.hull.as_ref(),
+            &Pose::IDENTITY,
+            b.hull.as_ref(),
+        )
+        .is_ok_and(|d| d.distance <= pad)
+}
+
+/// A grasp or a push worked out in geometry.
+#[derive(Debug, Clone)]
+struct Grasp {
+    /// Both yaws of the gripper (closing ±).
+    poses: [Pose; 2],
+}
+
+#[derive(Debug, Clone)]
+struct Push {
+    direction: Vec2,
+    length: f64,
+    /// Tool pose where the push starts, and the fingertip height.
+    start: Pose,
+    feasible: bool,
+}
+
+impl Push {
+    /// How far the fingers travel: to the object, then the push.
+    fn travel(&self, params: &ClearParams) -> f64 {
+        self.length + params.push_distance
+    }
+}
+
+/// Everything the predicates computed for one frame.
+struct Geometry {
+    on: Vec<(usize, usize)>,
+    block_grasp: Vec<(usize, usize)>,
+    block_push: [Vec<(usize, usize)>; 4],
+    /// The least-blocked grasp of each object; `None` when it fits the gripper no way.
+    grasps: Vec<Option<Grasp>>,
+    pushes: Vec<[Push; 4]>,
+}
+
+/// Top grasps of `o`: closing across the principal axis (SPEC §3.2), then across the
+/// other one when the object fits that way too (a square box can be taken either way:
+/// one of them may be free of a neighbour). Empty when it fits neither way.
+fn grasps_of(o: &SeenObject, hand: &Hand, table: &Table, params: &ClearParams) -> Vec<Grasp> {
+    let (major, minor) = o.axes();
+    let tip_z = (o.top - params.grasp_depth - hand.finger_length / 2.0)
+        .max(o.bottom + params.fingertip_clearance);
+    let tips = Vec3::new(o.rect.center.x, o.rect.center.y, tip_z);
+    [minor, major]
+        .into_iter()
+        .filter(|&c| o.rect.extent_along(c) + 2.0 * params.grasp_margin <= hand.open_width)
+        .map(|c| {
+            let closing = Vec3::new(c.x, c.y, 0.0);
+            Grasp {
+                poses: [
+                    hand.pose(tips, closing, table.up),
+                    hand.pose(tips, -closing, table.up),
+                ],
+            }
+        })
+        .collect()
+}
+
+/// Where the closed fingers start a push of `o` along `d`: `push_distance` behind the
+/// object, their base at the object's top, their tips no lower than the clearance.
+fn push_start(
+    o: &SeenObject,
+    d: Vec2,
+    along_major: bool,
+    hand: &Hand,
+    table: &Table,
+    params: &ClearParams,
+) -> Pose {
+    let d3 = Vec3::new(d.x, d.y, 0.0);
+    // Closing parallel to the push along the principal axis (narrow footprint),
+    // across it otherwise (SPEC §3.2).
+    let closing = if along_major {
+        d3
+    } else {
+        Vec3::new(-d.y, d.x, 0.0)
+    };
+    let tip_z = (o.top - hand.finger_length).max(o.bottom + params.fingertip_clearance);
+    let probe = hand.pose(Vec3::ZERO, closing, table.up);
+    // How far the fingers reach toward the object from the tool axis.
+    let (_, reach) = extent_along(&hand.closed_fingers, probe.rotation.inverse() * d3);
+    let back = o.rect.extent_along(d) / 2.0 + params.push_distance + reach;
+    let tips = Vec3::new(o.rect.center.x, o.rect.center.y, tip_z) - d3 * back;
+    hand.pose(tips, closing, table.up)
+}
+
+fn translated(o: &SeenObject, by: Vec3) -> SeenObject {
+    let mut t = o.clone();
+    t.rect.center += by.truncate();
+    // Hulls are kept in world coordinates: a moved copy is rebuilt around its vertices.
+    let moved: Vec<Vec3> = hull_vertices(&o.hull).into_iter().map(|p| p + by).collect();
+    if let Some(h) = SharedShape::convex_hull(&moved) {
+        t.hull = h;
+    }
+    t.aabb = t.hull.compute_aabb(&Pose::IDENTITY);
+    t
+}
+
+fn hull_vertices(s: &SharedShape) -> Vec<Vec3> {
+    s.as_convex_polyhedron()
+        .map(|c| c.points().to_vec())
+        .unwrap_or_default()
+}
+
+/// The predicates of SPEC §3.3 and the poses of SPEC §3.2 for every object.
+fn predicates(
+    objects: &[SeenObject],
+    table: &Table,
+    hand: &Hand,
+    params: &ClearParams,
+) -> Geometry {
+    let n = objects.len();
+    let on = on_pairs(objects, table.z);
+    let pad = params.clearance;
+    // The open gripper at the grasp and on its way down from the pre-grasp.
+    let descent = |pose: &Pose, height: f64| -> Vec<Pose> {
+        let steps = (height / 0.03).ceil().max(1.0) as usize;
+        (0..=steps)
+            .map(|k| {
+                Pose::from_parts(
+                    pose.translation + table.up * (height * k as f64 / steps as f64),
+                    pose.rotation,
+                )
+            })
+            .collect()
+    };
+    let blockers = |grasp: &Grasp, skip: &dyn Fn(usize) -> bool| -> Vec<usize> {
+        let poses = descent(&grasp.poses[0], params.pregrasp);
+        (0..n)
+            .filter(|&a| !skip(a))
+            .filter(|&a| poses.iter().any(|p| hits(&hand.open, p, &objects[a], pad)))
+            .collect()
+    };
+    let mut grasps = Vec::with_capacity(n);
+    let mut block_grasp = Vec::new();
+    for (b, o) in objects.iter().enumerate() {
+        // Objects on b block its grasp through `on`, not through the gripper.
+        let skip = |a: usize| a == b || on.contains(&(a, b)) || on.contains(&(b, a));
+        // The candidate with the fewest objects in its way.
+        let best = grasps_of(o, hand, table, params)
+            .into_iter()
+            .map(|g| {
+                let by = blockers(&g, &skip);
+                (g, by)
+            })
+            .min_by_key(|(_, by)| by.len());
+        match best {
+            Some((g, by)) => {
+                block_grasp.extend(by.into_iter().map(|a| (a, b)));
+                grasps.push(Some(g));
+            }
+            None => grasps.push(None),
+        }
+    }
+    let mut block_push: [Vec<(usize, usize)>; 4] = Default::default();
+    let mut pushes = Vec::with_capacity(n);
+    for (b, o) in objects.iter().enumerate() {
+        let dirs: [Push; 4] = std::array::from_fn(|k| {
+            let d = o.direction(k);
+            let d3 = Vec3::new(d.x, d.y, 0.0);
+            let start = push_start(o, d, k < 2, hand, table, params);
+            let others = |a: usize| a != b && !on.contains(&(a, b)) && !on.contains(&(b, a));
+            // Push until the grasp is free (SPEC §3.7), else k × the box (the seed).
+            let steps = (params.push_max_length / params.push_resolution).floor() as usize;
+            let mut length = None;
+            for s in 1..=steps {
+                let by = d3 * (s as f64 * params.push_resolution);
+                let moved = translated(o, by);
+                if (0..n)
+                    .filter(|&a| others(a))
+                    .any(|a| hulls_touch(&moved, &objects[a], 0.0))
+                {
+                    break;
+                }
+                let skip = |a: usize| !others(a);
+                let free = grasps_of(&moved, hand, table, params)
+                    .iter()
+                    .any(|g| blockers(g, &skip).is_empty());
+                if free {
+                    length = Some(s as f64 * params.push_resolution + params.push_margin);
+                    break;
+                }
+            }
+            let length = length
+                .unwrap_or(params.push_factor * o.rect.extent_along(d))
+                .min(params.push_max_length);
+            // Stays on the table: the pushed footprint's centre keeps half its size
+            // from the edge.
+            let end = o.rect.center + d * length;
+            let on_table = inside_convex(&table.outline, end)
+                && tabula_geom::polygon::distance_to_boundary(&table.outline, end)
+                    > o.rect.extent_along(d) / 2.0 + 0.02;
+            Push {
+                direction: d,
+                length,
+                start,
+                feasible: on_table,
+            }
+        });
+        for (k, p) in dirs.iter().enumerate() {
+            let d3 = Vec3::new(p.direction.x, p.direction.y, 0.0);
+            let steps = (p.length / params.push_resolution).ceil().max(1.0) as usize;
+            let mut hand_path = descent(&p.start, params.pre_push_height);
+            hand_path.extend((1..=steps).map(|s| {
+                Pose::from_parts(
+                    p.start.translation + d3 * (p.travel(params) * s as f64 / steps as f64),
+                    p.start.rotation,
+                )
+            }));
+            let sweep: Vec<SeenObject> = (1..=steps)
+                .map(|s| translated(o, d3 * (p.length * s as f64 / steps as f64)))
+                .collect();
+            for a in (0..n).filter(|&a| a != b) {
+                let swept = sweep.iter().any(|m| hulls_touch(m, &objects[a], 0.0));
+                let gripper = hand_path
+                    .iter()
+                    .any(|h| hits(&hand.closed, h, &objects[a], pad));
+                if swept || gripper {
+                    block_push[k].push((a, b));
+                }
+            }
+        }
+        pushes.push(dirs);
+    }
+    Geometry {
+        on,
+        block_grasp,
+        block_push,
+        grasps,
+        pushes,
+    }
+}
+
+/// The PDDL problem of a frame.
+fn problem_text(objects: &[SeenObject], g: &Geometry, goal: &[usize]) -> String {
+    use std::fmt::Write;
+    let name = |i: usize| format!("o{}", objects[i].id);
+    let mut s = String::from("(define (problem clear) (:domain tablewclear)\n(:objects");
+    for i in 0..objects.len() {
+        let _ = write!(s, " {}", name(i));
+    }
+    s.push_str(" - obj)\n(:init");
+    for &(a, b) in &g.on {
+        let _ = write!(s, " (on {} {})", name(a), name(b));
+    }
+    for &(a, b) in &g.block_grasp {
+        let _ = write!(s, " (block_grasp {} {})", name(a), name(b));
+    }
+    for (k, pairs) in g.block_push.iter().enumerate() {
+        for &(a, b) in pairs {
+            let _ = write!(s, " (block_{} {} {})", DIRECTIONS[k], name(a), name(b));
+        }
+    }
+    s.push_str(")\n(:goal (and");
+    for &i in goal {
+        let _ = write!(s, " (removed {})", name(i));
+    }
+    s.push_str(")))\n");
+    s
+}
+
+/// A tracked object: where it is expected next and what was done to it.
+#[derive(Debug, Clone)]
+struct Track {
+    id: usize,
+    expected: Vec2,
+    seen: Vec2,
+    pushes: Vec<Vec2>,
+    grasp_attempts: usize,
+}
+
+/// Gives every object the id of the track it continues (nearest expected position
+/// within `radius`, greedily by distance) or a new one.
+fn track(objects: &mut [SeenObject], tracks: &mut Vec<Track>, radius: f64) {
+    let mut pairs: Vec<(f64, usize, usize)> = Vec::new();
+    for (i, o) in objects.iter().enumerate() {
+        for (t, tr) in tracks.iter().enumerate() {
+            // Where a push should have put it, or where it was (a push may fail).
+            let d = (o.rect.center - tr.expected)
+                .length()
+                .min((o.rect.center - tr.seen).length());
+            if d <= radius {
+                pairs.push((d, i, t));
+            }
+        }
+    }
+    pairs.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let mut used_o = vec![false; objects.len()];
+    let mut used_t = vec![false; tracks.len()];
+    for (_, i, t) in pairs {
+        if used_o[i] || used_t[t] {
+            continue;
+        }
+        used_o[i] = true;
+        used_t[t] = true;
+        objects[i].id = tracks[t].id;
+        tracks[t].expected = objects[i].rect.center;
+        tracks[t].seen = objects[i].rect.center;
+    }
+    let mut next = tracks.iter().map(|t| t.id + 1).max().unwrap_or(0);
+    for (i, o) in objects.iter_mut().enumerate() {
+        if !used_o[i] {
+            o.id = next;
+            tracks.push(Track {
+                id: next,
+                expected: o.rect.center,
+                seen: o.rect.center,
+                pushes: Vec::new(),
+                grasp_attempts: 0,
+            });
+            next += 1;
+        }
+    }
+}
+
+fn atom(predicate: &str, object: usize) -> GroundAtom {
+    GroundAtom {
+        predicate: predicate.into(),
+        args: vec![format!("o{object}")],
+    }
+}
+
+fn infeasible_atom(kind: ActionKind, object: usize) -> GroundAtom {
+    match kind {
+        ActionKind::Grasp => atom("ik_unfeasible_grasp", object),
+        ActionKind::Push(k) => atom(&format!("ik_unfeasible_{}", DIRECTIONS[k]), object),
+    }
+}
+
+/// Clears the table the driver's camera sees. `watch` is told before and after every
+/// action (the simulator's harness judges collisions with it); pass `|_, _| {}` when
+/// nobody watches.
+pub fn clear<D: RobotDriver>(
+    driver: &mut D,
+    robot: &NamedRobot,
+    request: &ClearRequest,
+    params: &ClearParams,
+    watch: &mut dyn FnMut(&mut D, ClearEvent<'_>),
+) -> Result<ClearReport, ClearError> {
+    let mut report = ClearReport::default();
+    let arm_name = match &request.arm {
+        Some(a) => a.clone(),
+        None => robot
+            .description
+            .arms
+            .iter()
+            .find(|a| a.gripper.is_some())
+            .map(|a| a.name.clone())
+            .ok_or_else(|| ClearError::Robot("no arm with a gripper".into()))?,
+    };
+    let arm = robot
+        .description
+        .arm(&arm_name)
+        .map_err(|e| ClearError::Robot(e.to_string()))?
+        .clone();
+    let gripper = robot
+        .description
+        .gripper_of(&arm)
+        .cloned()
+        .ok_or_else(|| ClearError::Robot(format!("arm `{arm_name}` has no gripper")))?;
+    let hand = Hand::new(robot, &gripper)?;
+    let domain =
+        tabula_pddl::parse_domain(DOMAIN).map_err(|e| ClearError::Planner(e.to_string()))?;
+    let state = driver.joint_state()?;
+    let world_from_root = driver.world_from_root()?;
+    // The hand and what it holds keep the predicates' clearance, not the arm's padding:
+    // what the predicates call free, the planner must too.
+    let mut motion = params.motion.clone();
+    for link in [
+        &gripper.palm,
+        &gripper.fingers[0],
+        &gripper.fingers[1],
+        &gripper.tool_link,
+    ] {
+        motion
+            .world
+            .link_padding
+            .entry(link.clone())
+            .or_insert(params.clearance);
+    }
+    // The allowed-collision matrix is sampled once per run (setup, not a decision).
+    let mut group = MoveGroup::new(robot, &arm_name, &state, world_from_root, motion)
+        .map_err(|e| ClearError::Robot(e.to_string()))?;
+    for (i, (name, shape, pose)) in request.obstacles.iter().enumerate() {
+        group
+            .add_object(&format!("fixed{i}:{name}"), shape.clone(), *pose)
+            .map_err(|e| ClearError::Robot(e.to_string()))?;
+    }
+    // Out of the camera's view between actions: the arm's tucked pose, else where it
+    // started.
+    let start = group.arm_values(&state);
+    let home: Vec<f64> = group
+        .joint_names()
+        .iter()
+        .zip(&start)
+        .map(|(n, s)| arm.tucked.get(n).copied().unwrap_or(*s))
+        .collect();
+    let mut tracks: Vec<Track> = Vec::new();
+    let mut no_plan_run = 0usize;
+    let mut frame_no = 0usize;
+    let mut max_actions = request.max_actions;
+    loop {
+        // ---- Perceive.
+        let frame = driver.capture(&params.camera)?;
+        let c0 = thread_cpu();
+        let state = driver.joint_state()?;
+        let solids = robot_solids(
+            &robot.model,
+            &state.model_values(&robot.model),
+            driver.world_from_root()?,
+        );
+        let mut cloud = frame.cloud.transformed(&frame.world_from_camera);
+        let keep = self_filter(
+            &cloud.points,
+            &solids,
+            &tabula_perception::selffilter::SelfFilterParams {
+                padding: params.self_filter_padding,
+            },
+        );
+        for (q, k) in cloud.points.iter_mut().zip(keep) {
+            if !k {
+                *q = Vec3::NAN;
+            }
+        }
+        let perceived = perceive(&cloud, frame.world_from_camera.translation, params);
+        let perception = thread_cpu() - c0;
+        let (table, mut objects) = match perceived {
+            Ok(x) => x,
+            Err(e) if frame_no == 0 => return Err(e),
+            Err(e) => {
+                report.stop = format!("lost the table: {e}");
+                break;
+            }
+        };
+        track(&mut objects, &mut tracks, params.track_radius);
+        if frame_no == 0 {
+            report.objects = objects.len();
+            max_actions.get_or_insert(3 * objects.len() + 5);
+        }
+        let mut fr = FrameReport {
+            objects: objects.len(),
+            perception_ms: perception * 1e3,
+            ..FrameReport::default()
+        };
+        if objects.is_empty() {
+            report.stop = "table clear".into();
+            break;
+        }
+        if report.actions >= max_actions.unwrap_or(usize::MAX) {
+            report.stop = "action limit".into();
+            break;
+        }
+        // ---- Predicates.
+        let c1 = thread_cpu();
+        let geometry = predicates(&objects, &table, &hand, params);
+        fr.predicates_ms = (thread_cpu() - c1) * 1e3;
+        // ---- Plan, check IK of the first action, backtrack.
+        let c2 = thread_cpu();
+        let chosen = decide(
+            &objects,
+            &geometry,
+            &tracks,
+            &domain,
+            &mut group,
+            robot,
+            &state,
+            params,
+            &mut fr,
+            &mut report,
+        );
+        let decision_total = thread_cpu() - c2;
+        fr.planning_ms = decision_total * 1e3 - fr.ik_ms;
+        fr.decision_ms = fr.perception_ms + fr.predicates_ms + decision_total * 1e3;
+        report.ik_backtracks += fr.ik_backtracks;
+        report.frames.push(fr);
+        frame_no += 1;
+        let (i, kind, ik) = match chosen {
+            Decision::Act(i, kind, ik) => (i, kind, ik),
+            Decision::NothingRemovable => {
+                report.stop = "nothing left that can be removed".into();
+                break;
+            }
+            Decision::NoPlan => {
+                report.no_plan_frames += 1;
+                no_plan_run += 1;
+                if no_plan_run >= params.max_no_plan_frames {
+                    report.stop = "no plan".into();
+                    break;
+                }
+                continue;
+            }
+        };
+        no_plan_run = 0;
+        // ---- Execute.
+        let o = &objects[i];
+        let t = tracks.iter().position(|t| t.id == o.id).unwrap_or_default();
+        let mut record = ActionRecord {
+            frame: frame_no - 1,
+            action: kind.pddl(),
+            object: o.id,
+            position: o.center().to_array(),
+            push: None,
+            ok: false,
+            error: None,
+        };
+        if let ActionKind::Push(k) = kind {
+            let p = &geometry.pushes[i][k];
+            record.push = Some((p.direction.to_array(), p.length));
+            if tracks[t].pushes.iter().any(|d| d.dot(p.direction) < -0.5) {
+                report.push_loops += 1;
+            }
+        }
+        watch(driver, ClearEvent::Before(&record));
+        report.actions += 1;
+        let result = match kind {
+            ActionKind::Grasp => {
+                report.grasps += 1;
+                tracks[t].grasp_attempts += 1;
+                match &geometry.grasps[i] {
+                    Some(g) => execute_grasp(
+                        driver, robot, &mut group, &objects, i, g, ik, &hand, &gripper, &table,
+                        request, &home, params,
+                    ),
+                    None => Err(ExecError::Motion("no grasp fits the object".into())),
+                }
+            }
+            ActionKind::Push(k) => {
+                report.pushes += 1;
+                let p = &geometry.pushes[i][k];
+                tracks[t].pushes.push(p.direction);
+                tracks[t].expected = o.rect.center + p.direction * p.length;
+                execute_push(
+                    driver, robot, &mut group, &objects, i, p, ik, &gripper, &table, &home, params,
+                )
+            }
+        };
+        match result {
+            Ok(()) => {
+                record.ok = true;
+                if kind == ActionKind::Grasp {
+                    report.removed += 1;
+                }
+            }
+            Err(e) => {
+                if kind == ActionKind::Grasp {
+                    report.failed_grasps += 1;
+                }
+                record.error = Some(e.to_string());
+                // Back out of the camera's view whatever happened.
+                let _ = driver.open(&gripper.name);
+                let _ = go_home(driver, robot, &mut group, &home);
+                if matches!(e, ExecError::Driver(_)) {
+                    report.log.push(record.clone());
+                    watch(driver, ClearEvent::After(&record));
+                    report.stop = format!("driver failed: {e}");
+                    break;
+                }
+            }
+        }
+        watch(driver, ClearEvent::After(&record));
+        report.log.push(record);
+    }
+    let decisions: Vec<f64> = report.frames.iter().map(|f| f.decision_ms).collect();
+    report.decision_ms = Stats::of(&decisions);
+    let median = |f: fn(&FrameReport) -> f64| {
+        Stats::of(&report.frames.iter().map(f).collect::<Vec<_>>()).median
+    };
+    report.perception_ms = median(|f| f.perception_ms);
+    report.predicates_ms = median(|f| f.predicates_ms);
+    report.planning_ms = median(|f| f.planning_ms);
+    report.ik_ms = median(|f| f.ik_ms);
+    Ok(report)
+}
+
+enum Decision {
+    /// Object index, action, and the IK solution found for its first pose.
+    Act(usize, ActionKind, Vec<f64>),
+    NoPlan,
+    NothingRemovable,
+}
+
+/// Plans, then checks IK for the first action only; an infeasible action becomes an
+/// `ik_unfeasible_*` fact and the planner runs again (SPEC §3.5). Facts the tracks
+/// already know (pushes back, too many pushes or grasp attempts, grasps too wide,
+/// pushes off the table) are set before the first plan: every lazily discovered
+/// infeasibility is an `ik_unfeasible_*` fact to the domain.
+#[allow(clippy::too_many_arguments)]
+fn decide(
+    objects: &[SeenObject],
+    g: &Geometry,
+    tracks: &[Track],
+    domain: &tabula_pddl::Domain,
+    group: &mut MoveGroup,
+    robot: &NamedRobot,
+    state: &tabula_robot::driver::JointState,
+    params: &ClearParams,
+    fr: &mut FrameReport,
+    report: &mut ClearReport,
+) -> Decision {
+    let n = objects.len();
+    let all: Vec<usize> = (0..n).collect();
+    // Objects no grasp of this gripper can hold never leave the table: out of the goal.
+    let goal: Vec<usize> = all
+        .iter()
+        .copied()
+        .filter(|&i| g.grasps[i].is_some())
+        .collect();
+    report.dropped_from_goal = report.dropped_from_goal.max(n - goal.len());
+    if goal.is_empty() {
+        return Decision::NothingRemovable;
+    }
+    let text = problem_text(objects, g, &goal);
+    if std::env::var_os("TABULA_TRACE").is_some() {
+        eprintln!("{text}");
+    }
+    let Ok(problem) = tabula_pddl::parse_problem(&text, domain) else {
+        return Decision::NoPlan;
+    };
+    let Ok(mut planner) = Planner::for_table_clearing(domain.clone(), problem) else {
+        return Decision::NoPlan;
+    };
+    for (i, o) in objects.iter().enumerate() {
+        let track = tracks.iter().find(|t| t.id == o.id);
+        let mut set = |kind: ActionKind| {
+            let _ = planner.set_fact(&infeasible_atom(kind, o.id), true);
+        };
+        if track.is_some_and(|t| t.grasp_attempts >= params.max_grasp_attempts) {
+            set(ActionKind::Grasp);
+        }
+        for k in 0..4 {
+            let p = &g.pushes[i][k];
+            let back = track.is_some_and(|t| {
+                t.pushes.len() >= params.max_pushes_per_object
+                    || t.pushes.iter().any(|d| d.dot(p.direction) < -0.5)
+            });
+            if !p.feasible || back {
+                set(ActionKind::Push(k));
+            }
+        }
+    }
+    // The group sees the objects (the target is taken out per pose below).
+    let _ = group.set_state(robot, state);
+    for name in group.world.object_names() {
+        if name.starts_with("obj:") {
+            let _ = group.remove_object(&name);
+        }
+    }
+    for o in objects {
+        let _ = group.add_object(&format!("obj:{}", o.id), o.hull.clone(), Pose::IDENTITY);
+    }
+    let seed = group.arm_values(state);
+    let mode = if n <= params.optimal_up_to {
+        SearchMode::Optimal
+    } else {
+        SearchMode::Fast
+    };
+    let timeout = Some(Duration::from_secs_f64(params.plan_timeout_s.max(1e-3)));
+    let mut dropped = false;
+    for _ in 0..(5 * n + 5) {
+        let plan = match planner.plan(mode, timeout) {
+            Ok(p) => p,
+            Err(tabula_pddl::NoPlan::Unsolvable) if !dropped => {
+                // Objects that can never be removed leave the goal (SPEC §3.5).
+                dropped = true;
+                match planner.drop_unreachable_goals(timeout) {
+                    Ok(d) if !d.is_empty() => {
+                        report.dropped_from_goal = report.dropped_from_goal.max(d.len());
+                        if planner.goal_atoms().is_some_and(|a| a.is_empty()) {
+                            return Decision::NothingRemovable;
+                        }
+                        continue;
+                    }
+                    _ => return Decision::NothingRemovable,
+                }
+            }
+            Err(tabula_pddl::NoPlan::Unsolvable) => return Decision::NothingRemovable,
+            Err(_) => return Decision::NoPlan,
+        };
+        fr.plan = plan.steps.iter().map(|s| s.to_string()).collect();
+        let Some(first) = plan.steps.first() else {
+            return Decision::NothingRemovable;
+        };
+        let Some(i) = first
+            .args
+            .first()
+            .and_then(|a| a.strip_prefix('o'))
+            .and_then(|id| id.parse::<usize>().ok())
+            .and_then(|id| objects.iter().position(|o| o.id == id))
+        else {
+            return Decision::NoPlan;
+        };
+        let kind = if first.action == "grasp" {
+            ActionKind::Grasp
+        } else {
+            match DIRECTIONS
+                .iter()
+                .position(|d| first.action == format!("push_{d}"))
+            {
+                Some(k) => ActionKind::Push(k),
+                None => return Decision::NoPlan,
+            }
+        };
+        let c = thread_cpu();
+        let ik = first_pose_ik(group, objects, i, kind, g, &seed, params);
+        fr.ik_ms += (thread_cpu() - c) * 1e3;
+        match ik {
+            Some(q) => return Decision::Act(i, kind, q),
+            None => {
+                fr.ik_backtracks += 1;
+                let _ = planner.set_fact(&infeasible_atom(kind, objects[i].id), true);
+            }
+        }
+    }
+    Decision::NoPlan
+}
+
+/// The poses an action must reach, first one first: pre-grasp and grasp, or pre-push,
+/// push start and push end.
+fn action_poses(
+    kind: ActionKind,
+    grasp: Option<&Grasp>,
+    push: &[Push; 4],
+    yaw: usize,
+    up: Vec3,
+    params: &ClearParams,
+) -> Vec<Pose> {
+    match kind {
+        ActionKind::Grasp => {
+            let Some(g) = grasp.map(|g| g.poses[yaw]) else {
+                return Vec::new();
+            };
+            vec![
+                Pose::from_parts(g.translation + up * params.pregrasp, g.rotation),
+                g,
+            ]
+        }
+        ActionKind::Push(k) => {
+            let p = &push[k];
+            let d3 = Vec3::new(p.direction.x, p.direction.y, 0.0);
+            vec![
+                Pose::from_parts(
+                    p.start.translation + up * params.pre_push_height,
+                    p.start.rotation,
+                ),
+                p.start,
+                Pose::from_parts(
+                    p.start.translation + d3 * p.travel(params),
+                    p.start.rotation,
+                ),
+            ]
+        }
+    }
+}
+
+/// IK (collision-free, the target object out of the world) for every pose of the
+/// action, the gripper at either yaw; the solution of the first pose when all have one.
+#[allow(clippy::too_many_arguments)]
+fn first_pose_ik(
+    group: &mut MoveGroup,
+    objects: &[SeenObject],
+    i: usize,
+    kind: ActionKind,
+    g: &Geometry,
+    seed: &[f64],
+    params: &ClearParams,
+) -> Option<Vec<f64>> {
+    let up = Vec3::Z;
+    let target = format!("obj:{}", objects[i].id);
+    let _ = group.remove_object(&target);
+    let yaws: &[usize] = match kind {
+        ActionKind::Grasp => &[0, 1],
+        ActionKind::Push(_) => &[0],
+    };
+    let mut found = None;
+    'yaw: for &yaw in yaws {
+        let poses = action_poses(kind, g.grasps[i].as_ref(), &g.pushes[i], yaw, up, params);
+        let mut first = None;
+        let mut from = seed.to_vec();
+        for p in &poses {
+            match group.valid_ik(p, &from) {
+                Ok(sols) => {
+                    from = sols[0].clone();
+                    first.get_or_insert(sols[0].clone());
+                }
+                Err(_) => continue 'yaw,
+            }
+        }
+        found = first;
+        break;
+    }
+    let _ = group.add_object(&target, objects[i].hull.clone(), Pose::IDENTITY);
+    found
+}
+
+/// Why an action failed while executing.
+#[derive(Debug, Clone, thiserror::Error)]
+enum ExecError {
+    #[error("motion: {0}")]
+    Motion(String),
+    #[error("the gripper closed on nothing")]
+    Slipped,
+    #[error("driver: {0}")]
+    Driver(String),
+}
+
+impl From<MoveError> for ExecError {
+    fn from(e: MoveError) -> Self {
+        ExecError::Motion(e.to_string())
+    }
+}
+
+impl From<DriverError> for ExecError {
+    fn from(e: DriverError) -> Self {
+        ExecError::Driver(e.to_string())
+    }
+}
+
+fn current_arm(driver: &mut impl RobotDriver, group: &MoveGroup) -> Result<Vec<f64>, ExecError> {
+    Ok(group.arm_values(&driver.joint_state()?))
+}
+
+fn run(driver: &mut impl RobotDriver, plan: &Plan) -> Result<(), ExecError> {
+    Ok(driver.execute(&plan.trajectory)?)
+}
+
+fn go_home(
+    driver: &mut impl RobotDriver,
+    robot: &NamedRobot,
+    group: &mut MoveGroup,
+    home: &[f64],
+) -> Result<(), ExecError> {
+    let state = driver.joint_state()?;
+    group.set_state(robot, &state)?;
+    let q = group.arm_values(&state);
+    let plan = group.plan_to_joints(&q, &[home.to_vec()])?;
+    run(driver, &plan)
+}
+
+#[allow(clippy::too_many_arguments)]
+fn execute_grasp(
+    driver: &mut impl RobotDriver,
+    robot: &NamedRobot,
+    group: &mut MoveGroup,
+    objects: &[SeenObject],
+    i: usize,
+    grasp: &Grasp,
+    ik: Vec<f64>,
+    hand: &Hand,
+    gripper: &Gripper,
+    table: &Table,
+    request: &ClearRequest,
+    home: &[f64],
+    params: &ClearParams,
+) -> Result<(), ExecError> {
+    let o = &objects[i];
+    let name = format!("obj:{}", o.id);
+    driver.open(&gripper.name)?;
+    let state = driver.joint_state()?;
+    group.set_state(robot, &state)?;
+    let q = group.arm_values(&state);
+    // The yaw whose pre-grasp the decision solved.
+    let yaw = (0..2)
+        .min_by(|&a, &b| {
+            let d = |y: usize| {
+                group
+                    .tip_pose(&ik)
+                    .map(|p| p.rotation.angle_between(grasp.poses[y].rotation))
+                    .unwrap_or(f64::INFINITY)
+            };
+            d(a).total_cmp(&d(b))
+        })
+        .unwrap_or(0);
+    let g = grasp.poses[yaw];
+    let pre = Pose::from_parts(g.translation + table.up * params.pregrasp, g.rotation);
+    let to_pre = group
+        .plan_to_joints(&q, &[ik.clone()])
+        .or_else(|_| group.plan_to_pose(&q, &pre))?;
+    run(driver, &to_pre)?;
+    group.remove_object(&name)?;
+    let q = current_arm(driver, group)?;
+    let down = group.cartesian(&q, &g)?;
+    run(driver, &down)?;
+    let held = driver.close(&gripper.name)?;
+    let q = current_arm(driver, group)?;
+    if !held.holding {
+        let up = group.cartesian(&q, &pre)?;
+        run(driver, &up)?;
+        group.add_object(&name, o.hull.clone(), Pose::IDENTITY)?;
+        return Err(ExecError::Slipped);
+    }
+    // The held hull leaves what it stood on: its bottom is taken off (it touches the
+    // table at the start of the lift, as the object does).
+    let raised: Vec<Vec3> = hull_vertices(&o.hull)
+        .into_iter()
+        .map(|p| Vec3::new(p.x, p.y, p.z.max(o.bottom + 0.02)))
+        .collect();
+    let held_hull = SharedShape::convex_hull(&raised).unwrap_or_else(|| o.hull.clone());
+    let tool = group.tip_pose(&q)?;
+    group.attach(&name, held_hull, tool.inverse())?;
+    // Straight up cannot hit what stands beside the object: its neighbours (within the
+    // padding of its hull) are out of the world while it lifts.
+    let neighbours: Vec<&SeenObject> = objects
+        .iter()
+        .enumerate()
+        .filter(|&(j, n)| j != i && hulls_touch(o, n, 0.02))
+        .map(|(_, n)| n)
+        .collect();
+    for n in &neighbours {
+        group.remove_object(&format!("obj:{}", n.id))?;
+    }
+    let lifted = Pose::from_parts(g.translation + table.up * params.lift, g.rotation);
+    let lift = group.cartesian(&q, &lifted);
+    for n in &neighbours {
+        group.add_object(&format!("obj:{}", n.id), n.hull.clone(), Pose::IDENTITY)?;
+    }
+    run(driver, &lift?)?;
+    // Over the bin, the object's bottom `drop_clearance` above the drop point.
+    let hang = g.translation.dot(table.up) - o.bottom;
+    let over = request.drop_point + table.up * (params.drop_clearance + hang.max(0.0));
+    let q = current_arm(driver, group)?;
+    let mut last = Err(ExecError::Motion("no drop pose".into()));
+    for a in 0..4 {
+        let closing = Quat::from_rotation_z(a as f64 * std::f64::consts::FRAC_PI_4) * Vec3::X;
+        let pose = hand.pose(over - table.up * hand.tip, closing, table.up);
+        match group.plan_to_pose(&q, &pose) {
+            Ok(p) => {
+                last = Ok(p);
+                break;
+            }
+            Err(e) => last = Err(e.into()),
+        }
+    }
+    run(driver, &last?)?;
+    driver.open(&gripper.name)?;
+    group.remove_object(&name)?;
+    go_home(driver, robot, group, home)
+}
+
+#[allow(clippy::too_many_arguments)]
+fn execute_push(
+    driver: &mut impl RobotDriver,
+    robot: &NamedRobot,
+    group: &mut MoveGroup,
+    objects: &[SeenObject],
+    i: usize,
+    push: &Push,
+    ik: Vec<f64>,
+    gripper: &Gripper,
+    table: &Table,
+    home: &[f64],
+    params: &ClearParams,
+) -> Result<(), ExecError> {
+    let o = &objects[i];
+    let name = format!("obj:{}", o.id);
+    let _ = driver.close(&gripper.name)?;
+    let state = driver.joint_state()?;
+    group.set_state(robot, &state)?;
+    let q = group.arm_values(&state);
+    let pre = Pose::from_parts(
+        push.start.translation + table.up * params.pre_push_height,
+        push.start.rotation,
+    );
+    let to_pre = group
+        .plan_to_joints(&q, &[ik])
+        .or_else(|_| group.plan_to_pose(&q, &pre))?;
+    run(driver, &to_pre)?;
+    let q = current_arm(driver, group)?;
+    let down = group.cartesian(&q, &push.start)?;
+    run(driver, &down)?;
+    // The pushed object moves with the fingers: out of the world for the push.
+    group.remove_object(&name)?;
+    let d3 = Vec3::new(push.direction.x, push.direction.y, 0.0);
+    let end = Pose::from_parts(
+        push.start.translation + d3 * push.travel(params),
+        push.start.rotation,
+    );
+    let q = current_arm(driver, group)?;
+    let along = group.cartesian(&q, &end)?;
+    run(driver, &along)?;
+    let q = current_arm(driver, group)?;
+    let up = Pose::from_parts(
+        end.translation + table.up * params.pre_push_height,
+        end.rotation,
+    );
+    let rise = group.cartesian(&q, &up)?;
+    run(driver, &rise)?;
+    go_home(driver, robot, group, home)
+}
