@@ -40,12 +40,48 @@ pub enum BenchCommand {
         #[arg(long)]
         json: bool,
     },
+    /// Seed 002's table clearing on a generated suite: completion, objects per action,
+    /// grasp success, push loops and collisions judged by physics; decision CPU per frame.
+    Clear {
+        /// `seed` (scenes/clutter.toml), `random` (3–12 objects, touching and stacked),
+        /// `packed` (grids: every grasp blocked at first) or `pile` (20–30 dropped).
+        #[arg(long, default_value = "random")]
+        suite: String,
+        #[arg(long, default_value_t = 50)]
+        scenes: u64,
+        /// First scene seed (scenes use seed, seed + 1, …).
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// Parameters (TOML, `ClearParams`).
+        #[arg(long)]
+        params: Option<std::path::PathBuf>,
+        /// Write the scene of every run that does not clear its table into this folder.
+        #[arg(long)]
+        save_failures: Option<std::path::PathBuf>,
+        #[arg(long)]
+        json: bool,
+    },
 }
 
 pub fn run(c: BenchCommand) -> Result<()> {
     match c {
         BenchCommand::Perception { scenes, reps, json } => perception(scenes, reps.max(1), json),
         BenchCommand::PickPlace { variants, json } => pick_place(variants, json),
+        BenchCommand::Clear {
+            suite,
+            scenes,
+            seed,
+            params,
+            save_failures,
+            json,
+        } => crate::clear::bench(
+            &suite,
+            scenes,
+            seed,
+            params.as_deref(),
+            save_failures.as_deref(),
+            json,
+        ),
     }
 }
 

@@ -6,9 +6,8 @@ use clap::Args;
 use serde::Serialize;
 use std::path::PathBuf;
 use tabula_geom::Vec3;
-use tabula_geom::parry::bounding_volume::BoundingVolume;
 use tabula_robot::robots::NamedRobot;
-use tabula_sim::verdict::{ClearJudge, ClearVerdict};
+use tabula_sim::verdict::{ClearJudge, ClearVerdict, furniture_bounds};
 use tabula_sim::{SimDriver, SimWorld};
 use tabula_tasks::clear::{ClearEvent, ClearParams, ClearReport, ClearRequest, clear};
 
@@ -63,17 +62,17 @@ pub fn load_params(path: Option<&std::path::Path>) -> Result<ClearParams> {
     })
 }
 
-/// The bin's opening (top centre of its bounds), where objects are let go.
-fn drop_point(world: &SimWorld, bin: &str) -> Result<Vec3> {
-    let b = world
-        .furniture_shapes()
-        .into_iter()
-        .filter(|(n, _, _)| n == bin)
-        .map(|(_, s, p)| s.compute_aabb(&p))
-        .reduce(|a, b| a.merged(&b))
+/// The bin's opening (top centre of its bounds), where objects are let go, and how far
+/// from its centre they may be let go (a hand's width inside its walls).
+fn drop_area(world: &SimWorld, bin: &str) -> Result<(Vec3, f64)> {
+    let b = furniture_bounds(world, bin)
         .ok_or_else(|| anyhow!("the scene has no furniture named `{bin}` to clear into"))?;
     let c = b.center();
-    Ok(Vec3::new(c.x, c.y, b.maxs.z))
+    let half = b.half_extents();
+    Ok((
+        Vec3::new(c.x, c.y, b.maxs.z),
+        (half.x.min(half.y) - 0.1).max(0.0),
+    ))
 }
 
 /// Clears the table of `world` with its robot, judged by physics; returns the world
@@ -91,15 +90,17 @@ pub fn clear_in(
         NamedRobot::new(r.model.clone(), r.description.clone(), &robot_name)
     };
     world.settle();
+    let (drop_point, drop_spread) = drop_area(&world, "bin")?;
     let request = ClearRequest {
         arm: None,
-        drop_point: drop_point(&world, "bin")?,
+        drop_point,
+        drop_spread,
         obstacles: world.furniture_shapes(),
         max_actions,
     };
     let start = world.object_poses();
+    let mut judge = ClearJudge::new(&world, "table")?;
     let mut driver = SimDriver::new(world, &robot_name, seed)?;
-    let mut judge = ClearJudge::default();
     driver.observe(judge.observer(&robot_name));
     let outcome = clear(
         &mut driver,
@@ -113,7 +114,7 @@ pub fn clear_in(
     );
     let mut world = driver.world;
     world.settle();
-    let verdict = judge.verdict(&start, &world, "table", "bin");
+    let verdict = judge.verdict(&start, &world, "bin");
     let (report, error) = match outcome {
         Ok(r) => (r, None),
         Err(e) => (ClearReport::default(), Some(e)),
@@ -214,4 +215,204 @@ fn print_summary(out: &ClearJson) {
         out.collisions,
         v.disturbed.len()
     );
+}
+
+#[derive(Serialize)]
+struct BenchRow {
+    seed: u64,
+    objects: usize,
+    in_bin: usize,
+    actions: usize,
+    grasps: usize,
+    failed_grasps: usize,
+    pushes: usize,
+    no_plan_frames: usize,
+    ik_backtracks: usize,
+    push_loops: usize,
+    collisions: usize,
+    disturbed: usize,
+    decision_median_ms: f64,
+    stop: String,
+}
+
+/// Wilson score interval (95 %) of `k` successes in `n`.
+fn wilson(k: usize, n: usize) -> (f64, f64) {
+    if n == 0 {
+        return (0.0, 1.0);
+    }
+    let (k, n, z) = (k as f64, n as f64, 1.96);
+    let p = k / n;
+    let d = 1.0 + z * z / n;
+    let c = (p + z * z / (2.0 * n)) / d;
+    let h = z * ((p * (1.0 - p) / n + z * z / (4.0 * n * n)).sqrt()) / d;
+    ((c - h).max(0.0), (c + h).min(1.0))
+}
+
+/// `tabula bench clear`: every scene of a suite cleared in the simulator (both cores,
+/// one scene each), judged by physics.
+pub fn bench(
+    suite: &str,
+    scenes: u64,
+    seed: u64,
+    params: Option<&std::path::Path>,
+    save_failures: Option<&std::path::Path>,
+    json: bool,
+) -> Result<()> {
+    use rayon::prelude::*;
+    use tabula_sim::generate::{ClearSuite, clearing_scene};
+    let which: ClearSuite = suite.parse().map_err(|e: String| anyhow!(e))?;
+    let params = load_params(params)?;
+    let runs: Vec<Result<(BenchRow, Vec<[f64; 5]>)>> = (seed..seed.saturating_add(scenes))
+        .into_par_iter()
+        .map(|s| {
+            let text = clearing_scene(which, s);
+            let scene = tabula_sim::Scene::parse(&text, "generated")?;
+            let world = SimWorld::from_scene(&scene, Default::default())?;
+            let (out, _) = clear_in(world, None, &params, None, s)?;
+            let r = &out.report;
+            let v = &out.verdict;
+            if let Some(dir) = save_failures
+                && !out.success
+            {
+                std::fs::create_dir_all(dir)?;
+                std::fs::write(dir.join(format!("{suite}-{s}.toml")), &text)?;
+            }
+            let frames = r
+                .frames
+                .iter()
+                .map(|f| {
+                    [
+                        f.decision_ms,
+                        f.perception_ms,
+                        f.predicates_ms,
+                        f.planning_ms,
+                        f.ik_ms,
+                    ]
+                })
+                .collect();
+            Ok((
+                BenchRow {
+                    seed: s,
+                    objects: v.objects,
+                    in_bin: v.in_bin,
+                    actions: r.actions,
+                    grasps: r.grasps,
+                    failed_grasps: r.failed_grasps,
+                    pushes: r.pushes,
+                    no_plan_frames: r.no_plan_frames,
+                    ik_backtracks: r.ik_backtracks,
+                    push_loops: r.push_loops,
+                    collisions: out.collisions,
+                    disturbed: v.disturbed.len(),
+                    decision_median_ms: r.decision_ms.median,
+                    stop: match &out.error_message {
+                        Some(e) => e.clone(),
+                        None => r.stop.clone(),
+                    },
+                },
+                frames,
+            ))
+        })
+        .collect();
+    let mut rows = Vec::new();
+    let mut frames: Vec<[f64; 5]> = Vec::new();
+    for r in runs {
+        let (row, f) = r?;
+        rows.push(row);
+        frames.extend(f);
+    }
+    let sum = |f: fn(&BenchRow) -> usize| rows.iter().map(f).sum::<usize>();
+    let (objects, in_bin, actions) = (sum(|r| r.objects), sum(|r| r.in_bin), sum(|r| r.actions));
+    let (grasps, failed) = (sum(|r| r.grasps), sum(|r| r.failed_grasps));
+    let cleared = rows
+        .iter()
+        .filter(|r| r.objects > 0 && r.in_bin == r.objects)
+        .count();
+    let (lo, hi) = wilson(in_bin, objects);
+    let col =
+        |k: usize| tabula_tasks::clear::Stats::of(&frames.iter().map(|f| f[k]).collect::<Vec<_>>());
+    let decision = col(0);
+    let summary = serde_json::json!({
+        "suite": suite,
+        "scenes": rows.len(),
+        "objects": objects,
+        "removed": in_bin,
+        "completion": in_bin as f64 / objects.max(1) as f64,
+        "completion_95": [lo, hi],
+        "scenes_cleared": cleared,
+        "actions": actions,
+        "objects_per_action": in_bin as f64 / actions.max(1) as f64,
+        "grasps": grasps,
+        "failed_grasps": failed,
+        "grasp_success": (grasps - failed) as f64 / grasps.max(1) as f64,
+        "pushes": sum(|r| r.pushes),
+        "push_loops": sum(|r| r.push_loops),
+        "collisions": sum(|r| r.collisions),
+        "disturbed": sum(|r| r.disturbed),
+        "no_plan_frames": sum(|r| r.no_plan_frames),
+        "ik_backtracks": sum(|r| r.ik_backtracks),
+        "frames": frames.len(),
+        "decision_ms": decision,
+        "perception_ms": col(1).median,
+        "predicates_ms": col(2).median,
+        "planning_ms": col(3).median,
+        "ik_ms": col(4).median,
+        "rows": rows,
+    });
+    if json {
+        println!("{}", serde_json::to_string_pretty(&summary)?);
+        return Ok(());
+    }
+    println!(
+        "| seed | objects | in bin | actions | grasps (failed) | pushes | no-plan | IK backtracks | loops | collisions | moved | decision ms | stop |"
+    );
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|");
+    for r in &rows {
+        println!(
+            "| {} | {} | {} | {} | {} ({}) | {} | {} | {} | {} | {} | {} | {:.1} | {} |",
+            r.seed,
+            r.objects,
+            r.in_bin,
+            r.actions,
+            r.grasps,
+            r.failed_grasps,
+            r.pushes,
+            r.no_plan_frames,
+            r.ik_backtracks,
+            r.push_loops,
+            r.collisions,
+            r.disturbed,
+            r.decision_median_ms,
+            r.stop
+        );
+    }
+    println!(
+        "\n{suite}: {} scenes, completion {}/{} = {:.1} % (95 %: {:.1}–{:.1} %), {} scenes cleared; {:.2} objects per action; grasp success {:.1} % ({} of {}); push loops {}; collisions {}; moved by accident {}",
+        rows.len(),
+        in_bin,
+        objects,
+        100.0 * in_bin as f64 / objects.max(1) as f64,
+        100.0 * lo,
+        100.0 * hi,
+        cleared,
+        in_bin as f64 / actions.max(1) as f64,
+        100.0 * (grasps - failed) as f64 / grasps.max(1) as f64,
+        grasps - failed,
+        grasps,
+        sum(|r| r.push_loops),
+        sum(|r| r.collisions),
+        sum(|r| r.disturbed)
+    );
+    println!(
+        "decision CPU per frame ({} frames): median {:.1} ms, p95 {:.1}, max {:.1}; medians: perception {:.1}, predicates {:.1}, planning {:.1}, IK {:.1}",
+        frames.len(),
+        decision.median,
+        decision.p95,
+        decision.max,
+        col(1).median,
+        col(2).median,
+        col(3).median,
+        col(4).median
+    );
+    Ok(())
 }

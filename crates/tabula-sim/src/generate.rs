@@ -746,7 +746,7 @@ pub fn clearing_scene(suite: ClearSuite, seed: u64) -> String {
     );
     let _ = writeln!(
         s,
-        "[[furniture]]\nname = \"stand\"\nkind = \"table\"\nsize = [0.3, 0.3, 0.6]\n\n[[furniture]]\nname = \"bin\"\nkind = \"bin\"\npose = {{ xyz = [0.1, 0.62, 0.0] }}\nsize = [0.36, 0.36, 0.36]\n"
+        "[[furniture]]\nname = \"stand\"\nkind = \"table\"\nsize = [0.3, 0.3, 0.6]\n\n[[furniture]]\nname = \"bin\"\nkind = \"bin\"\npose = {{ xyz = [0.0, 0.6, 0.0] }}\nsize = [0.4, 0.4, 0.45]\n"
     );
     write_objects(&mut s, &mut rng, &placed);
     let _ = writeln!(

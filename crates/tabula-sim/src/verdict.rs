@@ -4,7 +4,7 @@
 
 use crate::world::{EntityKind, SimError, SimWorld};
 use std::sync::{Arc, Mutex};
-use tabula_geom::parry::bounding_volume::BoundingVolume;
+use tabula_geom::parry::bounding_volume::{Aabb, BoundingVolume};
 use tabula_geom::{Pose, Vec2, Vec3};
 
 /// What physics says about a placement.
@@ -83,8 +83,10 @@ impl ContactWatch {
 
 /// Ground truth of a table-clearing run: which objects the arm touched besides the one
 /// it was acting on, which it moved by accident, and which ended in the bin.
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Clone)]
 pub struct ClearJudge {
+    /// The table's bounds: only objects standing on it can be disturbed.
+    table: Aabb,
     /// The object the current action is meant for.
     target: Arc<Mutex<Option<String>>>,
     /// Arm (or held object) – object contacts with anything but the target.
@@ -110,6 +112,18 @@ pub struct ClearVerdict {
 }
 
 impl ClearJudge {
+    /// A judge of clearing the furniture `table` of `world`.
+    pub fn new(world: &SimWorld, table: &str) -> Result<Self, SimError> {
+        Ok(Self {
+            table: furniture_bounds(world, table)
+                .ok_or_else(|| SimError::UnknownEntity(table.into()))?,
+            target: Arc::default(),
+            contacts: Arc::default(),
+            before: Vec::new(),
+            disturbed: Vec::new(),
+        })
+    }
+
     /// Records every robot–object contact deeper than 1 mm with an object that is not
     /// the current target; hand it to [`crate::SimDriver::observe`].
     pub fn observer(&self, robot: &str) -> impl FnMut(&SimWorld) + Send + 'static {
@@ -133,7 +147,12 @@ impl ClearJudge {
 
     /// An action on the object nearest `position` begins.
     pub fn before(&mut self, world: &SimWorld, position: Vec3) {
-        self.before = world.object_poses();
+        let t = self.table;
+        self.before = world
+            .object_poses()
+            .into_iter()
+            .filter(|(_, p)| above(&t, p.translation))
+            .collect();
         let target = nearest_object(&self.before, position).map(|(n, _)| n);
         if let Ok(mut t) = self.target.lock() {
             *t = target;
@@ -160,39 +179,20 @@ impl ClearJudge {
         }
     }
 
-    /// Counts `start`'s objects that stood on `table` and now rest inside `bin` (both
-    /// furniture names).
-    pub fn verdict(
-        &self,
-        start: &[(String, Pose)],
-        world: &SimWorld,
-        table: &str,
-        bin: &str,
-    ) -> ClearVerdict {
-        let bounds = |name: &str| {
-            world
-                .furniture_shapes()
-                .into_iter()
-                .filter(|(n, _, _)| n == name)
-                .map(|(_, s, p)| s.compute_aabb(&p))
-                .reduce(|a, b| a.merged(&b))
-        };
-        let (Some(t), Some(b)) = (bounds(table), bounds(bin)) else {
+    /// Counts `start`'s objects that stood on the table and now rest inside the
+    /// furniture `bin` (over its footprint, on its floor or on what lies in it).
+    pub fn verdict(&self, start: &[(String, Pose)], world: &SimWorld, bin: &str) -> ClearVerdict {
+        let Some(b) = furniture_bounds(world, bin) else {
             return ClearVerdict::default();
         };
-        let on_table = |p: Vec3| {
-            p.x >= t.mins.x
-                && p.x <= t.maxs.x
-                && p.y >= t.mins.y
-                && p.y <= t.maxs.y
-                && p.z > t.maxs.z
-        };
+        let t = self.table;
+        let on_table = |p: Vec3| above(&t, p);
         let in_bin = |p: Vec3| {
             p.x >= b.mins.x
                 && p.x <= b.maxs.x
                 && p.y >= b.mins.y
                 && p.y <= b.maxs.y
-                && p.z < b.maxs.z
+                && p.z > b.mins.z
         };
         let mut v = ClearVerdict {
             collisions: self.contacts.lock().map(|c| c.clone()).unwrap_or_default(),
@@ -212,6 +212,25 @@ impl ClearJudge {
         }
         v
     }
+}
+
+/// The bounds of every part of a piece of furniture.
+pub fn furniture_bounds(world: &SimWorld, name: &str) -> Option<Aabb> {
+    world
+        .furniture_shapes()
+        .into_iter()
+        .filter(|(n, _, _)| n == name)
+        .map(|(_, s, p)| s.compute_aabb(&p))
+        .reduce(|a, b| a.merged(&b))
+}
+
+/// Over the footprint of `bounds` and above its top.
+fn above(bounds: &Aabb, p: Vec3) -> bool {
+    p.x >= bounds.mins.x
+        && p.x <= bounds.maxs.x
+        && p.y >= bounds.mins.y
+        && p.y <= bounds.maxs.y
+        && p.z > bounds.maxs.z
 }
 
 /// The object (among `before`, everything's poses at the start) nearest `point`.

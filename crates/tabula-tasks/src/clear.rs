@@ -130,8 +130,11 @@ impl Default for ClearParams {
 pub struct ClearRequest {
     /// The arm to use (default: the robot's first arm with a gripper).
     pub arm: Option<String>,
-    /// Where objects are let go (world): above the bin's opening.
+    /// Where objects are let go (world): the centre of the bin's opening.
     pub drop_point: Vec3,
+    /// Objects are let go over a square this far around `drop_point` (m), one spot after
+    /// another, so they do not pile into a tower.
+    pub drop_spread: f64,
     /// The workcell's fixed obstacles (world), as a planning scene knows them.
     pub obstacles: Vec<(String, SharedShape, Pose)>,
     /// Stop after this many actions (default: 3 per object seen first, plus 5).
@@ -1122,8 +1125,20 @@ pub fn clear<D: RobotDriver>(
                 tracks[t].grasp_attempts += 1;
                 match &geometry.grasps[i] {
                     Some(g) => execute_grasp(
-                        driver, robot, &mut group, &objects, i, g, ik, &hand, &gripper, &table,
-                        request, &home, params,
+                        driver,
+                        robot,
+                        &mut group,
+                        &objects,
+                        i,
+                        g,
+                        ik,
+                        &hand,
+                        &gripper,
+                        &table,
+                        request,
+                        report.removed,
+                        &home,
+                        params,
                     ),
                     None => Err(ExecError::Motion("no grasp fits the object".into())),
                 }
@@ -1214,7 +1229,25 @@ fn decide(
         return Decision::NothingRemovable;
     }
     let text = problem_text(objects, g, &goal);
-    if std::env::var_os("TABULA_TRACE").is_some() {
+    let trace = std::env::var_os("TABULA_TRACE").is_some();
+    if trace {
+        for (i, o) in objects.iter().enumerate() {
+            eprintln!(
+                "o{}: centre ({:.3}, {:.3}) rect {:.3} × {:.3}, bottom {:.3} top {:.3}, grasp {}",
+                o.id,
+                o.rect.center.x,
+                o.rect.center.y,
+                o.rect.size.x,
+                o.rect.size.y,
+                o.bottom,
+                o.top,
+                if g.grasps[i].is_some() {
+                    "fits"
+                } else {
+                    "too wide"
+                }
+            );
+        }
         eprintln!("{text}");
     }
     let Ok(problem) = tabula_pddl::parse_problem(&text, domain) else {
@@ -1386,7 +1419,19 @@ fn first_pose_ik(
                     from = sols[0].clone();
                     first.get_or_insert(sols[0].clone());
                 }
-                Err(_) => continue 'yaw,
+                Err(e) => {
+                    if std::env::var_os("TABULA_TRACE").is_some() {
+                        eprintln!(
+                            "IK {} o{} yaw {yaw} at ({:.3}, {:.3}, {:.3}): {e}",
+                            kind.pddl(),
+                            objects[i].id,
+                            p.translation.x,
+                            p.translation.y,
+                            p.translation.z
+                        );
+                    }
+                    continue 'yaw;
+                }
             }
         }
         found = first;
@@ -1394,6 +1439,23 @@ fn first_pose_ik(
     }
     let _ = group.add_object(&target, objects[i].hull.clone(), Pose::IDENTITY);
     found
+}
+
+/// The `k`-th spot of a 3 × 3 grid over the drop square (centre first, then around).
+fn drop_offset(k: usize, spread: f64) -> Vec3 {
+    const SPOTS: [(f64, f64); 9] = [
+        (0.0, 0.0),
+        (1.0, 1.0),
+        (-1.0, -1.0),
+        (1.0, -1.0),
+        (-1.0, 1.0),
+        (0.0, 1.0),
+        (1.0, 0.0),
+        (0.0, -1.0),
+        (-1.0, 0.0),
+    ];
+    let (x, y) = SPOTS[k % SPOTS.len()];
+    Vec3::new(x * spread, y * spread, 0.0)
 }
 
 /// Why an action failed while executing.
@@ -1453,6 +1515,7 @@ fn execute_grasp(
     gripper: &Gripper,
     table: &Table,
     request: &ClearRequest,
+    drop_count: usize,
     home: &[f64],
     params: &ClearParams,
 ) -> Result<(), ExecError> {
@@ -1520,7 +1583,9 @@ fn execute_grasp(
     run(driver, &lift?)?;
     // Over the bin, the object's bottom `drop_clearance` above the drop point.
     let hang = g.translation.dot(table.up) - o.bottom;
-    let over = request.drop_point + table.up * (params.drop_clearance + hang.max(0.0));
+    let over = request.drop_point
+        + drop_offset(drop_count, request.drop_spread)
+        + table.up * (params.drop_clearance + hang.max(0.0));
     let q = current_arm(driver, group)?;
     let mut last = Err(ExecError::Motion("no drop pose".into()));
     for a in 0..4 {
