@@ -74,6 +74,9 @@ pub struct ClearParams {
     /// Clearance the predicates demand between the gripper or a moving hull and
     /// another object (m).
     pub clearance: f64,
+    /// A pushed hull may overlap a neighbour by this much (m) and still slide past it:
+    /// touching objects seen with noise overlap by a few millimetres from the start.
+    pub sweep_tolerance: f64,
     /// An object counts as the same one across frames when it is this near where it was
     /// (or where a push should have put it) (m).
     pub track_radius: f64,
@@ -114,6 +117,7 @@ impl Default for ClearParams {
             push_margin: 0.02,
             pre_push_height: 0.20,
             clearance: 0.004,
+            sweep_tolerance: 0.005,
             track_radius: 0.06,
             max_pushes_per_object: 3,
             max_grasp_attempts: 2,
@@ -339,6 +343,8 @@ struct Hand {
     closed: Vec<(SharedShape, Pose)>,
     /// Closed fingers only (what meets a pushed object).
     closed_fingers: Vec<(SharedShape, Pose)>,
+    /// Open fingers only (what lands beside a grasped object).
+    open_fingers: Vec<(SharedShape, Pose)>,
     /// Fingertips' distance from the tool origin along the approach (m).
     tip: f64,
     /// Finger length along the approach (m).
@@ -395,6 +401,7 @@ impl Hand {
             tip: hi,
             finger_length: hi - lo,
             closed_fingers,
+            open_fingers: shapes_at(limits.upper, &fingers)?,
             approach,
             closing: gripper.closing(),
             open_width: gripper.open_width,
@@ -608,6 +615,23 @@ fn hulls_touch(a: &SeenObject, b: &SeenObject, pad: f64) -> bool {
         .is_ok_and(|d| d.distance <= pad)
 }
 
+/// Whether a moved hull runs into another by more than `tolerance`: a neighbour it
+/// only grazes (touching objects seen with noise overlap by millimetres already) lets
+/// it slide past; one ahead is entered by a whole sweep step.
+fn hulls_collide(moved: &SeenObject, other: &SeenObject, tolerance: f64) -> bool {
+    moved.aabb.intersects(&other.aabb)
+        && query::contact(
+            &Pose::IDENTITY,
+            moved.hull.as_ref(),
+            &Pose::IDENTITY,
+            other.hull.as_ref(),
+            0.0,
+        )
+        .ok()
+        .flatten()
+        .is_some_and(|c| c.dist < -tolerance)
+}
+
 /// A grasp or a push worked out in geometry.
 #[derive(Debug, Clone)]
 struct Grasp {
@@ -643,24 +667,78 @@ struct Geometry {
 
 /// Top grasps of `o`: closing across the principal axis (SPEC §3.2), then across the
 /// other one when the object fits that way too (a square box can be taken either way:
-/// one of them may be free of a neighbour). Empty when it fits neither way.
+/// one of them may be free of a neighbour). When it fits neither way, grasps of its
+/// narrow parts ([`part_grasps`]). Empty when nothing fits.
 fn grasps_of(o: &SeenObject, hand: &Hand, table: &Table, params: &ClearParams) -> Vec<Grasp> {
     let (major, minor) = o.axes();
-    let tip_z = (o.top - params.grasp_depth - hand.finger_length / 2.0)
-        .max(o.bottom + params.fingertip_clearance);
-    let tips = Vec3::new(o.rect.center.x, o.rect.center.y, tip_z);
-    [minor, major]
+    let tip_z = |top: f64| {
+        (top - params.grasp_depth - hand.finger_length / 2.0)
+            .max(o.bottom + params.fingertip_clearance)
+    };
+    let grasp = |at: Vec2, top: f64, c: Vec2| {
+        let tips = Vec3::new(at.x, at.y, tip_z(top));
+        let closing = Vec3::new(c.x, c.y, 0.0);
+        Grasp {
+            poses: [
+                hand.pose(tips, closing, table.up),
+                hand.pose(tips, -closing, table.up),
+            ],
+        }
+    };
+    let whole: Vec<Grasp> = [minor, major]
         .into_iter()
         .filter(|&c| o.rect.extent_along(c) + 2.0 * params.grasp_margin <= hand.open_width)
-        .map(|c| {
-            let closing = Vec3::new(c.x, c.y, 0.0);
-            Grasp {
-                poses: [
-                    hand.pose(tips, closing, table.up),
-                    hand.pose(tips, -closing, table.up),
-                ],
-            }
+        .map(|c| grasp(o.rect.center, o.top, c))
+        .collect();
+    if !whole.is_empty() {
+        return whole;
+    }
+    part_grasps(o, hand, params)
+        .into_iter()
+        .map(|(at, top)| grasp(at, top, minor))
+        .collect()
+}
+
+/// Grasps of the narrow parts of an object too wide to take whole: slices across its
+/// principal axis, a finger's width and a few millimetres, whose points fit the
+/// gripper — narrowest first, at most three. A blob wider than the gripper is often two
+/// objects the camera cannot tell apart (touching, tops level); taking one part first
+/// lets the next frame see the other alone.
+fn part_grasps(o: &SeenObject, hand: &Hand, params: &ClearParams) -> Vec<(Vec2, f64)> {
+    let (major, minor) = o.axes();
+    let c = o.rect.center;
+    let local: Vec<(f64, f64, f64)> = o
+        .points
+        .iter()
+        .map(|p| {
+            let d = p.truncate() - c;
+            (d.dot(major), d.dot(minor), p.z)
         })
+        .collect();
+    let half = o.rect.extent_along(major) / 2.0;
+    let (finger_lo, finger_hi) =
+        extent_along(&hand.open_fingers, hand.closing.cross(hand.approach));
+    let window = (finger_hi - finger_lo) / 2.0 + 0.003;
+    let mut found: Vec<(f64, Vec2, f64)> = Vec::new();
+    // Slice centres every centimetre from one end to the other, both ends included.
+    let span = (2.0 * (half - window)).max(0.0);
+    let steps = (span / 0.01).ceil() as usize;
+    for k in 0..=steps {
+        let t = -half + window + span * k as f64 / steps.max(1) as f64;
+        let (lo, hi, top, count) = local.iter().filter(|q| (q.0 - t).abs() <= window).fold(
+            (f64::INFINITY, f64::NEG_INFINITY, f64::NEG_INFINITY, 0usize),
+            |(lo, hi, top, n), q| (lo.min(q.1), hi.max(q.1), top.max(q.2), n + 1),
+        );
+        let width = hi - lo;
+        if count >= 20 && width + 2.0 * params.grasp_margin <= hand.open_width {
+            found.push((width, c + major * t + minor * ((lo + hi) / 2.0), top));
+        }
+    }
+    found.sort_by(|a, b| a.0.total_cmp(&b.0));
+    found
+        .into_iter()
+        .take(3)
+        .map(|(_, at, top)| (at, top))
         .collect()
 }
 
@@ -694,6 +772,12 @@ fn push_start(
 fn translated(o: &SeenObject, by: Vec3) -> SeenObject {
     let mut t = o.clone();
     t.rect.center += by.truncate();
+    for p in &mut t.points {
+        *p += by;
+    }
+    for p in &mut t.footprint {
+        *p += by.truncate();
+    }
     // Hulls are kept in world coordinates: a moved copy is rebuilt around its vertices.
     let moved: Vec<Vec3> = hull_vertices(&o.hull).into_iter().map(|p| p + by).collect();
     if let Some(h) = SharedShape::convex_hull(&moved) {
@@ -775,7 +859,7 @@ fn predicates(
                 let moved = translated(o, by);
                 if (0..n)
                     .filter(|&a| others(a))
-                    .any(|a| hulls_touch(&moved, &objects[a], 0.0))
+                    .any(|a| hulls_collide(&moved, &objects[a], params.sweep_tolerance))
                 {
                     break;
                 }
@@ -818,11 +902,24 @@ fn predicates(
                 .map(|s| translated(o, d3 * (p.length * s as f64 / steps as f64)))
                 .collect();
             for a in (0..n).filter(|&a| a != b) {
-                let swept = sweep.iter().any(|m| hulls_touch(m, &objects[a], 0.0));
+                let swept = sweep
+                    .iter()
+                    .any(|m| hulls_collide(m, &objects[a], params.sweep_tolerance));
                 let gripper = hand_path
                     .iter()
                     .any(|h| hits(&hand.closed, h, &objects[a], pad));
                 if swept || gripper {
+                    if std::env::var_os("TABULA_TRACE").is_some() {
+                        eprintln!(
+                            "block_{} o{} o{}: swept {swept} gripper {gripper} (push {:.2} m along ({:.2}, {:.2}))",
+                            DIRECTIONS[k],
+                            objects[a].id,
+                            o.id,
+                            p.length,
+                            p.direction.x,
+                            p.direction.y
+                        );
+                    }
                     block_push[k].push((a, b));
                 }
             }
@@ -1158,6 +1255,8 @@ pub fn clear<D: RobotDriver>(
                 record.ok = true;
                 if kind == ActionKind::Grasp {
                     report.removed += 1;
+                    // It is in the bin: whatever is seen there next is something else.
+                    tracks.remove(t);
                 }
             }
             Err(e) => {
