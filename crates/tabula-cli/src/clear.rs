@@ -108,7 +108,10 @@ pub fn clear_in(
         &request,
         params,
         &mut |d: &mut SimDriver, e| match e {
-            ClearEvent::Before(a) => judge.before(&d.world, Vec3::from_array(a.position)),
+            ClearEvent::Before(a) => {
+                let shoved: Vec<Vec3> = a.shoves.iter().map(|p| Vec3::from_array(*p)).collect();
+                judge.before(&d.world, Vec3::from_array(a.position), &shoved)
+            }
             ClearEvent::After(_) => judge.after(&d.world),
         },
     );

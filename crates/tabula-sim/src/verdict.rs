@@ -92,6 +92,8 @@ pub struct ClearJudge {
     /// Arm (or held object) – object contacts with anything but the target.
     contacts: Arc<Mutex<Vec<(String, String)>>>,
     before: Vec<(String, Pose)>,
+    /// Objects the current action shoves along on purpose.
+    shoved: Vec<String>,
     /// Objects (other than the target) moved more than 2 cm by an action, per action.
     pub disturbed: Vec<String>,
 }
@@ -120,6 +122,7 @@ impl ClearJudge {
             target: Arc::default(),
             contacts: Arc::default(),
             before: Vec::new(),
+            shoved: Vec::new(),
             disturbed: Vec::new(),
         })
     }
@@ -146,7 +149,10 @@ impl ClearJudge {
     }
 
     /// An action on the object nearest `position` begins.
-    pub fn before(&mut self, world: &SimWorld, position: Vec3) {
+    ///
+    /// Objects seen at `shoved` are moved on purpose (a push that shoves them along):
+    /// they do not count as disturbed, though the arm must still not touch them.
+    pub fn before(&mut self, world: &SimWorld, position: Vec3, shoved: &[Vec3]) {
         let t = self.table;
         self.before = world
             .object_poses()
@@ -154,6 +160,10 @@ impl ClearJudge {
             .filter(|(_, p)| above(&t, p.translation))
             .collect();
         let target = nearest_object(&self.before, position).map(|(n, _)| n);
+        self.shoved = shoved
+            .iter()
+            .filter_map(|&p| nearest_object(&self.before, p).map(|(n, _)| n))
+            .collect();
         if let Ok(mut t) = self.target.lock() {
             *t = target;
         }
@@ -163,7 +173,7 @@ impl ClearJudge {
     pub fn after(&mut self, world: &SimWorld) {
         let target = self.target.lock().ok().and_then(|t| t.clone());
         for (name, pose) in &self.before {
-            if Some(name) == target.as_ref() {
+            if Some(name) == target.as_ref() || self.shoved.contains(name) {
                 continue;
             }
             if world

@@ -80,6 +80,8 @@ pub struct ClearParams {
     /// An object counts as the same one across frames when it is this near where it was
     /// (or where a push should have put it) (m).
     pub track_radius: f64,
+    /// Most objects a chain push may shove along.
+    pub max_chain: usize,
     /// Pushes allowed per tracked object.
     pub max_pushes_per_object: usize,
     /// Grasp attempts per tracked object before its grasp counts as infeasible.
@@ -119,6 +121,7 @@ impl Default for ClearParams {
             clearance: 0.004,
             sweep_tolerance: 0.005,
             track_radius: 0.06,
+            max_chain: 2,
             max_pushes_per_object: 3,
             max_grasp_attempts: 2,
             max_no_plan_frames: 3,
@@ -173,6 +176,8 @@ pub struct ActionRecord {
     pub position: [f64; 3],
     /// For pushes: the direction (world, unit) and length (m).
     pub push: Option<([f64; 2], f64)>,
+    /// For chain pushes: where the objects it shoves along were seen.
+    pub shoves: Vec<[f64; 3]>,
     pub ok: bool,
     pub error: Option<String>,
 }
@@ -643,6 +648,8 @@ struct Grasp {
 struct Push {
     direction: Vec2,
     length: f64,
+    /// Objects this push shoves along (a chain push; empty for the seed's pushes).
+    chain: Vec<usize>,
     /// Tool pose where the push starts, and the fingertip height.
     start: Pose,
     feasible: bool,
@@ -656,6 +663,7 @@ impl Push {
 }
 
 /// Everything the predicates computed for one frame.
+#[derive(Clone)]
 struct Geometry {
     on: Vec<(usize, usize)>,
     block_grasp: Vec<(usize, usize)>,
@@ -793,13 +801,15 @@ fn hull_vertices(s: &SharedShape) -> Vec<Vec3> {
         .unwrap_or_default()
 }
 
-/// The predicates of SPEC §3.3 and the poses of SPEC §3.2 for every object.
+/// The predicates of SPEC §3.3 and the poses of SPEC §3.2 for every object; and the
+/// same with chain pushes (each push may shove what is in front of it along), the
+/// fallback when the seed's actions cannot clear the table (packed objects).
 fn predicates(
     objects: &[SeenObject],
     table: &Table,
     hand: &Hand,
     params: &ClearParams,
-) -> Geometry {
+) -> (Geometry, Geometry) {
     let n = objects.len();
     let on = on_pairs(objects, table.z);
     let pad = params.clearance;
@@ -844,7 +854,9 @@ fn predicates(
         }
     }
     let mut block_push: [Vec<(usize, usize)>; 4] = Default::default();
+    let mut block_chain: [Vec<(usize, usize)>; 4] = Default::default();
     let mut pushes = Vec::with_capacity(n);
+    let mut chain_pushes = Vec::with_capacity(n);
     for (b, o) in objects.iter().enumerate() {
         let dirs: [Push; 4] = std::array::from_fn(|k| {
             let d = o.direction(k);
@@ -884,10 +896,12 @@ fn predicates(
             Push {
                 direction: d,
                 length,
+                chain: Vec::new(),
                 start,
                 feasible: on_table,
             }
         });
+        let mut chained = dirs.clone();
         for (k, p) in dirs.iter().enumerate() {
             let d3 = Vec3::new(p.direction.x, p.direction.y, 0.0);
             let steps = (p.length / params.push_resolution).ceil().max(1.0) as usize;
@@ -898,16 +912,29 @@ fn predicates(
                     p.start.rotation,
                 )
             }));
-            let sweep: Vec<SeenObject> = (1..=steps)
-                .map(|s| translated(o, d3 * (p.length * s as f64 / steps as f64)))
+            let sweep_of = |x: &SeenObject, length: f64| -> Vec<SeenObject> {
+                let steps = (length / params.push_resolution).ceil().max(1.0) as usize;
+                (1..=steps)
+                    .map(|s| translated(x, d3 * (length * s as f64 / steps as f64)))
+                    .collect()
+            };
+            let collides = |sweep: &[SeenObject], a: usize| {
+                sweep
+                    .iter()
+                    .any(|m| hulls_collide(m, &objects[a], params.sweep_tolerance))
+            };
+            let gripper_hits: Vec<usize> = (0..n)
+                .filter(|&a| a != b)
+                .filter(|&a| {
+                    hand_path
+                        .iter()
+                        .any(|h| hits(&hand.closed, h, &objects[a], pad))
+                })
                 .collect();
+            let sweep = sweep_of(o, p.length);
             for a in (0..n).filter(|&a| a != b) {
-                let swept = sweep
-                    .iter()
-                    .any(|m| hulls_collide(m, &objects[a], params.sweep_tolerance));
-                let gripper = hand_path
-                    .iter()
-                    .any(|h| hits(&hand.closed, h, &objects[a], pad));
+                let swept = collides(&sweep, a);
+                let gripper = gripper_hits.contains(&a);
                 if swept || gripper {
                     if std::env::var_os("TABULA_TRACE").is_some() {
                         eprintln!(
@@ -923,16 +950,60 @@ fn predicates(
                     block_push[k].push((a, b));
                 }
             }
+            // The chain variant: what the sweep runs into moves along (and what that
+            // runs into, up to `max_chain`); only the gripper and what the chain runs
+            // into block it. It goes k × the box's size (the seed's length).
+            let length =
+                (params.push_factor * o.rect.extent_along(p.direction)).min(params.push_max_length);
+            let mut chain: Vec<usize> = Vec::new();
+            let mut frontier = vec![b];
+            while let Some(x) = frontier.pop() {
+                let sw = sweep_of(&objects[x], length);
+                for a in 0..n {
+                    if a != b && !chain.contains(&a) && collides(&sw, a) {
+                        chain.push(a);
+                        frontier.push(a);
+                    }
+                }
+            }
+            let fits_table = |x: &SeenObject| {
+                let end = x.rect.center + p.direction * length;
+                inside_convex(&table.outline, end)
+                    && tabula_geom::polygon::distance_to_boundary(&table.outline, end)
+                        > x.rect.extent_along(p.direction) / 2.0 + 0.02
+            };
+            let c = &mut chained[k];
+            c.length = length;
+            c.feasible = chain.len() <= params.max_chain
+                && fits_table(o)
+                && chain.iter().all(|&a| fits_table(&objects[a]));
+            for a in (0..n).filter(|&a| a != b && !chain.contains(&a)) {
+                if gripper_hits.contains(&a) {
+                    block_chain[k].push((a, b));
+                }
+            }
+            c.chain = chain;
         }
         pushes.push(dirs);
+        chain_pushes.push(chained);
     }
-    Geometry {
-        on,
-        block_grasp,
-        block_push,
-        grasps,
-        pushes,
-    }
+    let chain = Geometry {
+        on: on.clone(),
+        block_grasp: block_grasp.clone(),
+        block_push: block_chain,
+        grasps: grasps.clone(),
+        pushes: chain_pushes,
+    };
+    (
+        Geometry {
+            on,
+            block_grasp,
+            block_push,
+            grasps,
+            pushes,
+        },
+        chain,
+    )
 }
 
 /// The PDDL problem of a frame.
@@ -1156,22 +1227,31 @@ pub fn clear<D: RobotDriver>(
         }
         // ---- Predicates.
         let c1 = thread_cpu();
-        let geometry = predicates(&objects, &table, &hand, params);
+        let (solo, chained) = predicates(&objects, &table, &hand, params);
         fr.predicates_ms = (thread_cpu() - c1) * 1e3;
         // ---- Plan, check IK of the first action, backtrack.
         let c2 = thread_cpu();
-        let chosen = decide(
-            &objects,
-            &geometry,
-            &tracks,
-            &domain,
-            &mut group,
-            robot,
-            &state,
-            params,
-            &mut fr,
-            &mut report,
-        );
+        // The seed's actions first; chain pushes only when those cannot go on.
+        let mut chosen = Decision::NothingRemovable;
+        let mut geometry = &solo;
+        for g in [&solo, &chained] {
+            geometry = g;
+            chosen = decide(
+                &objects,
+                g,
+                &tracks,
+                &domain,
+                &mut group,
+                robot,
+                &state,
+                params,
+                &mut fr,
+                &mut report,
+            );
+            if !matches!(chosen, Decision::NothingRemovable) {
+                break;
+            }
+        }
         let decision_total = thread_cpu() - c2;
         fr.planning_ms = decision_total * 1e3 - fr.ik_ms;
         fr.decision_ms = fr.perception_ms + fr.predicates_ms + decision_total * 1e3;
@@ -1204,12 +1284,18 @@ pub fn clear<D: RobotDriver>(
             object: o.id,
             position: o.center().to_array(),
             push: None,
+            shoves: Vec::new(),
             ok: false,
             error: None,
         };
         if let ActionKind::Push(k) = kind {
             let p = &geometry.pushes[i][k];
             record.push = Some((p.direction.to_array(), p.length));
+            record.shoves = p
+                .chain
+                .iter()
+                .map(|&a| objects[a].center().to_array())
+                .collect();
             if tracks[t].pushes.iter().any(|d| d.dot(p.direction) < -0.5) {
                 report.push_loops += 1;
             }
@@ -1501,8 +1587,14 @@ fn first_pose_ik(
     params: &ClearParams,
 ) -> Option<Vec<f64>> {
     let up = Vec3::Z;
-    let target = format!("obj:{}", objects[i].id);
-    let _ = group.remove_object(&target);
+    // The target, and what a chain push shoves along, move: out of the world here.
+    let mut moving = vec![i];
+    if let ActionKind::Push(k) = kind {
+        moving.extend(&g.pushes[i][k].chain);
+    }
+    for &m in &moving {
+        let _ = group.remove_object(&format!("obj:{}", objects[m].id));
+    }
     let yaws: &[usize] = match kind {
         ActionKind::Grasp => &[0, 1],
         ActionKind::Push(_) => &[0],
@@ -1536,7 +1628,13 @@ fn first_pose_ik(
         found = first;
         break;
     }
-    let _ = group.add_object(&target, objects[i].hull.clone(), Pose::IDENTITY);
+    for &m in &moving {
+        let _ = group.add_object(
+            &format!("obj:{}", objects[m].id),
+            objects[m].hull.clone(),
+            Pose::IDENTITY,
+        );
+    }
     found
 }
 
@@ -1735,8 +1833,12 @@ fn execute_push(
     let q = current_arm(driver, group)?;
     let down = group.cartesian(&q, &push.start)?;
     run(driver, &down)?;
-    // The pushed object moves with the fingers: out of the world for the push.
+    // The pushed object (and what it shoves) moves with the fingers: out of the world
+    // for the push.
     group.remove_object(&name)?;
+    for &a in &push.chain {
+        group.remove_object(&format!("obj:{}", objects[a].id))?;
+    }
     let d3 = Vec3::new(push.direction.x, push.direction.y, 0.0);
     let end = Pose::from_parts(
         push.start.translation + d3 * push.travel(params),
