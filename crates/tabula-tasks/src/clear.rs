@@ -761,13 +761,22 @@ fn push_start(
     params: &ClearParams,
 ) -> Pose {
     let d3 = Vec3::new(d.x, d.y, 0.0);
-    // Closing parallel to the push along the principal axis (narrow footprint),
-    // across it otherwise (SPEC §3.2).
-    let closing = if along_major {
-        d3
-    } else {
-        Vec3::new(-d.y, d.x, 0.0)
+    let across = Vec3::new(-d.y, d.x, 0.0);
+    // SPEC §3.2: closing parallel to the push along the principal axis (narrow
+    // footprint), across it otherwise (a wide pusher keeps a long object from turning)
+    // — but only where the wide pusher fits the object's face with a centimetre to
+    // spare on each side: a wider pusher would drag the neighbours beside the path.
+    let width_across = |closing: Vec3| {
+        let probe = hand.pose(Vec3::ZERO, closing, table.up);
+        let (lo, hi) = extent_along(&hand.closed_fingers, probe.rotation.inverse() * across);
+        hi - lo
     };
+    let closing =
+        if along_major || width_across(across) + 0.02 > o.rect.extent_along(across.truncate()) {
+            d3
+        } else {
+            across
+        };
     let tip_z = (o.top - hand.finger_length).max(o.bottom + params.fingertip_clearance);
     let probe = hand.pose(Vec3::ZERO, closing, table.up);
     // How far the fingers reach toward the object from the tool axis.
@@ -904,14 +913,24 @@ fn predicates(
         let mut chained = dirs.clone();
         for (k, p) in dirs.iter().enumerate() {
             let d3 = Vec3::new(p.direction.x, p.direction.y, 0.0);
-            let steps = (p.length / params.push_resolution).ceil().max(1.0) as usize;
-            let mut hand_path = descent(&p.start, params.pre_push_height);
-            hand_path.extend((1..=steps).map(|s| {
-                Pose::from_parts(
-                    p.start.translation + d3 * (p.travel(params) * s as f64 / steps as f64),
-                    p.start.rotation,
-                )
-            }));
+            // The closed hand coming down to the push and along it.
+            let hand_path = |travel: f64| -> Vec<Pose> {
+                let steps = (travel / params.push_resolution).ceil().max(1.0) as usize;
+                let mut path = descent(&p.start, params.pre_push_height);
+                path.extend((1..=steps).map(|s| {
+                    Pose::from_parts(
+                        p.start.translation + d3 * (travel * s as f64 / steps as f64),
+                        p.start.rotation,
+                    )
+                }));
+                path
+            };
+            let gripper_hits = |path: &[Pose]| -> Vec<usize> {
+                (0..n)
+                    .filter(|&a| a != b)
+                    .filter(|&a| path.iter().any(|h| hits(&hand.closed, h, &objects[a], pad)))
+                    .collect()
+            };
             let sweep_of = |x: &SeenObject, length: f64| -> Vec<SeenObject> {
                 let steps = (length / params.push_resolution).ceil().max(1.0) as usize;
                 (1..=steps)
@@ -923,18 +942,12 @@ fn predicates(
                     .iter()
                     .any(|m| hulls_collide(m, &objects[a], params.sweep_tolerance))
             };
-            let gripper_hits: Vec<usize> = (0..n)
-                .filter(|&a| a != b)
-                .filter(|&a| {
-                    hand_path
-                        .iter()
-                        .any(|h| hits(&hand.closed, h, &objects[a], pad))
-                })
-                .collect();
+            let solo_hits = gripper_hits(&hand_path(p.travel(params)));
+
             let sweep = sweep_of(o, p.length);
             for a in (0..n).filter(|&a| a != b) {
                 let swept = collides(&sweep, a);
-                let gripper = gripper_hits.contains(&a);
+                let gripper = solo_hits.contains(&a);
                 if swept || gripper {
                     if std::env::var_os("TABULA_TRACE").is_some() {
                         eprintln!(
@@ -977,8 +990,9 @@ fn predicates(
             c.feasible = chain.len() <= params.max_chain
                 && fits_table(o)
                 && chain.iter().all(|&a| fits_table(&objects[a]));
+            let chain_hits = gripper_hits(&hand_path(length + params.push_distance));
             for a in (0..n).filter(|&a| a != b && !chain.contains(&a)) {
-                if gripper_hits.contains(&a) {
+                if chain_hits.contains(&a) {
                     block_chain[k].push((a, b));
                 }
             }
