@@ -55,7 +55,8 @@ pub enum BenchCommand {
         /// Parameters (TOML, `ClearParams`).
         #[arg(long)]
         params: Option<std::path::PathBuf>,
-        /// Write the scene of every run that does not clear its table into this folder.
+        /// Write the scene of every run that does not clear its table, or touches an object
+        /// it is not acting on, into this folder.
         #[arg(long)]
         save_failures: Option<std::path::PathBuf>,
         #[arg(long)]

@@ -275,7 +275,7 @@ pub fn bench(
             let r = &out.report;
             let v = &out.verdict;
             if let Some(dir) = save_failures
-                && !out.success
+                && (!out.success || out.collisions > 0)
             {
                 std::fs::create_dir_all(dir)?;
                 std::fs::write(dir.join(format!("{suite}-{s}.toml")), &text)?;

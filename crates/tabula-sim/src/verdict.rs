@@ -141,6 +141,12 @@ impl ClearJudge {
             if let Ok(mut c) = contacts.lock() {
                 for pair in found {
                     if Some(&pair.1) != target.as_ref() && !c.contains(&pair) {
+                        if std::env::var_os("TABULA_TRACE").is_some() {
+                            eprintln!(
+                                "contact at t = {:.2} s: {pair:?} (target {target:?})",
+                                w.time()
+                            );
+                        }
                         c.push(pair);
                     }
                 }
