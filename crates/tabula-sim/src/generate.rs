@@ -88,6 +88,13 @@ impl Shape {
             Shape::Cylinder { radius, .. } => radius,
         }
     }
+    /// Radius of the bounding sphere about the centre.
+    fn bounding_radius(&self) -> f64 {
+        match *self {
+            Shape::Box(s) => 0.5 * (s[0] * s[0] + s[1] * s[1] + s[2] * s[2]).sqrt(),
+            Shape::Cylinder { radius, height } => radius.hypot(height / 2.0),
+        }
+    }
     /// Half extent along the object's own x axis.
     fn half_x(&self) -> f64 {
         match *self {
@@ -811,7 +818,7 @@ fn pile(rng: &mut ChaCha8Rng) -> Vec<Placed> {
                 height: height.min(0.09),
             },
         };
-        let r = shape.reach().max(shape.height() / 2.0);
+        let r = shape.bounding_radius();
         // Drop each where it does not overlap one already in the air at that level.
         let mut xyz = [0.0; 3];
         for _ in 0..100 {
@@ -823,7 +830,7 @@ fn pile(rng: &mut ChaCha8Rng) -> Vec<Placed> {
             let free = out.iter().all(|p| {
                 let d = [p.xyz[0] - xyz[0], p.xyz[1] - xyz[1], p.xyz[2] - xyz[2]];
                 (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt()
-                    > r + p.shape.reach().max(p.shape.height() / 2.0) + 0.005
+                    > r + p.shape.bounding_radius() + 0.005
             });
             if free {
                 break;
