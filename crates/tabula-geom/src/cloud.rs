@@ -38,6 +38,29 @@ impl PointCloud {
         }
     }
 
+    /// Every `step`-th pixel of every `step`-th row of an organized cloud (a sensor's
+    /// lower-resolution mode, as the Kinect's 320 × 240); an unorganized cloud keeps every
+    /// `step`²-th point. `step` 0 or 1 returns a copy.
+    pub fn decimated(&self, step: usize) -> Self {
+        if step <= 1 {
+            return self.clone();
+        }
+        if !self.is_organized() {
+            return Self::unorganized(self.points.iter().copied().step_by(step * step).collect());
+        }
+        let (w, h) = (self.width.div_ceil(step), self.height.div_ceil(step));
+        let mut points = Vec::with_capacity(w * h);
+        for r in (0..self.height).step_by(step) {
+            let row = &self.points[r * self.width..(r + 1) * self.width];
+            points.extend(row.iter().step_by(step));
+        }
+        Self {
+            width: w,
+            height: h,
+            points,
+        }
+    }
+
     pub fn is_organized(&self) -> bool {
         self.height > 1
     }
@@ -120,6 +143,26 @@ pub fn voxel_key(p: crate::Vec3, size: f64) -> [i64; 3] {
 
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn decimation_keeps_the_grid() {
+        let pts: Vec<crate::Vec3> = (0..15)
+            .map(|i| crate::Vec3::new(i as f64, 0.0, 0.0))
+            .collect();
+        let c = PointCloud::organized(5, 3, pts).unwrap();
+        let d = c.decimated(2);
+        assert_eq!((d.width, d.height), (3, 2));
+        let xs: Vec<f64> = d.points.iter().map(|p| p.x).collect();
+        assert_eq!(xs, vec![0.0, 2.0, 4.0, 10.0, 12.0, 14.0]);
+        assert_eq!(c.decimated(1).points.len(), 15);
+        assert_eq!(
+            PointCloud::unorganized(vec![crate::Vec3::ZERO; 10])
+                .decimated(2)
+                .points
+                .len(),
+            3
+        );
+    }
+
     use super::*;
 
     #[test]

@@ -41,6 +41,10 @@ pub struct ClearParams {
     pub motion: MoveGroupParams,
     /// The fixed camera that sees the table.
     pub camera: String,
+    /// Frames are decimated to every `decimate`-th pixel of every `decimate`-th row (the
+    /// Kinect's 320 × 240 mode for 2); the tabletop pipeline's point counts and pixel
+    /// steps are scaled to match.
+    pub decimate: usize,
     /// Self-filter padding (m), SPEC §1.1: 0.9 cm.
     pub self_filter_padding: f64,
     /// The closing point lies this far below the object's top (m): SPEC §3.2's "lowered
@@ -105,6 +109,7 @@ impl Default for ClearParams {
             tabletop: TabletopParams::default(),
             motion,
             camera: "overhead".into(),
+            decimate: 2,
             self_filter_padding: 0.009,
             grasp_depth: 0.03,
             fingertip_clearance: 0.01,
@@ -472,10 +477,13 @@ struct Table {
 fn perceive(
     cloud: &PointCloud,
     viewpoint: Vec3,
-    params: &ClearParams,
+    tabletop: &TabletopParams,
 ) -> Result<(Table, Vec<SeenObject>), ClearError> {
-    let top = extract(cloud, viewpoint, &params.tabletop)
-        .map_err(|e| ClearError::Perception(e.to_string()))?;
+    let top =
+        extract(cloud, viewpoint, tabletop).map_err(|e| ClearError::Perception(e.to_string()))?;
+    if std::env::var_os("TABULA_TRACE").is_some() {
+        eprintln!("tabletop stages (ms): {:?}", top.times);
+    }
     let up = top.plane.normal;
     let height_at = |p: Vec2| -> f64 {
         // Table plane: n·x + d = 0, solved for z.
@@ -1184,6 +1192,16 @@ pub fn clear<D: RobotDriver>(
         .zip(&start)
         .map(|(n, s)| arm.tucked.get(n).copied().unwrap_or(*s))
         .collect();
+    let single = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .map_err(|e| ClearError::Perception(e.to_string()))?;
+    // Point counts and pixel steps of the tabletop pipeline are for full frames; a
+    // decimated frame has `decimate`² fewer points and pixels `decimate` times as far.
+    let mut tabletop = params.tabletop.clone();
+    let d = params.decimate.max(1);
+    tabletop.min_object_points = (tabletop.min_object_points / (d * d)).max(1);
+    tabletop.concavity_step = (tabletop.concavity_step / d).max(1);
     let mut tracks: Vec<Track> = Vec::new();
     let mut no_plan_run = 0usize;
     let mut frame_no = 0usize;
@@ -1191,28 +1209,43 @@ pub fn clear<D: RobotDriver>(
     loop {
         // ---- Perceive.
         let frame = driver.capture(&params.camera)?;
-        let c0 = thread_cpu();
         let state = driver.joint_state()?;
-        let solids = robot_solids(
-            &robot.model,
-            &state.model_values(&robot.model),
-            driver.world_from_root()?,
-        );
-        let mut cloud = frame.cloud.transformed(&frame.world_from_camera);
-        let keep = self_filter(
-            &cloud.points,
-            &solids,
-            &tabula_perception::selffilter::SelfFilterParams {
-                padding: params.self_filter_padding,
-            },
-        );
-        for (q, k) in cloud.points.iter_mut().zip(keep) {
-            if !k {
-                *q = Vec3::NAN;
+        let world_from_root = driver.world_from_root()?;
+        // On one thread, so its CPU time is all of the work.
+        let (perceived, perception, filtered) = single.install(|| {
+            let c0 = thread_cpu();
+            let solids = robot_solids(
+                &robot.model,
+                &state.model_values(&robot.model),
+                world_from_root,
+            );
+            let mut cloud = frame
+                .cloud
+                .decimated(params.decimate)
+                .transformed(&frame.world_from_camera);
+            let keep = self_filter(
+                &cloud.points,
+                &solids,
+                &tabula_perception::selffilter::SelfFilterParams {
+                    padding: params.self_filter_padding,
+                },
+            );
+            for (q, k) in cloud.points.iter_mut().zip(keep) {
+                if !k {
+                    *q = Vec3::NAN;
+                }
             }
+            let filtered = thread_cpu() - c0;
+            let perceived = perceive(&cloud, frame.world_from_camera.translation, &tabletop);
+            (perceived, thread_cpu() - c0, filtered)
+        });
+        if std::env::var_os("TABULA_TRACE").is_some() {
+            eprintln!(
+                "perception CPU {:.1} ms, of which transform + self-filter {:.1} ms",
+                perception * 1e3,
+                filtered * 1e3
+            );
         }
-        let perceived = perceive(&cloud, frame.world_from_camera.translation, params);
-        let perception = thread_cpu() - c0;
         let (table, mut objects) = match perceived {
             Ok(x) => x,
             Err(e) if frame_no == 0 => return Err(e),
