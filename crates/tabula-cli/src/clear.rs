@@ -5,11 +5,10 @@ use anyhow::{Context, Result, anyhow};
 use clap::Args;
 use serde::Serialize;
 use std::path::PathBuf;
-use tabula_geom::Vec3;
 use tabula_robot::robots::NamedRobot;
-use tabula_sim::verdict::{ClearJudge, ClearVerdict, furniture_bounds};
-use tabula_sim::{SimDriver, SimWorld};
-use tabula_tasks::clear::{ClearEvent, ClearParams, ClearReport, ClearRequest, clear};
+use tabula_sim::SimWorld;
+use tabula_sim::verdict::{ClearVerdict, run_clear_judged};
+use tabula_tasks::clear::{ClearParams, ClearReport, ClearRequest, clear};
 
 #[derive(Args)]
 pub struct ClearArgs {
@@ -62,23 +61,10 @@ pub fn load_params(path: Option<&std::path::Path>) -> Result<ClearParams> {
     })
 }
 
-/// The bin's opening (top centre of its bounds), where objects are let go, and how far
-/// from its centre they may be let go (a hand's width inside its walls).
-fn drop_area(world: &SimWorld, bin: &str) -> Result<(Vec3, f64)> {
-    let b = furniture_bounds(world, bin)
-        .ok_or_else(|| anyhow!("the scene has no furniture named `{bin}` to clear into"))?;
-    let c = b.center();
-    let half = b.half_extents();
-    Ok((
-        Vec3::new(c.x, c.y, b.maxs.z),
-        (half.x.min(half.y) - 0.1).max(0.0),
-    ))
-}
-
 /// Clears the table of `world` with its robot, judged by physics; returns the world
 /// afterwards.
 pub fn clear_in(
-    mut world: SimWorld,
+    world: SimWorld,
     robot: Option<&str>,
     params: &ClearParams,
     max_actions: Option<usize>,
@@ -89,35 +75,24 @@ pub fn clear_in(
         let r = world.robot(&robot_name)?;
         NamedRobot::new(r.model.clone(), r.description.clone(), &robot_name)
     };
-    world.settle();
-    let (drop_point, drop_spread) = drop_area(&world, "bin")?;
-    let request = ClearRequest {
-        arm: None,
-        drop_point,
-        drop_spread,
-        obstacles: world.furniture_shapes(),
-        max_actions,
-    };
-    let start = world.object_poses();
-    let mut judge = ClearJudge::new(&world, "table")?;
-    let mut driver = SimDriver::new(world, &robot_name, seed)?;
-    driver.observe(judge.observer(&robot_name));
-    let outcome = clear(
-        &mut driver,
-        &robot,
-        &request,
-        params,
-        &mut |d: &mut SimDriver, e| match e {
-            ClearEvent::Before(a) => {
-                let shoved: Vec<Vec3> = a.shoves.iter().map(|p| Vec3::from_array(*p)).collect();
-                judge.before(&d.world, Vec3::from_array(a.position), &shoved)
-            }
-            ClearEvent::After(_) => judge.after(&d.world),
+    let (outcome, verdict, world) = run_clear_judged(
+        world,
+        &robot_name,
+        ("table", "bin"),
+        seed,
+        |driver, setup, hook| {
+            let request = ClearRequest {
+                arm: None,
+                drop_point: setup.drop_point,
+                drop_spread: setup.drop_spread,
+                obstacles: setup.obstacles.clone(),
+                max_actions,
+            };
+            clear(driver, &robot, &request, params, &mut |d, e| {
+                hook(d, e.judged())
+            })
         },
-    );
-    let mut world = driver.world;
-    world.settle();
-    let verdict = judge.verdict(&start, &world, "bin");
+    )?;
     let (report, error) = match outcome {
         Ok(r) => (r, None),
         Err(e) => (ClearReport::default(), Some(e)),

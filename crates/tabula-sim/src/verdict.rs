@@ -5,6 +5,7 @@
 use crate::world::{EntityKind, SimError, SimWorld};
 use std::sync::{Arc, Mutex};
 use tabula_geom::parry::bounding_volume::{Aabb, BoundingVolume};
+use tabula_geom::parry::shape::SharedShape;
 use tabula_geom::{Pose, Vec2, Vec3};
 
 /// What physics says about a placement.
@@ -228,6 +229,54 @@ impl ClearJudge {
         }
         v
     }
+}
+
+/// What the simulator tells a clearing task about its workcell (as a real cell's
+/// configuration would): where the bin's opening is, how far around its centre objects
+/// may be let go, and the furniture as known obstacles.
+pub struct ClearSetup {
+    pub drop_point: Vec3,
+    pub drop_spread: f64,
+    pub obstacles: Vec<(String, SharedShape, Pose)>,
+}
+
+/// The judge's hook handed to a clearing task: `Some((target, shoved))` before an
+/// action (where the object it acts on and those it shoves along were seen), `None`
+/// after it.
+pub type ClearHook<'a> = dyn FnMut(&mut crate::SimDriver, Option<(Vec3, Vec<Vec3>)>) + 'a;
+
+/// Runs a clearing `task` on robot `robot` of `world` (settled first) through a
+/// [`crate::SimDriver`] (camera noise from `seed`), judging with [`ClearJudge`] how
+/// many of the objects on `table` end in `bin`; returns the task's answer, the verdict
+/// and the world afterwards.
+pub fn run_clear_judged<R>(
+    mut world: SimWorld,
+    robot: &str,
+    (table, bin): (&str, &str),
+    seed: u64,
+    task: impl FnOnce(&mut crate::SimDriver, &ClearSetup, &mut ClearHook<'_>) -> R,
+) -> Result<(R, ClearVerdict, SimWorld), SimError> {
+    world.settle();
+    let b = furniture_bounds(&world, bin).ok_or_else(|| SimError::UnknownEntity(bin.into()))?;
+    let (c, half) = (b.center(), b.half_extents());
+    let setup = ClearSetup {
+        drop_point: Vec3::new(c.x, c.y, b.maxs.z),
+        // A hand's width inside the walls.
+        drop_spread: (half.x.min(half.y) - 0.1).max(0.0),
+        obstacles: world.furniture_shapes(),
+    };
+    let start = world.object_poses();
+    let mut judge = ClearJudge::new(&world, table)?;
+    let mut driver = crate::SimDriver::new(world, robot, seed)?;
+    driver.observe(judge.observer(robot));
+    let answer = task(&mut driver, &setup, &mut |d, event| match event {
+        Some((target, shoved)) => judge.before(&d.world, target, &shoved),
+        None => judge.after(&d.world),
+    });
+    let mut world = driver.world;
+    world.settle();
+    let verdict = judge.verdict(&start, &world, bin);
+    Ok((answer, verdict, world))
 }
 
 /// The bounds of every part of a piece of furniture.

@@ -295,6 +295,20 @@ pub enum ClearEvent<'a> {
     After(&'a ActionRecord),
 }
 
+impl ClearEvent<'_> {
+    /// Before an action: where the object it acts on and those it shoves along were
+    /// seen; `None` after it (the shape a judge of the run takes).
+    pub fn judged(&self) -> Option<(Vec3, Vec<Vec3>)> {
+        match self {
+            ClearEvent::Before(a) => Some((
+                Vec3::from_array(a.position),
+                a.shoves.iter().map(|p| Vec3::from_array(*p)).collect(),
+            )),
+            ClearEvent::After(_) => None,
+        }
+    }
+}
+
 /// A tabletop object as the predicates see it.
 #[derive(Debug, Clone)]
 pub struct SeenObject {
@@ -1784,7 +1798,7 @@ fn execute_grasp(
     let g = grasp.poses[yaw];
     let pre = Pose::from_parts(g.translation + table.up * params.pregrasp, g.rotation);
     let to_pre = group
-        .plan_to_joints(&q, &[ik.clone()])
+        .plan_to_joints(&q, std::slice::from_ref(&ik))
         .or_else(|_| group.plan_to_pose(&q, &pre))?;
     run(driver, &to_pre)?;
     group.remove_object(&name)?;
@@ -1902,4 +1916,193 @@ fn execute_push(
     let rise = group.cartesian(&q, &up)?;
     run(driver, &rise)?;
     go_home(driver, robot, group, home)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A box standing at `center` (world xy) on the table at z 0.72 (or on `bottom`),
+    /// seen as points on its top and sides every 5 mm.
+    fn seen_box(id: usize, center: Vec2, size: Vec2, height: f64, bottom: f64) -> SeenObject {
+        let mut points = Vec::new();
+        let (nx, ny) = ((size.x / 0.005) as i32, (size.y / 0.005) as i32);
+        for i in 0..=nx {
+            for j in 0..=ny {
+                let x = center.x - size.x / 2.0 + i as f64 * 0.005;
+                let y = center.y - size.y / 2.0 + j as f64 * 0.005;
+                points.push(Vec3::new(x, y, bottom + height));
+                if i == 0 || j == 0 || i == nx || j == ny {
+                    for k in 1..(height / 0.005) as i32 {
+                        points.push(Vec3::new(x, y, bottom + k as f64 * 0.005));
+                    }
+                }
+            }
+        }
+        let flat: Vec<Vec2> = points.iter().map(|q| q.truncate()).collect();
+        let footprint: Vec<Vec2> = convex_hull_2d(&flat).iter().map(|&i| flat[i]).collect();
+        let rect = min_area_rectangle(&footprint).unwrap();
+        let mut hull_points = points.clone();
+        hull_points.extend(footprint.iter().map(|p| Vec3::new(p.x, p.y, bottom)));
+        let hull = SharedShape::convex_hull(&hull_points).unwrap();
+        let aabb = hull.compute_aabb(&Pose::IDENTITY);
+        SeenObject {
+            id,
+            points,
+            footprint,
+            rect,
+            bottom,
+            top: bottom + height,
+            hull,
+            aabb,
+        }
+    }
+
+    fn table() -> Table {
+        Table {
+            z: 0.72,
+            up: Vec3::Z,
+            outline: vec![
+                Vec2::new(0.3, -0.5),
+                Vec2::new(0.9, -0.5),
+                Vec2::new(0.9, 0.5),
+                Vec2::new(0.3, 0.5),
+            ],
+        }
+    }
+
+    fn hand() -> Hand {
+        let robot = tabula_robot::robots::load("wam").unwrap();
+        let g = robot.description.grippers[0].clone();
+        Hand::new(&robot, &g).unwrap()
+    }
+
+    #[test]
+    fn stats_are_order_statistics() {
+        let s = Stats::of(&[5.0, 1.0, 3.0, f64::NAN, 2.0, 4.0]);
+        assert_eq!((s.median, s.max), (3.0, 5.0));
+        assert_eq!(Stats::of(&[]).median, 0.0);
+    }
+
+    #[test]
+    fn the_hand_model_comes_from_the_urdf() {
+        let h = hand();
+        // The WAM's fingers: 6 cm long, tips 2.25 cm beyond the tool frame.
+        assert!((h.finger_length - 0.06).abs() < 1e-9, "{}", h.finger_length);
+        assert!((h.tip - 0.0225).abs() < 1e-9, "{}", h.tip);
+        assert_eq!(h.open_width, 0.07);
+    }
+
+    #[test]
+    fn a_box_on_a_box_is_on_it_and_blocks_nothing_else() {
+        let base = seen_box(0, Vec2::new(0.6, 0.0), Vec2::new(0.06, 0.06), 0.05, 0.72);
+        let top = seen_box(1, Vec2::new(0.6, 0.0), Vec2::new(0.04, 0.04), 0.04, 0.77);
+        let lone = seen_box(2, Vec2::new(0.6, 0.3), Vec2::new(0.05, 0.05), 0.08, 0.72);
+        let objects = vec![base, top, lone];
+        assert_eq!(on_pairs(&objects, 0.72), vec![(1, 0)]);
+        let (g, _) = predicates(&objects, &table(), &hand(), &ClearParams::default());
+        // The lone box is free in every way; nothing blocks grasping the top one.
+        assert!(
+            g.block_grasp
+                .iter()
+                .all(|&(a, b)| a != 2 && b != 2 && b != 1)
+        );
+        assert!(
+            g.block_push
+                .iter()
+                .flatten()
+                .all(|&(a, b)| a != 2 && b != 2)
+        );
+        assert!(g.grasps.iter().all(Option::is_some));
+    }
+
+    #[test]
+    fn touching_boxes_block_the_grasp_across_them_and_the_push_into_each_other() {
+        // Two boxes side by side along x, 2 mm apart, the right one lower. Closing
+        // across `a` puts a finger in the gap.
+        let a = seen_box(0, Vec2::new(0.6, 0.0), Vec2::new(0.04, 0.075), 0.08, 0.72);
+        let b = seen_box(1, Vec2::new(0.647, 0.0), Vec2::new(0.05, 0.05), 0.05, 0.72);
+        let objects = vec![a, b];
+        let (g, _) = predicates(&objects, &table(), &hand(), &ClearParams::default());
+        assert!(g.block_grasp.contains(&(1, 0)), "{:?}", g.block_grasp);
+        // Pushing `a` into `b` is blocked; along y it slides past `b` (grazing is
+        // allowed, the palm passes above the lower box) until its grasp is free.
+        let into_b = (0..4).find(|&k| g.pushes[0][k].direction.x > 0.9).unwrap();
+        let along = (0..4).find(|&k| g.pushes[0][k].direction.y > 0.9).unwrap();
+        assert!(g.block_push[into_b].contains(&(1, 0)));
+        assert!(!g.block_push[along].contains(&(1, 0)), "{:?}", g.block_push);
+        let p = &g.pushes[0][along];
+        assert!(p.length > 0.05 && p.length < 0.12, "{}", p.length);
+    }
+
+    #[test]
+    fn a_blob_too_wide_is_grasped_by_its_narrow_part() {
+        // Two boxes segmentation could not tell apart: 4 × 7.5 cm beside 5 × 5 cm.
+        let a = seen_box(0, Vec2::new(0.60, 0.0), Vec2::new(0.04, 0.075), 0.09, 0.72);
+        let b = seen_box(0, Vec2::new(0.6455, 0.0), Vec2::new(0.05, 0.05), 0.09, 0.72);
+        let mut points = a.points.clone();
+        points.extend(b.points);
+        let flat: Vec<Vec2> = points.iter().map(|q| q.truncate()).collect();
+        let footprint: Vec<Vec2> = convex_hull_2d(&flat).iter().map(|&i| flat[i]).collect();
+        let blob = SeenObject {
+            rect: min_area_rectangle(&footprint).unwrap(),
+            footprint,
+            points,
+            ..a
+        };
+        let h = hand();
+        assert!(blob.rect.size.x.min(blob.rect.size.y) > h.open_width);
+        let parts = part_grasps(&blob, &h, &ClearParams::default());
+        assert!(!parts.is_empty());
+        // The narrowest part is the square box's.
+        assert!((parts[0].0.x - 0.645).abs() < 0.015, "{:?}", parts[0]);
+        assert_eq!(
+            grasps_of(&blob, &h, &table(), &ClearParams::default()).len(),
+            parts.len()
+        );
+    }
+
+    #[test]
+    fn tracks_follow_objects_and_pushes_where_they_went() {
+        let mut tracks = Vec::new();
+        let mut first = vec![
+            seen_box(0, Vec2::new(0.6, 0.0), Vec2::new(0.05, 0.05), 0.08, 0.72),
+            seen_box(0, Vec2::new(0.6, 0.2), Vec2::new(0.05, 0.05), 0.08, 0.72),
+        ];
+        track(&mut first, &mut tracks, 0.06);
+        assert_eq!((first[0].id, first[1].id), (0, 1));
+        // Object 1 was pushed 10 cm along +x; object 0 did not move.
+        tracks[1].expected = Vec2::new(0.7, 0.2);
+        let mut next = vec![
+            seen_box(0, Vec2::new(0.705, 0.2), Vec2::new(0.05, 0.05), 0.08, 0.72),
+            seen_box(0, Vec2::new(0.6, 0.0), Vec2::new(0.05, 0.05), 0.08, 0.72),
+            seen_box(0, Vec2::new(0.4, -0.3), Vec2::new(0.05, 0.05), 0.08, 0.72),
+        ];
+        track(&mut next, &mut tracks, 0.06);
+        assert_eq!((next[0].id, next[1].id, next[2].id), (1, 0, 2));
+    }
+
+    #[test]
+    fn drops_go_around_the_bin() {
+        let spots: Vec<Vec3> = (0..9).map(|k| drop_offset(k, 0.1)).collect();
+        assert_eq!(spots[0], Vec3::ZERO);
+        for (i, a) in spots.iter().enumerate() {
+            assert!(a.x.abs() <= 0.1 && a.y.abs() <= 0.1);
+            assert!(spots[i + 1..].iter().all(|b| b != a));
+        }
+        assert_eq!(drop_offset(9, 0.1), spots[0]);
+    }
+
+    #[test]
+    fn params_load_from_toml_with_the_seed_defaults_elsewhere() {
+        let p: ClearParams =
+            toml::from_str("push_distance = 0.05\n[tabletop]\nmin_object_points = 150\n").unwrap();
+        assert_eq!(p.push_distance, 0.05);
+        assert_eq!(p.tabletop.min_object_points, 150);
+        assert_eq!(p.push_max_length, 0.6);
+        assert_eq!(p.push_resolution, 0.03);
+        assert_eq!(p.pregrasp, 0.10);
+        assert_eq!(p.lift, 0.20);
+        assert!(toml::from_str::<ClearParams>("nope = 1").is_err());
+    }
 }
