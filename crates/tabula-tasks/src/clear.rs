@@ -672,6 +672,8 @@ struct Push {
     length: f64,
     /// Objects this push shoves along (a chain push; empty for the seed's pushes).
     chain: Vec<usize>,
+    /// For chain pushes: how many objects it makes graspable.
+    gain: usize,
     /// Tool pose where the push starts, and the fingertip height.
     start: Pose,
     feasible: bool,
@@ -832,36 +834,76 @@ fn hull_vertices(s: &SharedShape) -> Vec<Vec3> {
         .unwrap_or_default()
 }
 
-/// The predicates of SPEC §3.3 and the poses of SPEC §3.2 for every object; and the
-/// same with chain pushes (each push may shove what is in front of it along), the
+/// A pose and its copies every 3 cm up to `height` along `up` (the way down to it).
+fn descent_poses(pose: &Pose, up: Vec3, height: f64) -> Vec<Pose> {
+    let steps = (height / 0.03).ceil().max(1.0) as usize;
+    (0..=steps)
+        .map(|k| {
+            Pose::from_parts(
+                pose.translation + up * (height * k as f64 / steps as f64),
+                pose.rotation,
+            )
+        })
+        .collect()
+}
+
+/// The objects the open gripper meets at `grasp` or on its way down from the
+/// pre-grasp, except those `skip` names.
+fn grasp_blockers(
+    objects: &[SeenObject],
+    grasp: &Grasp,
+    skip: &dyn Fn(usize) -> bool,
+    hand: &Hand,
+    table: &Table,
+    params: &ClearParams,
+) -> Vec<usize> {
+    let poses = descent_poses(&grasp.poses[0], table.up, params.pregrasp);
+    (0..objects.len())
+        .filter(|&a| !skip(a))
+        .filter(|&a| {
+            poses
+                .iter()
+                .any(|p| hits(&hand.open, p, &objects[a], params.clearance))
+        })
+        .collect()
+}
+
+/// Which objects could be grasped now: nothing on them, and a grasp nothing is in the
+/// way of.
+fn graspable(
+    objects: &[SeenObject],
+    on: &[(usize, usize)],
+    hand: &Hand,
+    table: &Table,
+    params: &ClearParams,
+) -> Vec<bool> {
+    (0..objects.len())
+        .map(|b| {
+            let skip = |a: usize| a == b || on.contains(&(a, b)) || on.contains(&(b, a));
+            !on.iter().any(|&(_, under)| under == b)
+                && grasps_of(&objects[b], hand, table, params)
+                    .iter()
+                    .any(|g| grasp_blockers(objects, g, &skip, hand, table, params).is_empty())
+        })
+        .collect()
+}
+
+/// The predicates of SPEC §3.3 and the poses of SPEC §3.2 for every object; with
+/// `chain`, pushes are chain pushes (each may shove what is in front of it along), the
 /// fallback when the seed's actions cannot clear the table (packed objects).
 fn predicates(
     objects: &[SeenObject],
     table: &Table,
     hand: &Hand,
     params: &ClearParams,
-) -> (Geometry, Geometry) {
+    with_chain: bool,
+) -> Geometry {
     let n = objects.len();
     let on = on_pairs(objects, table.z);
     let pad = params.clearance;
-    // The open gripper at the grasp and on its way down from the pre-grasp.
-    let descent = |pose: &Pose, height: f64| -> Vec<Pose> {
-        let steps = (height / 0.03).ceil().max(1.0) as usize;
-        (0..=steps)
-            .map(|k| {
-                Pose::from_parts(
-                    pose.translation + table.up * (height * k as f64 / steps as f64),
-                    pose.rotation,
-                )
-            })
-            .collect()
-    };
-    let blockers = |grasp: &Grasp, skip: &dyn Fn(usize) -> bool| -> Vec<usize> {
-        let poses = descent(&grasp.poses[0], params.pregrasp);
-        (0..n)
-            .filter(|&a| !skip(a))
-            .filter(|&a| poses.iter().any(|p| hits(&hand.open, p, &objects[a], pad)))
-            .collect()
+    let descent = |pose: &Pose, height: f64| descent_poses(pose, table.up, height);
+    let blockers = |grasp: &Grasp, skip: &dyn Fn(usize) -> bool| {
+        grasp_blockers(objects, grasp, skip, hand, table, params)
     };
     let mut grasps = Vec::with_capacity(n);
     let mut block_grasp = Vec::new();
@@ -884,6 +926,8 @@ fn predicates(
             None => grasps.push(None),
         }
     }
+    // Which objects are graspable now (only needed for chain pushes).
+    let mut before: Option<Vec<bool>> = None;
     let mut block_push: [Vec<(usize, usize)>; 4] = Default::default();
     let mut block_chain: [Vec<(usize, usize)>; 4] = Default::default();
     let mut pushes = Vec::with_capacity(n);
@@ -928,6 +972,7 @@ fn predicates(
                 direction: d,
                 length,
                 chain: Vec::new(),
+                gain: 0,
                 start,
                 feasible: on_table,
             }
@@ -985,6 +1030,9 @@ fn predicates(
                     block_push[k].push((a, b));
                 }
             }
+            if !with_chain {
+                continue;
+            }
             // The chain variant: what the sweep runs into moves along (and what that
             // runs into, up to `max_chain`); only the gripper and what the chain runs
             // into block it. It goes k × the box's size (the seed's length).
@@ -1018,28 +1066,46 @@ fn predicates(
                     block_chain[k].push((a, b));
                 }
             }
+            // What it is worth: how many objects it makes graspable that are not now
+            // (shoving a pair along together may help nothing).
+            if c.feasible && !chain_hits.iter().any(|a| !chain.contains(a)) {
+                let before =
+                    before.get_or_insert_with(|| graspable(objects, &on, hand, table, params));
+                let moved: Vec<SeenObject> = objects
+                    .iter()
+                    .enumerate()
+                    .map(|(a, x)| {
+                        if a == b || chain.contains(&a) {
+                            translated(x, d3 * length)
+                        } else {
+                            x.clone()
+                        }
+                    })
+                    .collect();
+                let after = graspable(&moved, &on, hand, table, params);
+                c.gain = after
+                    .iter()
+                    .zip(before.iter())
+                    .filter(|(a, b)| **a && !**b)
+                    .count();
+            }
             c.chain = chain;
         }
         pushes.push(dirs);
         chain_pushes.push(chained);
     }
-    let chain = Geometry {
-        on: on.clone(),
-        block_grasp: block_grasp.clone(),
-        block_push: block_chain,
-        grasps: grasps.clone(),
-        pushes: chain_pushes,
+    let (block_push, pushes) = if with_chain {
+        (block_chain, chain_pushes)
+    } else {
+        (block_push, pushes)
     };
-    (
-        Geometry {
-            on,
-            block_grasp,
-            block_push,
-            grasps,
-            pushes,
-        },
-        chain,
-    )
+    Geometry {
+        on,
+        block_grasp,
+        block_push,
+        grasps,
+        pushes,
+    }
 }
 
 /// The PDDL problem of a frame.
@@ -1288,34 +1354,38 @@ pub fn clear<D: RobotDriver>(
         }
         // ---- Predicates.
         let c1 = thread_cpu();
-        let (solo, chained) = predicates(&objects, &table, &hand, params);
+        let solo = predicates(&objects, &table, &hand, params, false);
         fr.predicates_ms = (thread_cpu() - c1) * 1e3;
         // ---- Plan, check IK of the first action, backtrack.
         let c2 = thread_cpu();
+        let solo_predicates_ms = fr.predicates_ms;
         // The seed's actions first; chain pushes only when those cannot go on.
-        let mut chosen = Decision::NothingRemovable;
-        let mut geometry = &solo;
-        for g in [&solo, &chained] {
-            geometry = g;
-            chosen = decide(
-                &objects,
-                g,
-                &tracks,
-                &domain,
-                &mut group,
-                robot,
-                &state,
-                params,
-                &mut fr,
-                &mut report,
+        let mut geometry = solo;
+        let mut chosen = decide(
+            &objects,
+            &geometry,
+            &tracks,
+            &domain,
+            &mut group,
+            robot,
+            &state,
+            params,
+            &mut fr,
+            &mut report,
+        );
+        if matches!(chosen, Decision::NothingRemovable) {
+            let c = thread_cpu();
+            geometry = predicates(&objects, &table, &hand, params, true);
+            fr.predicates_ms += (thread_cpu() - c) * 1e3;
+            chosen = decide_chain(
+                &objects, &geometry, &tracks, &mut group, robot, &state, params, &mut fr,
             );
-            if !matches!(chosen, Decision::NothingRemovable) {
-                break;
-            }
         }
-        let decision_total = thread_cpu() - c2;
-        fr.planning_ms = decision_total * 1e3 - fr.ik_ms;
-        fr.decision_ms = fr.perception_ms + fr.predicates_ms + decision_total * 1e3;
+        // Chain predicates (when needed) ran inside this span: counted as predicates.
+        let decision_total = (thread_cpu() - c2) * 1e3;
+        let chain_predicates_ms = fr.predicates_ms - solo_predicates_ms;
+        fr.planning_ms = decision_total - fr.ik_ms - chain_predicates_ms;
+        fr.decision_ms = fr.perception_ms + solo_predicates_ms + decision_total;
         report.ik_backtracks += fr.ik_backtracks;
         report.frames.push(fr);
         frame_no += 1;
@@ -1595,6 +1665,58 @@ fn decide(
         }
     }
     Decision::NoPlan
+}
+
+/// The chain-push fallback (packed objects, where the seed's actions are stuck): the
+/// domain cannot tell what a push that shoves others along achieves, so the pushes are
+/// ranked by a one-step look-ahead in geometry — how many objects each makes
+/// graspable, then how few it shoves — and the first whose poses have IK is taken.
+#[allow(clippy::too_many_arguments)]
+fn decide_chain(
+    objects: &[SeenObject],
+    g: &Geometry,
+    tracks: &[Track],
+    group: &mut MoveGroup,
+    robot: &NamedRobot,
+    state: &tabula_robot::driver::JointState,
+    params: &ClearParams,
+    fr: &mut FrameReport,
+) -> Decision {
+    let mut candidates: Vec<(usize, usize)> = Vec::new();
+    for (i, o) in objects.iter().enumerate() {
+        let track = tracks.iter().find(|t| t.id == o.id);
+        let stacked = g.on.iter().any(|&(a, b)| a == i || b == i);
+        for k in 0..4 {
+            let p = &g.pushes[i][k];
+            let back = track.is_some_and(|t| {
+                t.pushes.len() >= params.max_pushes_per_object
+                    || t.pushes.iter().any(|d| d.dot(p.direction) < -0.5)
+            });
+            if p.feasible && !back && !stacked && !g.block_push[k].iter().any(|&(_, b)| b == i) {
+                candidates.push((i, k));
+            }
+        }
+    }
+    candidates.sort_by_key(|&(i, k)| {
+        let p = &g.pushes[i][k];
+        (std::cmp::Reverse(p.gain), p.chain.len())
+    });
+    let _ = group.set_state(robot, state);
+    let seed = group.arm_values(state);
+    for (i, k) in candidates {
+        fr.plan = vec![format!(
+            "(push_{} o{}) [chain]",
+            DIRECTIONS[k], objects[i].id
+        )];
+        let c = thread_cpu();
+        let ik = first_pose_ik(group, objects, i, ActionKind::Push(k), g, &seed, params);
+        fr.ik_ms += (thread_cpu() - c) * 1e3;
+        match ik {
+            Some(q) => return Decision::Act(i, ActionKind::Push(k), q),
+            None => fr.ik_backtracks += 1,
+        }
+    }
+    Decision::NothingRemovable
 }
 
 /// The poses an action must reach, first one first: pre-grasp and grasp, or pre-push,
