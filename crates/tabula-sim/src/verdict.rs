@@ -130,14 +130,19 @@ impl ClearJudge {
 
     /// Records every robot–object contact deeper than 1 mm with an object that is not
     /// the current target; hand it to [`crate::SimDriver::observe`].
+    ///
+    /// Only objects standing on the table count: a held object landing on those already
+    /// in the bin touches nothing it should not.
     pub fn observer(&self, robot: &str) -> impl FnMut(&SimWorld) + Send + 'static {
         let contacts = self.contacts.clone();
         let target = self.target.clone();
         let robot = robot.to_string();
+        let table = self.table;
         move |w: &SimWorld| {
-            let Ok(found) = w.robot_contacts(&robot, &[EntityKind::Object], 1e-3) else {
+            let Ok(mut found) = w.robot_contacts(&robot, &[EntityKind::Object], 1e-3) else {
                 return;
             };
+            found.retain(|(_, o)| w.pose(o).is_ok_and(|p| above(&table, p.translation)));
             let target = target.lock().ok().and_then(|t| t.clone());
             if let Ok(mut c) = contacts.lock() {
                 for pair in found {
