@@ -18,13 +18,13 @@ const WAM_IN_CLUTTER: [&str; 10] = [
     "--robot",
     "wam",
     "--robot-base",
-    "0.15",
-    "-0.55",
+    "0",
+    "0",
+    "0.6",
     "0",
     "0",
     "0",
-    "0.7071068",
-    "0.7071068",
+    "1",
 ];
 
 fn tabula(args: &[&str]) -> std::process::Output {
@@ -427,9 +427,9 @@ fn perceive_reads_pcd_and_ply_filters_the_robot_places_and_reports() {
         args.extend(WAM_IN_CLUTTER);
         args.extend([
             "--joint",
-            "wam_joint2=-0.6",
+            "wam_joint2=-1.9",
             "--joint",
-            "wam_joint4=2.4",
+            "wam_joint4=2.6",
             "--place",
             "0.08",
             "0.06",
@@ -484,7 +484,7 @@ fn perceive_self_filter_removes_the_arm_reaching_over_the_table() {
     ))
     .unwrap();
     let reaching = clutter.replace(
-        "joints = { wam_joint2 = -0.6, wam_joint4 = 2.4 }",
+        "joints = { wam_joint2 = -1.9, wam_joint4 = 2.6 }",
         "joints = { wam_joint1 = -0.6, wam_joint2 = 0.8, wam_joint4 = 1.2 }",
     );
     assert_ne!(reaching, clutter);
@@ -510,9 +510,9 @@ fn perceive_self_filter_removes_the_arm_reaching_over_the_table() {
         "--cloud",
         frame.to_str().unwrap(),
         "--world-from-camera",
-        "0.75",
+        "0.62",
         "0",
-        "1.85",
+        "1.75",
         "0.7071067811865475",
         "-0.7071067811865475",
         "0",

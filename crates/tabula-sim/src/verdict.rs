@@ -88,8 +88,9 @@ impl ContactWatch {
 pub struct ClearJudge {
     /// The table's bounds: only objects standing on it can be disturbed.
     table: Aabb,
-    /// The object the current action is meant for.
-    target: Arc<Mutex<Option<String>>>,
+    /// The objects the current action is meant for (the one it acts on, those it
+    /// shoves along).
+    target: Arc<Mutex<Vec<String>>>,
     /// Arm (or held object) – object contacts with anything but the target.
     contacts: Arc<Mutex<Vec<(String, String)>>>,
     before: Vec<(String, Pose)>,
@@ -143,10 +144,10 @@ impl ClearJudge {
                 return;
             };
             found.retain(|(_, o)| w.pose(o).is_ok_and(|p| above(&table, p.translation)));
-            let target = target.lock().ok().and_then(|t| t.clone());
+            let target = target.lock().map(|t| t.clone()).unwrap_or_default();
             if let Ok(mut c) = contacts.lock() {
                 for pair in found {
-                    if Some(&pair.1) != target.as_ref() && !c.contains(&pair) {
+                    if !target.contains(&pair.1) && !c.contains(&pair) {
                         if std::env::var_os("TABULA_TRACE").is_some() {
                             eprintln!(
                                 "contact at t = {:.2} s: {pair:?} (target {target:?})",
@@ -163,7 +164,7 @@ impl ClearJudge {
     /// An action on the object nearest `position` begins.
     ///
     /// Objects seen at `shoved` are moved on purpose (a push that shoves them along):
-    /// they do not count as disturbed, though the arm must still not touch them.
+    /// they are handled too — neither disturbed nor touched by accident.
     pub fn before(&mut self, world: &SimWorld, position: Vec3, shoved: &[Vec3]) {
         let t = self.table;
         self.before = world
@@ -177,15 +178,18 @@ impl ClearJudge {
             .filter_map(|&p| nearest_object(&self.before, p).map(|(n, _)| n))
             .collect();
         if let Ok(mut t) = self.target.lock() {
-            *t = target;
+            *t = target
+                .into_iter()
+                .chain(self.shoved.iter().cloned())
+                .collect();
         }
     }
 
     /// The action ended: objects other than its target that moved more than 2 cm.
     pub fn after(&mut self, world: &SimWorld) {
-        let target = self.target.lock().ok().and_then(|t| t.clone());
+        let target = self.target.lock().map(|t| t.clone()).unwrap_or_default();
         for (name, pose) in &self.before {
-            if Some(name) == target.as_ref() || self.shoved.contains(name) {
+            if target.contains(name) {
                 continue;
             }
             if world
@@ -197,7 +201,7 @@ impl ClearJudge {
             }
         }
         if let Ok(mut t) = self.target.lock() {
-            *t = None;
+            t.clear();
         }
     }
 

@@ -775,11 +775,13 @@ fn part_grasps(o: &SeenObject, hand: &Hand, params: &ClearParams) -> Vec<(Vec2, 
 }
 
 /// Where the closed fingers start a push of `o` along `d`: `push_distance` behind the
-/// object, their base at the object's top, their tips no lower than the clearance.
+/// object, their base at the object's top (or higher, for the palm to pass above the
+/// objects along the path, up to `palm_over`), their tips no lower than the clearance.
 fn push_start(
     o: &SeenObject,
     d: Vec2,
     along_major: bool,
+    palm_over: f64,
     hand: &Hand,
     table: &Table,
     params: &ClearParams,
@@ -801,7 +803,12 @@ fn push_start(
         } else {
             across
         };
-    let tip_z = (o.top - hand.finger_length).max(o.bottom + params.fingertip_clearance);
+    // The palm above the neighbours along the path (`palm_over`) while the fingers
+    // still cover at least the object's top 2 cm.
+    let palm_clear = (palm_over + params.clearance - hand.finger_length).min(o.top - 0.02);
+    let tip_z = (o.top - hand.finger_length)
+        .max(o.bottom + params.fingertip_clearance)
+        .max(palm_clear);
     let probe = hand.pose(Vec3::ZERO, closing, table.up);
     // How far the fingers reach toward the object from the tool axis.
     let (_, reach) = extent_along(&hand.closed_fingers, probe.rotation.inverse() * d3);
@@ -936,7 +943,22 @@ fn predicates(
         let dirs: [Push; 4] = std::array::from_fn(|k| {
             let d = o.direction(k);
             let d3 = Vec3::new(d.x, d.y, 0.0);
-            let start = push_start(o, d, k < 2, hand, table, params);
+            // The palm passes above whatever stands along the path, where the
+            // fingers can still reach the object below it.
+            let ahead = o.rect.extent_along(d) + params.push_max_length.min(0.15);
+            let over = objects
+                .iter()
+                .enumerate()
+                .filter(|&(a, x)| {
+                    let rel = x.rect.center - o.rect.center;
+                    a != b
+                        && rel.dot(d) > -0.1
+                        && rel.dot(d) < ahead
+                        && rel.dot(d.perp()).abs() < 0.09
+                })
+                .map(|(_, x)| x.top)
+                .fold(f64::NEG_INFINITY, f64::max);
+            let start = push_start(o, d, k < 2, over, hand, table, params);
             let others = |a: usize| a != b && !on.contains(&(a, b)) && !on.contains(&(b, a));
             // Push until the grasp is free (SPEC §3.7), else k × the box (the seed).
             let steps = (params.push_max_length / params.push_resolution).floor() as usize;
@@ -1865,7 +1887,14 @@ fn current_arm(driver: &mut impl RobotDriver, group: &MoveGroup) -> Result<Vec<f
     Ok(group.arm_values(&driver.joint_state()?))
 }
 
-fn run(driver: &mut impl RobotDriver, plan: &Plan) -> Result<(), ExecError> {
+fn run(driver: &mut impl RobotDriver, plan: &Plan, phase: &str) -> Result<(), ExecError> {
+    if std::env::var_os("TABULA_TRACE").is_some() {
+        let t = driver.joint_state().map(|s| s.stamp).unwrap_or(f64::NAN);
+        eprintln!(
+            "exec {phase} from t = {t:.2} s ({:.2} s)",
+            plan.trajectory.duration()
+        );
+    }
     Ok(driver.execute(&plan.trajectory)?)
 }
 
@@ -1879,7 +1908,7 @@ fn go_home(
     group.set_state(robot, &state)?;
     let q = group.arm_values(&state);
     let plan = group.plan_to_joints(&q, &[home.to_vec()])?;
-    run(driver, &plan)
+    run(driver, &plan, "home")
 }
 
 #[allow(clippy::too_many_arguments)]
@@ -1922,16 +1951,16 @@ fn execute_grasp(
     let to_pre = group
         .plan_to_joints(&q, std::slice::from_ref(&ik))
         .or_else(|_| group.plan_to_pose(&q, &pre))?;
-    run(driver, &to_pre)?;
+    run(driver, &to_pre, "to pre-grasp")?;
     group.remove_object(&name)?;
     let q = current_arm(driver, group)?;
     let down = group.cartesian(&q, &g)?;
-    run(driver, &down)?;
+    run(driver, &down, "descend")?;
     let held = driver.close(&gripper.name)?;
     let q = current_arm(driver, group)?;
     if !held.holding {
         let up = group.cartesian(&q, &pre)?;
-        run(driver, &up)?;
+        run(driver, &up, "back up")?;
         group.add_object(&name, o.hull.clone(), Pose::IDENTITY)?;
         return Err(ExecError::Slipped);
     }
@@ -1960,7 +1989,7 @@ fn execute_grasp(
     for n in &neighbours {
         group.add_object(&format!("obj:{}", n.id), n.hull.clone(), Pose::IDENTITY)?;
     }
-    run(driver, &lift?)?;
+    run(driver, &lift?, "lift")?;
     // Over the bin, the object's bottom `drop_clearance` above the drop point.
     let hang = g.translation.dot(table.up) - o.bottom;
     let over = request.drop_point
@@ -1979,7 +2008,7 @@ fn execute_grasp(
             Err(e) => last = Err(e.into()),
         }
     }
-    run(driver, &last?)?;
+    run(driver, &last?, "to the bin")?;
     driver.open(&gripper.name)?;
     group.remove_object(&name)?;
     go_home(driver, robot, group, home)
@@ -2012,10 +2041,10 @@ fn execute_push(
     let to_pre = group
         .plan_to_joints(&q, &[ik])
         .or_else(|_| group.plan_to_pose(&q, &pre))?;
-    run(driver, &to_pre)?;
+    run(driver, &to_pre, "to pre-push")?;
     let q = current_arm(driver, group)?;
     let down = group.cartesian(&q, &push.start)?;
-    run(driver, &down)?;
+    run(driver, &down, "down to the push")?;
     // The pushed object (and what it shoves) moves with the fingers: out of the world
     // for the push.
     group.remove_object(&name)?;
@@ -2029,14 +2058,14 @@ fn execute_push(
     );
     let q = current_arm(driver, group)?;
     let along = group.cartesian(&q, &end)?;
-    run(driver, &along)?;
+    run(driver, &along, "push")?;
     let q = current_arm(driver, group)?;
     let up = Pose::from_parts(
         end.translation + table.up * params.pre_push_height,
         end.rotation,
     );
     let rise = group.cartesian(&q, &up)?;
-    run(driver, &rise)?;
+    run(driver, &rise, "rise")?;
     go_home(driver, robot, group, home)
 }
 
