@@ -27,6 +27,29 @@ const WAM_IN_CLUTTER: [&str; 10] = [
     "1",
 ];
 
+/// The WAM's arm reaching over the table beside the objects, in the camera's view.
+const ARM_IN_VIEW: &str = "joints = { wam_joint1 = 0.35, wam_joint2 = 0.7, wam_joint4 = 1.4 }";
+const ARM_IN_VIEW_ARGS: [&str; 6] = [
+    "--joint",
+    "wam_joint1=0.35",
+    "--joint",
+    "wam_joint2=0.7",
+    "--joint",
+    "wam_joint4=1.4",
+];
+
+/// scenes/clutter.toml with the arm at `joints` (a `joints = { … }` line).
+fn clutter_with_arm(joints: &str) -> String {
+    let clutter = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../scenes/clutter.toml"
+    ))
+    .unwrap();
+    let moved = clutter.replace("joints = { wam_joint2 = -1.9, wam_joint4 = 2.6 }", joints);
+    assert_ne!(moved, clutter);
+    moved
+}
+
 fn tabula(args: &[&str]) -> std::process::Output {
     Command::new(env!("CARGO_BIN_EXE_tabula"))
         .args(args)
@@ -383,7 +406,10 @@ fn motion_bench_reports_json() {
 fn perceive_reads_pcd_and_ply_filters_the_robot_places_and_reports() {
     let dir = std::env::temp_dir().join(format!("tabula-perceive-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/../../scenes/clutter.toml");
+    // The arm in view, beside the objects.
+    let reaching = dir.join("reach.toml");
+    std::fs::write(&reaching, clutter_with_arm(ARM_IN_VIEW)).unwrap();
+    let scene = reaching.to_str().unwrap();
     let mut pose: Vec<String> = Vec::new();
     for file in ["frame.pcd", "frame.ply"] {
         let out_path = dir.join(file);
@@ -425,11 +451,8 @@ fn perceive_reads_pcd_and_ply_filters_the_robot_places_and_reports() {
         ];
         args.extend(pose.iter().map(String::as_str));
         args.extend(WAM_IN_CLUTTER);
+        args.extend(ARM_IN_VIEW_ARGS);
         args.extend([
-            "--joint",
-            "wam_joint2=-1.9",
-            "--joint",
-            "wam_joint4=2.6",
             "--place",
             "0.08",
             "0.06",
@@ -478,16 +501,7 @@ fn perceive_reads_pcd_and_ply_filters_the_robot_places_and_reports() {
 fn perceive_self_filter_removes_the_arm_reaching_over_the_table() {
     let dir = std::env::temp_dir().join(format!("tabula-selffilter-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    let clutter = std::fs::read_to_string(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../scenes/clutter.toml"
-    ))
-    .unwrap();
-    let reaching = clutter.replace(
-        "joints = { wam_joint2 = -1.9, wam_joint4 = 2.6 }",
-        "joints = { wam_joint1 = -0.6, wam_joint2 = 0.8, wam_joint4 = 1.2 }",
-    );
-    assert_ne!(reaching, clutter);
+    let reaching = clutter_with_arm(ARM_IN_VIEW);
     let scene = dir.join("reach.toml");
     std::fs::write(&scene, reaching).unwrap();
     let frame = dir.join("reach.pcd");
@@ -535,14 +549,7 @@ fn perceive_self_filter_removes_the_arm_reaching_over_the_table() {
     assert!(objects(&[]) > 7);
     // … until the robot's own shapes, padded by 0.9 cm, are filtered out.
     let mut args = WAM_IN_CLUTTER.to_vec();
-    args.extend([
-        "--joint",
-        "wam_joint1=-0.6",
-        "--joint",
-        "wam_joint2=0.8",
-        "--joint",
-        "wam_joint4=1.2",
-    ]);
+    args.extend(ARM_IN_VIEW_ARGS);
     let filtered = objects(&args);
     assert_eq!(filtered, 7);
     let _ = std::fs::remove_dir_all(&dir);

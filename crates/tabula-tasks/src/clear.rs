@@ -2151,7 +2151,7 @@ mod tests {
         let lone = seen_box(2, Vec2::new(0.6, 0.3), Vec2::new(0.05, 0.05), 0.08, 0.72);
         let objects = vec![base, top, lone];
         assert_eq!(on_pairs(&objects, 0.72), vec![(1, 0)]);
-        let (g, _) = predicates(&objects, &table(), &hand(), &ClearParams::default());
+        let g = predicates(&objects, &table(), &hand(), &ClearParams::default(), false);
         // The lone box is free in every way; nothing blocks grasping the top one.
         assert!(
             g.block_grasp
@@ -2174,7 +2174,7 @@ mod tests {
         let a = seen_box(0, Vec2::new(0.6, 0.0), Vec2::new(0.04, 0.075), 0.08, 0.72);
         let b = seen_box(1, Vec2::new(0.647, 0.0), Vec2::new(0.05, 0.05), 0.05, 0.72);
         let objects = vec![a, b];
-        let (g, _) = predicates(&objects, &table(), &hand(), &ClearParams::default());
+        let g = predicates(&objects, &table(), &hand(), &ClearParams::default(), false);
         assert!(g.block_grasp.contains(&(1, 0)), "{:?}", g.block_grasp);
         // Pushing `a` into `b` is blocked; along y it slides past `b` (grazing is
         // allowed, the palm passes above the lower box) until its grasp is free.
