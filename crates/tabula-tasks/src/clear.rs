@@ -86,6 +86,9 @@ pub struct ClearParams {
     pub track_radius: f64,
     /// Most objects a chain push may shove along.
     pub max_chain: usize,
+    /// Chain pushes are tried this many times the box's size along the push long (the
+    /// seed's k = 1 first).
+    pub chain_push_factors: Vec<f64>,
     /// Pushes allowed per tracked object.
     pub max_pushes_per_object: usize,
     /// Grasp attempts per tracked object before its grasp counts as infeasible.
@@ -127,6 +130,7 @@ impl Default for ClearParams {
             sweep_tolerance: 0.005,
             track_radius: 0.06,
             max_chain: 2,
+            chain_push_factors: vec![1.0, 1.6, 2.2],
             max_pushes_per_object: 3,
             max_grasp_attempts: 2,
             max_no_plan_frames: 3,
@@ -1057,61 +1061,77 @@ fn predicates(
             }
             // The chain variant: what the sweep runs into moves along (and what that
             // runs into, up to `max_chain`); only the gripper and what the chain runs
-            // into block it. It goes k × the box's size (the seed's length).
-            let length =
-                (params.push_factor * o.rect.extent_along(p.direction)).min(params.push_max_length);
-            let mut chain: Vec<usize> = Vec::new();
-            let mut frontier = vec![b];
-            while let Some(x) = frontier.pop() {
-                let sw = sweep_of(&objects[x], length);
-                for a in 0..n {
-                    if a != b && !chain.contains(&a) && collides(&sw, a) {
-                        chain.push(a);
-                        frontier.push(a);
+            // into block it. Lengths are multiples of the box's size along the push
+            // (the seed's k × size), the one that makes the most objects graspable is
+            // kept (then the shortest).
+            let mut best: Option<(Push, Vec<usize>)> = None;
+            for &factor in &params.chain_push_factors {
+                let length =
+                    (factor * o.rect.extent_along(p.direction)).min(params.push_max_length);
+                let mut chain: Vec<usize> = Vec::new();
+                let mut frontier = vec![b];
+                while let Some(x) = frontier.pop() {
+                    let sw = sweep_of(&objects[x], length);
+                    for a in 0..n {
+                        if a != b && !chain.contains(&a) && collides(&sw, a) {
+                            chain.push(a);
+                            frontier.push(a);
+                        }
                     }
                 }
-            }
-            let fits_table = |x: &SeenObject| {
-                let end = x.rect.center + p.direction * length;
-                inside_convex(&table.outline, end)
-                    && tabula_geom::polygon::distance_to_boundary(&table.outline, end)
-                        > x.rect.extent_along(p.direction) / 2.0 + 0.02
-            };
-            let c = &mut chained[k];
-            c.length = length;
-            c.feasible = chain.len() <= params.max_chain
-                && fits_table(o)
-                && chain.iter().all(|&a| fits_table(&objects[a]));
-            let chain_hits = gripper_hits(&hand_path(length + params.push_distance));
-            for a in (0..n).filter(|&a| a != b && !chain.contains(&a)) {
-                if chain_hits.contains(&a) {
-                    block_chain[k].push((a, b));
+                let fits_table = |x: &SeenObject| {
+                    let end = x.rect.center + p.direction * length;
+                    inside_convex(&table.outline, end)
+                        && tabula_geom::polygon::distance_to_boundary(&table.outline, end)
+                            > x.rect.extent_along(p.direction) / 2.0 + 0.02
+                };
+                let mut c = p.clone();
+                c.length = length;
+                c.feasible = chain.len() <= params.max_chain
+                    && fits_table(o)
+                    && chain.iter().all(|&a| fits_table(&objects[a]));
+                let hits = gripper_hits(&hand_path(length + params.push_distance));
+                let blockers: Vec<usize> = (0..n)
+                    .filter(|&a| a != b && !chain.contains(&a) && hits.contains(&a))
+                    .collect();
+                // What it is worth: how many objects it makes graspable that are not
+                // now (shoving a pair along together may help nothing).
+                if c.feasible && blockers.is_empty() {
+                    let before =
+                        before.get_or_insert_with(|| graspable(objects, &on, hand, table, params));
+                    let moved: Vec<SeenObject> = objects
+                        .iter()
+                        .enumerate()
+                        .map(|(a, x)| {
+                            if a == b || chain.contains(&a) {
+                                translated(x, d3 * length)
+                            } else {
+                                x.clone()
+                            }
+                        })
+                        .collect();
+                    let after = graspable(&moved, &on, hand, table, params);
+                    c.gain = after
+                        .iter()
+                        .zip(before.iter())
+                        .filter(|(a, b)| **a && !**b)
+                        .count();
+                }
+                c.chain = chain;
+                let score = |(c, blockers): &(Push, Vec<usize>)| {
+                    (c.feasible && blockers.is_empty(), c.gain)
+                };
+                if best
+                    .as_ref()
+                    .is_none_or(|bst| score(&(c.clone(), blockers.clone())) > score(bst))
+                {
+                    best = Some((c, blockers));
                 }
             }
-            // What it is worth: how many objects it makes graspable that are not now
-            // (shoving a pair along together may help nothing).
-            if c.feasible && !chain_hits.iter().any(|a| !chain.contains(a)) {
-                let before =
-                    before.get_or_insert_with(|| graspable(objects, &on, hand, table, params));
-                let moved: Vec<SeenObject> = objects
-                    .iter()
-                    .enumerate()
-                    .map(|(a, x)| {
-                        if a == b || chain.contains(&a) {
-                            translated(x, d3 * length)
-                        } else {
-                            x.clone()
-                        }
-                    })
-                    .collect();
-                let after = graspable(&moved, &on, hand, table, params);
-                c.gain = after
-                    .iter()
-                    .zip(before.iter())
-                    .filter(|(a, b)| **a && !**b)
-                    .count();
+            if let Some((c, blockers)) = best {
+                block_chain[k].extend(blockers.into_iter().map(|a| (a, b)));
+                chained[k] = c;
             }
-            c.chain = chain;
         }
         pushes.push(dirs);
         chain_pushes.push(chained);
