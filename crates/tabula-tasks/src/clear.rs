@@ -108,6 +108,9 @@ impl Default for ClearParams {
         let mut motion = MoveGroupParams::default();
         // Pushes run the fingertips 1 cm above the table (SPEC §6).
         motion.world.padding = 0.008;
+        // A push or a descent may leave its line by a few millimetres where the arm
+        // cannot follow it exactly (the near-line fallback of the move group).
+        motion.cartesian_tolerance = 0.005;
         Self {
             tabletop: TabletopParams::default(),
             motion,
@@ -1185,7 +1188,19 @@ struct Track {
     expected: Vec2,
     seen: Vec2,
     pushes: Vec<Vec2>,
+    /// Directions of pushes that could not be executed.
+    failed_pushes: Vec<Vec2>,
     grasp_attempts: usize,
+}
+
+impl Track {
+    /// Whether a push along `direction` is ruled out: too many pushes already, back
+    /// against an earlier push (no pushing to and fro), or the way one failed.
+    fn rules_out(&self, direction: Vec2, params: &ClearParams) -> bool {
+        self.pushes.len() >= params.max_pushes_per_object
+            || self.pushes.iter().any(|d| d.dot(direction) < -0.5)
+            || self.failed_pushes.iter().any(|d| d.dot(direction) > 0.85)
+    }
 }
 
 /// Gives every object the id of the track it continues (nearest expected position
@@ -1225,6 +1240,7 @@ fn track(objects: &mut [SeenObject], tracks: &mut Vec<Track>, radius: f64) {
                 expected: o.rect.center,
                 seen: o.rect.center,
                 pushes: Vec::new(),
+                failed_pushes: Vec::new(),
                 grasp_attempts: 0,
             });
             next += 1;
@@ -1519,8 +1535,14 @@ pub fn clear<D: RobotDriver>(
                 }
             }
             Err(e) => {
-                if kind == ActionKind::Grasp {
-                    report.failed_grasps += 1;
+                match kind {
+                    ActionKind::Grasp => report.failed_grasps += 1,
+                    // A push whose motion could not be made is not tried that way again.
+                    ActionKind::Push(k) => {
+                        if let Some(tr) = tracks.iter_mut().find(|tr| tr.id == objects[i].id) {
+                            tr.failed_pushes.push(geometry.pushes[i][k].direction);
+                        }
+                    }
                 }
                 record.error = Some(e.to_string());
                 // Back out of the camera's view whatever happened.
@@ -1624,11 +1646,7 @@ fn decide(
         }
         for k in 0..4 {
             let p = &g.pushes[i][k];
-            let back = track.is_some_and(|t| {
-                t.pushes.len() >= params.max_pushes_per_object
-                    || t.pushes.iter().any(|d| d.dot(p.direction) < -0.5)
-            });
-            if !p.feasible || back {
+            if !p.feasible || track.is_some_and(|t| t.rules_out(p.direction, params)) {
                 set(ActionKind::Push(k));
             }
         }
@@ -1730,11 +1748,9 @@ fn decide_chain(
         let stacked = g.on.iter().any(|&(a, b)| a == i || b == i);
         for k in 0..4 {
             let p = &g.pushes[i][k];
-            let back = track.is_some_and(|t| {
-                t.pushes.len() >= params.max_pushes_per_object
-                    || t.pushes.iter().any(|d| d.dot(p.direction) < -0.5)
-            });
-            if p.feasible && !back && !stacked && !g.block_push[k].iter().any(|&(_, b)| b == i) {
+            let ruled_out = track.is_some_and(|t| t.rules_out(p.direction, params));
+            if p.feasible && !ruled_out && !stacked && !g.block_push[k].iter().any(|&(_, b)| b == i)
+            {
                 candidates.push((i, k));
             }
         }
