@@ -1,6 +1,6 @@
 //! `tabula clear`: seed 002's table clearing run in the simulator, judged by its physics.
 
-use crate::tasks::{load_world, scene_robot};
+use crate::tasks::{load_params, load_world, scene_robot};
 use anyhow::{Context, Result, anyhow};
 use clap::Args;
 use serde::Serialize;
@@ -48,17 +48,6 @@ pub struct ClearJson {
     /// Arm–object contacts with objects the arm was not acting on (judged).
     pub collisions: usize,
     pub verdict: ClearVerdict,
-}
-
-pub fn load_params(path: Option<&std::path::Path>) -> Result<ClearParams> {
-    Ok(match path {
-        Some(p) => {
-            let text = std::fs::read_to_string(p)
-                .with_context(|| format!("cannot read {}", p.display()))?;
-            toml::from_str(&text).with_context(|| format!("{}", p.display()))?
-        }
-        None => ClearParams::default(),
-    })
 }
 
 /// Clears the table of `world` with its robot, judged by physics; returns the world
@@ -111,7 +100,7 @@ pub fn clear_in(
 }
 
 pub fn run(a: ClearArgs) -> Result<()> {
-    let params = load_params(a.params.as_deref())?;
+    let params: ClearParams = load_params(a.params.as_deref())?;
     let (_, world) = load_world(&a.scene)?;
     let (out, world) = clear_in(world, a.robot.as_deref(), &params, a.max_actions, a.seed)?;
     if let Some(path) = &a.save_scene {
@@ -239,7 +228,7 @@ pub fn bench(
     use rayon::prelude::*;
     use tabula_sim::generate::{ClearSuite, clearing_scene};
     let which: ClearSuite = suite.parse().map_err(|e: String| anyhow!(e))?;
-    let params = load_params(params)?;
+    let params: ClearParams = load_params(params)?;
     let runs: Vec<Result<(BenchRow, Vec<[f64; 5]>)>> = (seed..seed.saturating_add(scenes))
         .into_par_iter()
         .map(|s| {

@@ -98,14 +98,7 @@ pub fn run(a: PerceiveArgs) -> Result<()> {
         Some(v) => pose_arg(v, "world-from-camera")?,
         None => Pose::IDENTITY,
     };
-    let params: TabletopParams = match &a.params {
-        Some(p) => {
-            let text = std::fs::read_to_string(p)
-                .with_context(|| format!("cannot read {}", p.display()))?;
-            toml::from_str(&text).with_context(|| format!("{}", p.display()))?
-        }
-        None => TabletopParams::default(),
-    };
+    let params: TabletopParams = crate::tasks::load_params(a.params.as_deref())?;
     let t0 = Instant::now();
     let mut cloud = to_world(&world_from_camera, &camera_cloud);
     let mut removed = 0;

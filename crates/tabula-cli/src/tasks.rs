@@ -61,6 +61,18 @@ pub fn scene_robot(world: &SimWorld, wanted: Option<&str>) -> Result<String> {
     }
 }
 
+/// A module's `Params` from a TOML file, or its defaults (SPEC's values) without one.
+pub fn load_params<T: serde::de::DeserializeOwned + Default>(path: Option<&Path>) -> Result<T> {
+    Ok(match path {
+        Some(p) => {
+            let text = std::fs::read_to_string(p)
+                .with_context(|| format!("cannot read {}", p.display()))?;
+            toml::from_str(&text).with_context(|| format!("{}", p.display()))?
+        }
+        None => T::default(),
+    })
+}
+
 fn vec3(v: &[f64], what: &str) -> Result<Vec3> {
     match v {
         [x, y, z] if v.iter().all(|c| c.is_finite()) => Ok(Vec3::new(*x, *y, *z)),
@@ -84,14 +96,7 @@ pub struct PickPlaceJson {
 pub fn run_pick_place(a: &PickPlaceArgs) -> Result<PickPlaceJson> {
     let pick = vec3(&a.pick, "pick")?;
     let place = vec3(&a.place, "place")?;
-    let params: PickPlaceParams = match &a.params {
-        Some(p) => {
-            let text = std::fs::read_to_string(p)
-                .with_context(|| format!("cannot read {}", p.display()))?;
-            toml::from_str(&text).with_context(|| format!("{}", p.display()))?
-        }
-        None => PickPlaceParams::default(),
-    };
+    let params: PickPlaceParams = load_params(a.params.as_deref())?;
     let (_, world) = load_world(&a.scene)?;
     let request = PickPlaceRequest {
         arm: (a.arm != "auto").then(|| a.arm.clone()),

@@ -10,13 +10,14 @@
 //! against the other objects' hulls and the workcell.
 
 use crate::observe::robot_solids;
+use crate::pick_place::tool_rotation;
 use serde::Serialize;
 use std::time::Duration;
 use tabula_geom::parry::bounding_volume::{Aabb, BoundingVolume};
 use tabula_geom::parry::query;
 use tabula_geom::parry::shape::SharedShape;
 use tabula_geom::polygon::{Rectangle, convex_hull_2d, inside_convex, min_area_rectangle};
-use tabula_geom::{Mat3, PointCloud, Pose, Quat, Vec2, Vec3};
+use tabula_geom::{PointCloud, Pose, Quat, Vec2, Vec3};
 use tabula_motion::group::thread_cpu;
 use tabula_motion::{MoveError, MoveGroup, MoveGroupParams, Plan};
 use tabula_pddl::{GroundAtom, Planner, SearchMode};
@@ -208,29 +209,8 @@ pub struct FrameReport {
     pub ik_backtracks: usize,
 }
 
-/// Median, 95th percentile and maximum.
-#[derive(Debug, Clone, Copy, Default, Serialize)]
-pub struct Stats {
-    pub median: f64,
-    pub p95: f64,
-    pub max: f64,
-}
-
-impl Stats {
-    pub fn of(values: &[f64]) -> Self {
-        let mut v: Vec<f64> = values.iter().copied().filter(|x| x.is_finite()).collect();
-        if v.is_empty() {
-            return Self::default();
-        }
-        v.sort_by(f64::total_cmp);
-        let at = |q: f64| v[((v.len() - 1) as f64 * q).round() as usize];
-        Self {
-            median: at(0.5),
-            p95: at(0.95),
-            max: v[v.len() - 1],
-        }
-    }
-}
+/// Median, 95th percentile and maximum (the IK benchmark's summary).
+pub use tabula_robot::ik::bench::Spread as Stats;
 
 /// The metrics of a run (issue "Clearing a cluttered table", item 6); `collisions` and
 /// accidental moves are judged by whoever watches the world (the simulator's harness).
@@ -467,23 +447,6 @@ fn extent_along(shapes: &[(SharedShape, Pose)], d: Vec3) -> (f64, f64) {
         }
     }
     (lo, hi)
-}
-
-/// Rotation taking the gripper's own approach/closing axes (tool frame) onto world
-/// directions `approach` and `closing` (orthonormal).
-pub(crate) fn tool_rotation(
-    tool_approach: Vec3,
-    tool_closing: Vec3,
-    approach: Vec3,
-    closing: Vec3,
-) -> Quat {
-    let tool = Mat3::from_cols(
-        tool_approach,
-        tool_closing,
-        tool_approach.cross(tool_closing),
-    );
-    let world = Mat3::from_cols(approach, closing, approach.cross(closing));
-    Quat::from_mat3(&(world * tool.transpose())).normalize()
 }
 
 /// The table as one frame sees it.
@@ -2162,13 +2125,6 @@ mod tests {
         let robot = tabula_robot::robots::load("wam").unwrap();
         let g = robot.description.grippers[0].clone();
         Hand::new(&robot, &g).unwrap()
-    }
-
-    #[test]
-    fn stats_are_order_statistics() {
-        let s = Stats::of(&[5.0, 1.0, 3.0, f64::NAN, 2.0, 4.0]);
-        assert_eq!((s.median, s.max), (3.0, 5.0));
-        assert_eq!(Stats::of(&[]).median, 0.0);
     }
 
     #[test]

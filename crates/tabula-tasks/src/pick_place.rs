@@ -247,7 +247,12 @@ struct Sequence {
 
 /// Rotation taking the gripper's own approach/closing axes (tool frame) onto world
 /// directions `approach` and `closing` (orthonormal).
-fn tool_rotation(tool_approach: Vec3, tool_closing: Vec3, approach: Vec3, closing: Vec3) -> Quat {
+pub(crate) fn tool_rotation(
+    tool_approach: Vec3,
+    tool_closing: Vec3,
+    approach: Vec3,
+    closing: Vec3,
+) -> Quat {
     let tool = Mat3::from_cols(
         tool_approach,
         tool_closing,
