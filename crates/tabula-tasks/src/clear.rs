@@ -133,7 +133,7 @@ impl Default for ClearParams {
             clearance: 0.004,
             sweep_tolerance: 0.005,
             track_radius: 0.06,
-            max_chain: 2,
+            max_chain: 4,
             chain_push_factors: vec![1.0, 1.6, 2.2],
             max_pushes_per_object: 3,
             max_grasp_attempts: 2,
@@ -612,13 +612,13 @@ fn hulls_touch(a: &SeenObject, b: &SeenObject, pad: f64) -> bool {
         .is_ok_and(|d| d.distance <= pad)
 }
 
-/// Whether a moved hull runs into another by more than `tolerance`: a neighbour it
+/// Whether a hull moved by `by` runs into another by more than `tolerance`: a neighbour it
 /// only grazes (touching objects seen with noise overlap by millimetres already) lets
 /// it slide past; one ahead is entered by a whole sweep step.
-fn hulls_collide(moved: &SeenObject, other: &SeenObject, tolerance: f64) -> bool {
-    moved.aabb.intersects(&other.aabb)
+fn hulls_collide(moved: &SeenObject, by: Vec3, other: &SeenObject, tolerance: f64) -> bool {
+    Aabb::new(moved.aabb.mins + by, moved.aabb.maxs + by).intersects(&other.aabb)
         && query::contact(
-            &Pose::IDENTITY,
+            &Pose::from_translation(by),
             moved.hull.as_ref(),
             &Pose::IDENTITY,
             other.hull.as_ref(),
@@ -787,7 +787,8 @@ fn push_start(
     hand.pose(tips, closing, table.up)
 }
 
-fn translated(o: &SeenObject, by: Vec3) -> SeenObject {
+/// `o` moved by `by`; its hull too when `with_hull` (a new convex hull: costly).
+fn translated(o: &SeenObject, by: Vec3, with_hull: bool) -> SeenObject {
     let mut t = o.clone();
     t.rect.center += by.truncate();
     for p in &mut t.points {
@@ -796,12 +797,15 @@ fn translated(o: &SeenObject, by: Vec3) -> SeenObject {
     for p in &mut t.footprint {
         *p += by.truncate();
     }
-    // Hulls are kept in world coordinates: a moved copy is rebuilt around its vertices.
-    let moved: Vec<Vec3> = hull_vertices(&o.hull).into_iter().map(|p| p + by).collect();
-    if let Some(h) = SharedShape::convex_hull(&moved) {
-        t.hull = h;
+    if with_hull {
+        // Hulls are kept in world coordinates: a moved copy is rebuilt around its
+        // vertices.
+        let moved: Vec<Vec3> = hull_vertices(&o.hull).into_iter().map(|p| p + by).collect();
+        if let Some(h) = SharedShape::convex_hull(&moved) {
+            t.hull = h;
+        }
+        t.aabb = t.hull.compute_aabb(&Pose::IDENTITY);
     }
-    t.aabb = t.hull.compute_aabb(&Pose::IDENTITY);
     t
 }
 
@@ -855,14 +859,24 @@ fn graspable(
     params: &ClearParams,
 ) -> Vec<bool> {
     (0..objects.len())
-        .map(|b| {
-            let skip = |a: usize| a == b || on.contains(&(a, b)) || on.contains(&(b, a));
-            !on.iter().any(|&(_, under)| under == b)
-                && grasps_of(&objects[b], hand, table, params)
-                    .iter()
-                    .any(|g| grasp_blockers(objects, g, &skip, hand, table, params).is_empty())
-        })
+        .map(|b| graspable_one(objects, on, b, hand, table, params))
         .collect()
+}
+
+/// Whether object `b` could be grasped now (see [`graspable`]).
+fn graspable_one(
+    objects: &[SeenObject],
+    on: &[(usize, usize)],
+    b: usize,
+    hand: &Hand,
+    table: &Table,
+    params: &ClearParams,
+) -> bool {
+    let skip = |a: usize| a == b || on.contains(&(a, b)) || on.contains(&(b, a));
+    !on.iter().any(|&(_, under)| under == b)
+        && grasps_of(&objects[b], hand, table, params)
+            .iter()
+            .any(|g| grasp_blockers(objects, g, &skip, hand, table, params).is_empty())
 }
 
 /// The predicates of SPEC §3.3 and the poses of SPEC §3.2 for every object; with
@@ -935,13 +949,14 @@ fn predicates(
             let mut length = None;
             for s in 1..=steps {
                 let by = d3 * (s as f64 * params.push_resolution);
-                let moved = translated(o, by);
                 if (0..n)
                     .filter(|&a| others(a))
-                    .any(|a| hulls_collide(&moved, &objects[a], params.sweep_tolerance))
+                    .any(|a| hulls_collide(o, by, &objects[a], params.sweep_tolerance))
                 {
                     break;
                 }
+                // Only its grasp is asked about: the hull need not move.
+                let moved = translated(o, by, false);
                 let skip = |a: usize| !others(a);
                 let free = grasps_of(&moved, hand, table, params)
                     .iter()
@@ -990,22 +1005,23 @@ fn predicates(
                     .filter(|&a| path.iter().any(|h| hits(&hand.closed, h, &objects[a], pad)))
                     .collect()
             };
-            let sweep_of = |x: &SeenObject, length: f64| -> Vec<SeenObject> {
+            // A sweep: the offsets of an object along the push.
+            let sweep_of = |length: f64| -> Vec<Vec3> {
                 let steps = (length / params.push_resolution).ceil().max(1.0) as usize;
                 (1..=steps)
-                    .map(|s| translated(x, d3 * (length * s as f64 / steps as f64)))
+                    .map(|s| d3 * (length * s as f64 / steps as f64))
                     .collect()
             };
-            let collides = |sweep: &[SeenObject], a: usize| {
+            let collides = |x: &SeenObject, sweep: &[Vec3], a: usize| {
                 sweep
                     .iter()
-                    .any(|m| hulls_collide(m, &objects[a], params.sweep_tolerance))
+                    .any(|by| hulls_collide(x, *by, &objects[a], params.sweep_tolerance))
             };
             let solo_hits = gripper_hits(&hand_path(p.travel(params)));
 
-            let sweep = sweep_of(o, p.length);
+            let sweep = sweep_of(p.length);
             for a in (0..n).filter(|&a| a != b) {
-                let swept = collides(&sweep, a);
+                let swept = collides(o, &sweep, a);
                 let gripper = solo_hits.contains(&a);
                 if swept || gripper {
                     if std::env::var_os("TABULA_TRACE").is_some() {
@@ -1037,9 +1053,9 @@ fn predicates(
                 let mut chain: Vec<usize> = Vec::new();
                 let mut frontier = vec![b];
                 while let Some(x) = frontier.pop() {
-                    let sw = sweep_of(&objects[x], length);
+                    let sw = sweep_of(length);
                     for a in 0..n {
-                        if a != b && !chain.contains(&a) && collides(&sw, a) {
+                        if a != b && !chain.contains(&a) && collides(&objects[x], &sw, a) {
                             chain.push(a);
                             frontier.push(a);
                         }
@@ -1070,17 +1086,23 @@ fn predicates(
                         .enumerate()
                         .map(|(a, x)| {
                             if a == b || chain.contains(&a) {
-                                translated(x, d3 * length)
+                                translated(x, d3 * length, true)
                             } else {
                                 x.clone()
                             }
                         })
                         .collect();
-                    let after = graspable(&moved, &on, hand, table, params);
-                    c.gain = after
-                        .iter()
-                        .zip(before.iter())
-                        .filter(|(a, b)| **a && !**b)
+                    // Only objects near what moved (within an open hand's reach of where
+                    // it was or went) can change.
+                    let reach = hand.open_width + 0.05;
+                    let moved_boxes: Vec<Aabb> = (0..n)
+                        .filter(|&a| a == b || c.chain.contains(&a) || chain.contains(&a))
+                        .map(|a| objects[a].aabb.merged(&moved[a].aabb).loosened(reach))
+                        .collect();
+                    c.gain = (0..n)
+                        .filter(|&a| !before[a])
+                        .filter(|&a| moved_boxes.iter().any(|m| m.intersects(&moved[a].aabb)))
+                        .filter(|&a| graspable_one(&moved, &on, a, hand, table, params))
                         .count();
                 }
                 c.chain = chain;
