@@ -39,7 +39,7 @@ pub struct ClearArgs {
 /// Everything `clear` prints with `--json`: the task's own metrics, the judged ones.
 #[derive(Serialize)]
 pub struct ClearJson {
-    /// Every object that stood on the table ended in the bin.
+    /// Every object that stood on the table (if any) ended in the bin.
     pub success: bool,
     pub error: Option<String>,
     pub error_message: Option<String>,
@@ -88,7 +88,7 @@ pub fn clear_in(
     };
     Ok((
         ClearJson {
-            success: error.is_none() && verdict.objects > 0 && verdict.in_bin == verdict.objects,
+            success: error.is_none() && verdict.in_bin == verdict.objects,
             error: error.as_ref().map(|e| e.kind().to_string()),
             error_message: error.as_ref().map(|e| e.to_string()),
             report,
