@@ -74,6 +74,8 @@ pub struct ClearParams {
     pub push_factor: f64,
     /// Pushed a little past the point where the grasp becomes free (m).
     pub push_margin: f64,
+    /// After a push the fingers back off this far (m) before rising.
+    pub push_back_off: f64,
     /// Pre-push and post-push height above the push (m), SPEC §3.2: 20 cm.
     pub pre_push_height: f64,
     /// Clearance the predicates demand between the gripper or a moving hull and
@@ -129,6 +131,7 @@ impl Default for ClearParams {
             push_resolution: 0.03,
             push_factor: 1.0,
             push_margin: 0.02,
+            push_back_off: 0.015,
             pre_push_height: 0.20,
             clearance: 0.004,
             sweep_tolerance: 0.005,
@@ -2080,10 +2083,16 @@ fn execute_push(
     let q = current_arm(driver, group)?;
     let along = group.cartesian(&q, &end)?;
     run(driver, &along, "push")?;
+    // Back off the object before rising, so the fingers do not drag it up with them.
+    let back = Pose::from_parts(end.translation - d3 * params.push_back_off, end.rotation);
+    let q = current_arm(driver, group)?;
+    if let Ok(off) = group.cartesian(&q, &back) {
+        run(driver, &off, "back off")?;
+    }
     let q = current_arm(driver, group)?;
     let up = Pose::from_parts(
-        end.translation + table.up * params.pre_push_height,
-        end.rotation,
+        back.translation + table.up * params.pre_push_height,
+        back.rotation,
     );
     let rise = group.cartesian(&q, &up)?;
     run(driver, &rise, "rise")?;
