@@ -1,10 +1,9 @@
 //! `tabula clear`: seed 002's table clearing run in the simulator, judged by its physics.
 
-use crate::tasks::{load_params, load_world, scene_robot};
-use anyhow::{Context, Result, anyhow};
+use crate::tasks::{TaskRunArgs, load_params, scene_robot};
+use anyhow::{Result, anyhow};
 use clap::Args;
 use serde::Serialize;
-use std::path::PathBuf;
 use tabula_robot::robots::NamedRobot;
 use tabula_sim::SimWorld;
 use tabula_sim::verdict::{ClearVerdict, run_clear_judged};
@@ -12,28 +11,11 @@ use tabula_tasks::clear::{ClearParams, ClearReport, ClearRequest, clear};
 
 #[derive(Args)]
 pub struct ClearArgs {
-    #[arg(long)]
-    pub scene: PathBuf,
-    /// The robot to drive when the scene has several.
-    #[arg(long)]
-    pub robot: Option<String>,
-    /// Parameters (TOML, `ClearParams`).
-    #[arg(long)]
-    pub params: Option<PathBuf>,
+    #[command(flatten)]
+    pub run: TaskRunArgs,
     /// Stop after this many actions (default: 3 per object seen first, plus 5).
     #[arg(long)]
     pub max_actions: Option<usize>,
-    /// Camera noise seed.
-    #[arg(long, default_value_t = 1)]
-    pub seed: u64,
-    #[arg(long)]
-    pub json: bool,
-    /// Write the final world as a scene file.
-    #[arg(long)]
-    pub save_scene: Option<PathBuf>,
-    /// Write a report (run.json) into this folder.
-    #[arg(long)]
-    pub report: Option<PathBuf>,
 }
 
 /// Everything `clear` prints with `--json`: the task's own metrics, the judged ones.
@@ -100,21 +82,16 @@ pub fn clear_in(
 }
 
 pub fn run(a: ClearArgs) -> Result<()> {
-    let params: ClearParams = load_params(a.params.as_deref())?;
-    let (_, world) = load_world(&a.scene)?;
-    let (out, world) = clear_in(world, a.robot.as_deref(), &params, a.max_actions, a.seed)?;
-    if let Some(path) = &a.save_scene {
-        let text = world
-            .to_scene()
-            .to_toml()
-            .map_err(|e| anyhow!("cannot write the scene: {e}"))?;
-        std::fs::write(path, text).with_context(|| format!("cannot write {}", path.display()))?;
-    }
-    if let Some(dir) = &a.report {
-        std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
-        std::fs::write(dir.join("run.json"), serde_json::to_string_pretty(&out)?)?;
-    }
-    if a.json {
+    let params: ClearParams = load_params(a.run.params.as_deref())?;
+    let (out, world) = clear_in(
+        a.run.world()?,
+        a.run.robot.as_deref(),
+        &params,
+        a.max_actions,
+        a.run.seed,
+    )?;
+    a.run.save(&world, &out)?;
+    if a.run.json {
         println!("{}", serde_json::to_string_pretty(&out)?);
     } else {
         print_summary(&out);

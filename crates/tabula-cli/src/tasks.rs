@@ -9,23 +9,16 @@ use tabula_sim::verdict::{PlaceVerdict, run_judged};
 use tabula_sim::{PhysicsParams, Scene, SimWorld};
 use tabula_tasks::pick_place::{PickPlaceParams, PickPlaceRequest, pick_place};
 
+/// What every task run in the simulator takes: the scene and its robot, parameters,
+/// camera noise, and where its results go.
 #[derive(Args)]
-pub struct PickPlaceArgs {
+pub struct TaskRunArgs {
     #[arg(long)]
     pub scene: PathBuf,
-    /// Which arm: a name from the robot's description (`left`, `right`) or `auto`.
-    #[arg(long, default_value = "auto")]
-    pub arm: String,
-    /// Approximate world position of the object (m).
-    #[arg(long, num_args = 3, allow_negative_numbers = true, value_names = ["X", "Y", "Z"], required = true)]
-    pub pick: Vec<f64>,
-    /// Where the object goes (m): its footprint centre; the surface is found under Z.
-    #[arg(long, num_args = 3, allow_negative_numbers = true, value_names = ["X", "Y", "Z"], required = true)]
-    pub place: Vec<f64>,
     /// The robot to drive when the scene has several.
     #[arg(long)]
     pub robot: Option<String>,
-    /// Parameters (TOML, `PickPlaceParams`).
+    /// Parameters (TOML: the task's `Params`, SPEC's values where a key is missing).
     #[arg(long)]
     pub params: Option<PathBuf>,
     /// Camera noise seed.
@@ -36,9 +29,49 @@ pub struct PickPlaceArgs {
     /// Write the final world as a scene file.
     #[arg(long)]
     pub save_scene: Option<PathBuf>,
-    /// Write a report (run.json and index.html) into this folder.
+    /// Write a report (run.json) into this folder.
     #[arg(long)]
     pub report: Option<PathBuf>,
+}
+
+impl TaskRunArgs {
+    /// Writes the world afterwards (`--save-scene`) and the run's numbers (`--report`).
+    pub fn save(&self, world: &SimWorld, out: &impl Serialize) -> Result<()> {
+        if let Some(path) = &self.save_scene {
+            let text = world
+                .to_scene()
+                .to_toml()
+                .map_err(|e| anyhow::anyhow!("cannot write the scene: {e}"))?;
+            std::fs::write(path, text)
+                .with_context(|| format!("cannot write {}", path.display()))?;
+        }
+        if let Some(dir) = &self.report {
+            std::fs::create_dir_all(dir)
+                .with_context(|| format!("cannot create {}", dir.display()))?;
+            std::fs::write(dir.join("run.json"), serde_json::to_string_pretty(out)?)?;
+        }
+        Ok(())
+    }
+
+    /// The world of `--scene`.
+    pub fn world(&self) -> Result<SimWorld> {
+        Ok(load_world(&self.scene)?.1)
+    }
+}
+
+#[derive(Args)]
+pub struct PickPlaceArgs {
+    #[command(flatten)]
+    pub run: TaskRunArgs,
+    /// Which arm: a name from the robot's description (`left`, `right`) or `auto`.
+    #[arg(long, default_value = "auto")]
+    pub arm: String,
+    /// Approximate world position of the object (m).
+    #[arg(long, num_args = 3, allow_negative_numbers = true, value_names = ["X", "Y", "Z"], required = true)]
+    pub pick: Vec<f64>,
+    /// Where the object goes (m): its footprint centre; the surface is found under Z.
+    #[arg(long, num_args = 3, allow_negative_numbers = true, value_names = ["X", "Y", "Z"], required = true)]
+    pub place: Vec<f64>,
 }
 
 pub fn load_world(scene_path: &Path) -> Result<(Scene, SimWorld)> {
@@ -92,25 +125,24 @@ pub struct PickPlaceJson {
     pub final_pose: [f64; 6],
 }
 
-/// Runs one pick and place in the simulator and judges it.
+/// Runs one pick and place in the simulator, judges it, and saves what was asked.
 pub fn run_pick_place(a: &PickPlaceArgs) -> Result<PickPlaceJson> {
     let pick = vec3(&a.pick, "pick")?;
     let place = vec3(&a.place, "place")?;
-    let params: PickPlaceParams = load_params(a.params.as_deref())?;
-    let (_, world) = load_world(&a.scene)?;
+    let params: PickPlaceParams = load_params(a.run.params.as_deref())?;
     let request = PickPlaceRequest {
         arm: (a.arm != "auto").then(|| a.arm.clone()),
         pick,
         place,
     };
-    let (out, world) = pick_place_in(world, a.robot.as_deref(), &request, &params, a.seed)?;
-    if let Some(path) = &a.save_scene {
-        let text = world
-            .to_scene()
-            .to_toml()
-            .map_err(|e| anyhow::anyhow!("cannot write the scene: {e}"))?;
-        std::fs::write(path, text).with_context(|| format!("cannot write {}", path.display()))?;
-    }
+    let (out, world) = pick_place_in(
+        a.run.world()?,
+        a.run.robot.as_deref(),
+        &request,
+        &params,
+        a.run.seed,
+    )?;
+    a.run.save(&world, &out)?;
     Ok(out)
 }
 
@@ -151,11 +183,7 @@ pub fn pick_place_in(
 
 pub fn run(a: PickPlaceArgs) -> Result<()> {
     let out = run_pick_place(&a)?;
-    if let Some(dir) = &a.report {
-        std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
-        std::fs::write(dir.join("run.json"), serde_json::to_string_pretty(&out)?)?;
-    }
-    if a.json {
+    if a.run.json {
         println!("{}", serde_json::to_string_pretty(&out)?);
     } else {
         let r = &out.report;
