@@ -83,6 +83,7 @@ pub fn clear_in(
 
 pub fn run(a: ClearArgs) -> Result<()> {
     let params: ClearParams = load_params(a.run.params.as_deref())?;
+    params.validate()?;
     let (out, world) = clear_in(
         a.run.world()?,
         a.run.robot.as_deref(),
@@ -206,6 +207,7 @@ pub fn bench(
     use tabula_sim::generate::{ClearSuite, clearing_scene};
     let which: ClearSuite = suite.parse().map_err(|e: String| anyhow!(e))?;
     let params: ClearParams = load_params(params)?;
+    params.validate()?;
     let runs: Vec<Result<(BenchRow, Vec<[f64; 5]>)>> = (seed..seed.saturating_add(scenes))
         .into_par_iter()
         .map(|s| {

@@ -106,6 +106,70 @@ pub struct ClearParams {
     pub ik_attempts: usize,
 }
 
+impl ClearParams {
+    /// Every length finite and in range, every step positive: a zero resolution or an
+    /// infinite push would make the sweeps endless.
+    pub fn validate(&self) -> Result<(), ClearError> {
+        let positive = [
+            ("push_resolution", self.push_resolution),
+            ("push_max_length", self.push_max_length),
+            ("push_factor", self.push_factor),
+            ("plan_timeout_s", self.plan_timeout_s),
+            ("track_radius", self.track_radius),
+        ];
+        let non_negative = [
+            ("self_filter_padding", self.self_filter_padding),
+            ("grasp_depth", self.grasp_depth),
+            ("fingertip_clearance", self.fingertip_clearance),
+            ("pregrasp", self.pregrasp),
+            ("lift", self.lift),
+            ("drop_clearance", self.drop_clearance),
+            ("grasp_margin", self.grasp_margin),
+            ("push_distance", self.push_distance),
+            ("push_margin", self.push_margin),
+            ("push_back_off", self.push_back_off),
+            ("pre_push_height", self.pre_push_height),
+            ("clearance", self.clearance),
+            ("sweep_tolerance", self.sweep_tolerance),
+        ];
+        for (name, v) in positive {
+            if !(v.is_finite() && v > 0.0 && v <= 100.0) {
+                return Err(ClearError::Params(format!(
+                    "`{name}` = {v}: must be in (0, 100]"
+                )));
+            }
+        }
+        for (name, v) in non_negative {
+            if !(v.is_finite() && (0.0..=10.0).contains(&v)) {
+                return Err(ClearError::Params(format!(
+                    "`{name}` = {v}: must be in [0, 10]"
+                )));
+            }
+        }
+        if self.push_max_length / self.push_resolution > 10_000.0 {
+            return Err(ClearError::Params(
+                "`push_max_length` / `push_resolution` over 10,000 steps".into(),
+            ));
+        }
+        if !(1..=16).contains(&self.decimate) {
+            return Err(ClearError::Params(format!(
+                "`decimate` = {}: must be 1 to 16",
+                self.decimate
+            )));
+        }
+        if let Some(f) = self
+            .chain_push_factors
+            .iter()
+            .find(|f| !(f.is_finite() && **f > 0.0 && **f <= 100.0))
+        {
+            return Err(ClearError::Params(format!(
+                "`chain_push_factors` holds {f}: each must be in (0, 100]"
+            )));
+        }
+        Ok(())
+    }
+}
+
 impl Default for ClearParams {
     fn default() -> Self {
         let mut motion = MoveGroupParams::default();
@@ -256,6 +320,8 @@ pub enum ClearError {
     Perception(String),
     #[error("planner: {0}")]
     Planner(String),
+    #[error("parameter {0}")]
+    Params(String),
 }
 
 impl ClearError {
@@ -265,6 +331,7 @@ impl ClearError {
             ClearError::Robot(_) => "robot",
             ClearError::Perception(_) => "perception",
             ClearError::Planner(_) => "planner",
+            ClearError::Params(_) => "params",
         }
     }
 }
@@ -1281,6 +1348,10 @@ pub fn clear<D: RobotDriver>(
         .gripper_of(&arm)
         .cloned()
         .ok_or_else(|| ClearError::Robot(format!("arm `{arm_name}` has no gripper")))?;
+    params.validate()?;
+    if !(request.drop_point.is_finite() && request.drop_spread.is_finite()) {
+        return Err(ClearError::Params("the drop point must be finite".into()));
+    }
     let hand = Hand::new(robot, &gripper)?;
     let domain =
         tabula_pddl::parse_domain(DOMAIN).map_err(|e| ClearError::Planner(e.to_string()))?;
@@ -2278,5 +2349,16 @@ mod tests {
         assert_eq!(p.pregrasp, 0.10);
         assert_eq!(p.lift, 0.20);
         assert!(toml::from_str::<ClearParams>("nope = 1").is_err());
+        assert!(p.validate().is_ok());
+        for bad in [
+            "push_resolution = 0.0",
+            "push_max_length = inf",
+            "clearance = nan",
+            "decimate = 0",
+            "chain_push_factors = [-1.0]",
+        ] {
+            let q: ClearParams = toml::from_str(bad).unwrap();
+            assert_eq!(q.validate().unwrap_err().kind(), "params", "{bad}");
+        }
     }
 }
