@@ -62,6 +62,17 @@ pub enum BenchCommand {
         #[arg(long)]
         json: bool,
     },
+    /// Stable poses of the test objects (written as OBJ files for the side-by-side with
+    /// trimesh: `scripts/trimesh_stable_poses.py DIR`): median CPU ms, most likely pose.
+    StablePoses {
+        /// Folder the meshes are written to.
+        #[arg(long, default_value = "target/stable-pose-meshes")]
+        dir: std::path::PathBuf,
+        #[arg(long, default_value_t = 21)]
+        reps: usize,
+        #[arg(long)]
+        json: bool,
+    },
 }
 
 pub fn run(c: BenchCommand) -> Result<()> {
@@ -83,6 +94,7 @@ pub fn run(c: BenchCommand) -> Result<()> {
             save_failures.as_deref(),
             json,
         ),
+        BenchCommand::StablePoses { dir, reps, json } => crate::stable::bench(&dir, reps, json),
     }
 }
 

@@ -8,6 +8,7 @@ mod motion;
 mod perceive;
 mod plan;
 mod sim;
+mod stable;
 mod tasks;
 
 use clap::{Parser, Subcommand};
@@ -54,6 +55,9 @@ enum Command {
         #[command(subcommand)]
         command: sim::SimCommand,
     },
+    /// How an object rests on a table (seed 000): stable poses of a mesh or a scanned
+    /// cloud with their stability margins and landing probabilities.
+    StablePoses(stable::StablePosesArgs),
 }
 
 fn main() {
@@ -75,6 +79,7 @@ fn main() {
         Command::Perceive(args) => perceive::run(args),
         Command::PickPlace(args) => tasks::run(args),
         Command::Sim { command } => sim::run(command),
+        Command::StablePoses(args) => stable::run(args),
     };
     if let Err(e) = result {
         eprintln!("error: {e:#}");

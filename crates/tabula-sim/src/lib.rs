@@ -6,6 +6,7 @@
 pub mod camera;
 pub mod driver;
 pub mod generate;
+pub mod objects;
 pub mod robot;
 pub mod scene;
 pub mod verdict;

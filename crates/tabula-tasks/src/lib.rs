@@ -12,3 +12,4 @@
 pub mod clear;
 pub mod observe;
 pub mod pick_place;
+pub mod stable;

@@ -1,0 +1,175 @@
+//! `tabula stable-poses` and `tabula bench stable-poses`: how an object rests (SPEC §1.2).
+
+use anyhow::{Context, Result, bail};
+use std::path::{Path, PathBuf};
+use tabula_geom::Vec3;
+use tabula_robot::ik::bench::thread_cpu_seconds;
+use tabula_tasks::stable::{StableParams, StablePoses, of_cloud, of_mesh};
+
+#[derive(clap::Args)]
+pub struct StablePosesArgs {
+    /// A mesh (OBJ, STL or PLY with faces), in the object's frame.
+    #[arg(long, conflicts_with = "cloud", required_unless_present = "cloud")]
+    mesh: Option<PathBuf>,
+    /// A scanned cloud (PCD or PLY), in the object's frame.
+    #[arg(long)]
+    cloud: Option<PathBuf>,
+    /// Parameters (TOML, `StableParams`).
+    #[arg(long)]
+    params: Option<PathBuf>,
+    #[arg(long)]
+    json: bool,
+}
+
+#[derive(serde::Serialize)]
+struct StableJson<'a> {
+    #[serde(flatten)]
+    poses: &'a StablePoses,
+    cpu_ms: f64,
+}
+
+/// Stable poses of a mesh file or a cloud file, and the CPU time they took.
+pub fn compute(
+    mesh: Option<&Path>,
+    cloud: Option<&Path>,
+    params: &StableParams,
+) -> Result<(StablePoses, f64)> {
+    match (mesh, cloud) {
+        (Some(path), None) => {
+            let (v, t) = tabula_geom::mesh::load_mesh(path, [1.0; 3])
+                .map_err(|e| anyhow::anyhow!("{}: {}", e.path, e.message))?;
+            let c0 = thread_cpu_seconds();
+            let s = of_mesh(&v, &t, params).with_context(|| format!("{}", path.display()))?;
+            Ok((s, (thread_cpu_seconds() - c0) * 1e3))
+        }
+        (None, Some(path)) => {
+            let cloud = crate::perceive::read_cloud(path)?;
+            let points: Vec<Vec3> = cloud
+                .points
+                .iter()
+                .copied()
+                .filter(|p| p.is_finite())
+                .collect();
+            let c0 = thread_cpu_seconds();
+            let s = of_cloud(&points, params).with_context(|| format!("{}", path.display()))?;
+            Ok((s, (thread_cpu_seconds() - c0) * 1e3))
+        }
+        _ => bail!("give --mesh FILE or --cloud FILE"),
+    }
+}
+
+pub fn run(args: StablePosesArgs) -> Result<()> {
+    let params: StableParams = crate::tasks::load_params(args.params.as_deref())?;
+    let (s, cpu_ms) = compute(args.mesh.as_deref(), args.cloud.as_deref(), &params)?;
+    if args.json {
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&StableJson { poses: &s, cpu_ms })?
+        );
+        return Ok(());
+    }
+    let c = s.center_of_mass;
+    println!(
+        "hull: {} vertices, {} facets, {:.1} cm³; centre of mass ({:.4}, {:.4}, {:.4}) m ({:?})",
+        s.hull_vertices,
+        s.hull_facets,
+        s.hull_volume_m3 * 1e6,
+        c[0],
+        c[1],
+        c[2],
+        s.com_method
+    );
+    println!(
+        "{:>3}  {:>24}  {:>7}  {:>8}  {:>8}  {:>8}",
+        "#", "support normal (object)", "prob", "margin", "topple", "area"
+    );
+    for (i, p) in s.poses.iter().enumerate() {
+        let n = p.support_normal;
+        println!(
+            "{:>3}  ({:>6.3}, {:>6.3}, {:>6.3})  {:>7.3}  {:>6.1}mm  {:>7.1}°  {:>6.1}cm²{}",
+            i,
+            n[0],
+            n[1],
+            n[2],
+            p.probability,
+            p.margin_m * 1e3,
+            p.topple_deg,
+            p.area_m2 * 1e4,
+            if Some(i) == s.most_likely {
+                "  most likely"
+            } else {
+                ""
+            }
+        );
+    }
+    println!(
+        "{} stable poses, best (hardest to topple) first; {cpu_ms:.3} ms CPU",
+        s.poses.len()
+    );
+    Ok(())
+}
+
+#[derive(serde::Serialize)]
+struct BenchRow {
+    object: String,
+    vertices: usize,
+    poses: usize,
+    most_likely_normal: Option<[f64; 3]>,
+    most_likely_probability: Option<f64>,
+    cpu_ms_median: f64,
+}
+
+/// Writes the test objects as OBJ files into `dir` and times the stable-pose search on
+/// each (median CPU over `reps`), for the side-by-side with trimesh
+/// (`scripts/trimesh_stable_poses.py DIR`).
+pub fn bench(dir: &Path, reps: usize, json: bool) -> Result<()> {
+    std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
+    let params = StableParams::default();
+    let mut rows = Vec::new();
+    for o in tabula_sim::objects::catalogue() {
+        let path = dir.join(format!("{}.obj", o.name));
+        std::fs::write(&path, o.to_obj())
+            .with_context(|| format!("cannot write {}", path.display()))?;
+        let mut times = Vec::with_capacity(reps);
+        let mut last = None;
+        for _ in 0..reps.max(1) {
+            let c0 = thread_cpu_seconds();
+            let s = of_mesh(&o.vertices, &o.triangles, &params)?;
+            times.push((thread_cpu_seconds() - c0) * 1e3);
+            last = Some(s);
+        }
+        times.sort_by(f64::total_cmp);
+        let s = last.context("no repetition")?;
+        let ml = s.most_likely.map(|i| &s.poses[i]);
+        rows.push(BenchRow {
+            object: o.name.clone(),
+            vertices: o.vertices.len(),
+            poses: s.poses.len(),
+            most_likely_normal: ml.map(|p| p.support_normal.map(|x| (x * 1e3).round() / 1e3 + 0.0)),
+            most_likely_probability: ml.map(|p| p.probability),
+            cpu_ms_median: times[times.len() / 2],
+        });
+    }
+    if json {
+        println!("{}", serde_json::to_string_pretty(&rows)?);
+        return Ok(());
+    }
+    println!(
+        "{:<14} {:>8} {:>6} {:>26} {:>7} {:>10}",
+        "object", "vertices", "poses", "most likely normal", "prob", "CPU ms"
+    );
+    for r in &rows {
+        let n = r.most_likely_normal.unwrap_or([f64::NAN; 3]);
+        println!(
+            "{:<14} {:>8} {:>6} {:>26} {:>7.3} {:>10.3}",
+            r.object,
+            r.vertices,
+            r.poses,
+            format!("({:.3}, {:.3}, {:.3})", n[0], n[1], n[2]),
+            r.most_likely_probability.unwrap_or(f64::NAN),
+            r.cpu_ms_median
+        );
+    }
+    println!("meshes written to {}", dir.display());
+    Ok(())
+}
