@@ -6,6 +6,7 @@ mod demo;
 mod ik;
 mod motion;
 mod perceive;
+mod place;
 mod plan;
 mod sim;
 mod stable;
@@ -46,6 +47,10 @@ enum Command {
     /// Pick an object at given coordinates and place it at others (seed 001's integral
     /// test), in the simulator, judged by its physics.
     PickPlace(tasks::PickPlaceArgs),
+    /// Place the object the robot holds stably on a free spot of a surface it finds
+    /// (seed 000): scan it, find how it rests, search surfaces, approach, put it down;
+    /// in the simulator, judged by its physics.
+    Place(place::PlaceArgs),
     /// Perception: surfaces, the table, its objects and free space in a PCD/PLY frame.
     Perceive(perceive::PerceiveArgs),
     /// Task planning in PDDL: plan, validate, benchmark (Fast Downward's role).
@@ -77,6 +82,7 @@ fn main() {
         Command::Plan(args) => plan::run(args),
         Command::Motion { command } => motion::run(command),
         Command::Perceive(args) => perceive::run(args),
+        Command::Place(args) => place::run(args),
         Command::PickPlace(args) => tasks::run(args),
         Command::Sim { command } => sim::run(command),
         Command::StablePoses(args) => stable::run(args),

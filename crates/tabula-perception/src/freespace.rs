@@ -279,16 +279,13 @@ impl FreeSpaceMap {
             * self.resolution
     }
 
-    /// The place nearest to `near` (projected onto the surface) where `footprint` (a
-    /// polygon in its own frame, metres, origin = the point that is placed) fits with
-    /// at least `margin` to every object, unseen patch and edge; `None` if it fits
-    /// nowhere. Orientations are tried in `yaw_samples` steps.
-    pub fn find_place(&self, footprint: &[Vec2], margin: f64, near: Vec3) -> Option<Placement> {
+    /// The footprint's convex outline and, per sampled orientation, the cells it
+    /// covers around its origin; `None` for a footprint that fits nowhere.
+    fn footprint_masks(&self, footprint: &[Vec2], margin: f64) -> Option<FootprintMasks> {
         if footprint.len() < 3
             || !footprint.iter().all(|q| q.is_finite())
             || margin.is_nan()
             || margin < 0.0
-            || !near.is_finite()
         {
             return None;
         }
@@ -302,7 +299,6 @@ impl FreeSpaceMap {
         let res = self.resolution;
         // Cell centres are up to half a diagonal from the true boundary of a cell.
         let slack = res * std::f64::consts::FRAC_1_SQRT_2;
-        let need = margin + slack;
         let reach = h.iter().map(|q| q.length()).fold(0.0, f64::max);
         // A footprint wider than the whole map fits nowhere (and would cost a huge mask).
         if reach > (self.nx.max(self.ny) as f64) * res {
@@ -311,7 +307,7 @@ impl FreeSpaceMap {
         let r = (reach / res).ceil() as isize + 1;
         // Cells each orientation covers (centres inside the footprint or within a
         // half-diagonal of its outline).
-        let shapes: Vec<(f64, Vec<(isize, isize)>)> = (0..self.yaw_samples)
+        let shapes = (0..self.yaw_samples)
             .map(|k| {
                 let yaw = std::f64::consts::TAU * k as f64 / self.yaw_samples as f64;
                 let rot: Vec<Vec2> = h.iter().map(|q| Vec2::from_angle(yaw).rotate(*q)).collect();
@@ -325,51 +321,124 @@ impl FreeSpaceMap {
                 (yaw, cover)
             })
             .collect();
-        let target = self.to_plane(near);
-        let mut order: Vec<(f64, usize)> = (0..self.cells.len())
-            .filter(|&k| self.cells[k] == Cell::Free)
-            .map(|k| (self.cell_centre(k).distance_squared(target), k))
-            .collect();
-        order.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-        for (_, k) in order {
-            if self.clearance[k] < need {
-                continue;
-            }
-            let (i, j) = ((k % self.nx) as isize, (k / self.nx) as isize);
-            let fits = |cover: &[(isize, isize)]| {
+        Some(FootprintMasks {
+            shapes,
+            reach,
+            need: margin + slack,
+        })
+    }
+
+    /// The orientations (yaws) at which the footprint fits with its origin on cell `k`.
+    fn yaws_at(&self, k: usize, m: &FootprintMasks) -> Vec<f64> {
+        if self.cells[k] != Cell::Free || self.clearance[k] < m.need {
+            return Vec::new();
+        }
+        let (i, j) = ((k % self.nx) as isize, (k / self.nx) as isize);
+        // Far from everything: every orientation fits.
+        if self.clearance[k] >= m.reach + m.need {
+            return m.shapes.iter().map(|(yaw, _)| *yaw).collect();
+        }
+        m.shapes
+            .iter()
+            .filter(|(_, cover)| {
                 cover.iter().all(|&(di, dj)| {
                     let (a, b) = (i + di, j + dj);
                     a >= 0
                         && b >= 0
                         && (a as usize) < self.nx
                         && (b as usize) < self.ny
-                        && self.clearance[b as usize * self.nx + a as usize] >= need
+                        && self.clearance[b as usize * self.nx + a as usize] >= m.need
                 })
-            };
-            // Far from everything: any orientation fits.
-            let found = if self.clearance[k] >= reach + need {
-                Some(0.0)
-            } else {
-                shapes
-                    .iter()
-                    .find(|(_, cover)| fits(cover))
-                    .map(|(yaw, _)| *yaw)
-            };
-            if let Some(yaw) = found {
-                let position = self.to_world(self.cell_centre(k));
-                let x = self.u * yaw.cos() + self.v * yaw.sin();
-                let y = self.normal.cross(x);
-                let rotation = Quat::from_mat3(&tabula_geom::Mat3::from_cols(x, y, self.normal));
-                return Some(Placement {
-                    position,
-                    yaw,
-                    world_from_footprint: Pose::from_parts(position, rotation),
-                    clearance: self.clearance[k],
-                });
-            }
-        }
-        None
+            })
+            .map(|(yaw, _)| *yaw)
+            .collect()
     }
+
+    fn placement(&self, k: usize, yaw: f64) -> Placement {
+        let position = self.to_world(self.cell_centre(k));
+        let x = self.u * yaw.cos() + self.v * yaw.sin();
+        let y = self.normal.cross(x);
+        let rotation = Quat::from_mat3(&tabula_geom::Mat3::from_cols(x, y, self.normal));
+        Placement {
+            position,
+            yaw,
+            world_from_footprint: Pose::from_parts(position, rotation),
+            clearance: self.clearance[k],
+        }
+    }
+
+    /// The place nearest to `near` (projected onto the surface) where `footprint` (a
+    /// polygon in its own frame, metres, origin = the point that is placed) fits with
+    /// at least `margin` to every object, unseen patch and edge; `None` if it fits
+    /// nowhere. Orientations are tried in `yaw_samples` steps.
+    pub fn find_place(&self, footprint: &[Vec2], margin: f64, near: Vec3) -> Option<Placement> {
+        if !near.is_finite() {
+            return None;
+        }
+        let masks = self.footprint_masks(footprint, margin)?;
+        let target = self.to_plane(near);
+        let mut order: Vec<(f64, usize)> = (0..self.cells.len())
+            .filter(|&k| self.cells[k] == Cell::Free)
+            .map(|k| (self.cell_centre(k).distance_squared(target), k))
+            .collect();
+        order.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        order.into_iter().find_map(|(_, k)| {
+            self.yaws_at(k, &masks)
+                .first()
+                .map(|&yaw| self.placement(k, yaw))
+        })
+    }
+
+    /// Every place where `footprint` fits with `margin` (as [`Self::find_place`]),
+    /// roomiest first, one per orientation that fits, on cells at least `spacing` apart
+    /// (m), from at most `max_spots` cells: the candidates a placement chooses among by
+    /// what the arm reaches.
+    pub fn places(
+        &self,
+        footprint: &[Vec2],
+        margin: f64,
+        max_spots: usize,
+        spacing: f64,
+    ) -> Vec<Placement> {
+        let Some(masks) = self.footprint_masks(footprint, margin) else {
+            return Vec::new();
+        };
+        let mut order: Vec<usize> = (0..self.cells.len())
+            .filter(|&k| self.cells[k] == Cell::Free && self.clearance[k] >= masks.need)
+            .collect();
+        order.sort_by(|&a, &b| {
+            self.clearance[b]
+                .total_cmp(&self.clearance[a])
+                .then(a.cmp(&b))
+        });
+        let mut taken: Vec<Vec2> = Vec::new();
+        let mut out = Vec::new();
+        for k in order {
+            if taken.len() >= max_spots {
+                break;
+            }
+            let c = self.cell_centre(k);
+            if taken.iter().any(|t| t.distance(c) < spacing) {
+                continue;
+            }
+            let yaws = self.yaws_at(k, &masks);
+            if yaws.is_empty() {
+                continue;
+            }
+            taken.push(c);
+            out.extend(yaws.into_iter().map(|yaw| self.placement(k, yaw)));
+        }
+        out
+    }
+}
+
+/// A footprint prepared for fitting: per orientation, the cells it covers.
+struct FootprintMasks {
+    shapes: Vec<(f64, Vec<(isize, isize)>)>,
+    /// Farthest outline point from the origin (m).
+    reach: f64,
+    /// Clearance every covered cell needs (m).
+    need: f64,
 }
 
 /// Squared Euclidean distance (in cells) from every cell to the nearest blocked cell

@@ -288,6 +288,181 @@ pub fn run_clear_judged<R>(
     Ok((answer, verdict, world))
 }
 
+/// What physics says about placing a held object stably (seed 000): SPEC §1's
+/// outcome, judged from ground truth.
+#[derive(Debug, Clone, Default, serde::Serialize)]
+pub struct StablePlaceVerdict {
+    /// Resting on a surface, inside its edges, within 5° of the planned pose, moved
+    /// < 1 cm after release, nothing else moved > 1 cm, nothing held, no furniture hit.
+    pub success: bool,
+    pub object: String,
+    /// The furniture it rests on (`None`: on the floor or nothing).
+    pub surface: Option<String>,
+    pub inside_edges: bool,
+    /// Angle between the planned and the final orientation (deg).
+    pub orientation_error_deg: f64,
+    /// Distance between the predicted and the final position (m).
+    pub position_error_m: f64,
+    /// How far it moved between release and rest (m).
+    pub moved_after_release_m: f64,
+    pub released: bool,
+    pub disturbed: Vec<String>,
+    pub furniture_contacts: Vec<(String, String)>,
+    /// Poses as x y z qx qy qz qw (world).
+    pub predicted_pose: Option<[f64; 7]>,
+    pub final_pose: [f64; 7],
+}
+
+/// Pass/fail limits of a stable placement (SPEC §1 via the issue: 5°, 1 cm, 1 cm).
+#[derive(Debug, Clone, Copy)]
+pub struct StablePlaceTolerance {
+    pub orientation_deg: f64,
+    pub moved_after_release: f64,
+    pub disturbed: f64,
+    /// The object's lowest point within this of the surface's top (m).
+    pub contact: f64,
+}
+
+impl Default for StablePlaceTolerance {
+    fn default() -> Self {
+        Self {
+            orientation_deg: 5.0,
+            moved_after_release: 0.01,
+            disturbed: 0.01,
+            contact: 0.015,
+        }
+    }
+}
+
+fn pose7(p: &Pose) -> [f64; 7] {
+    let (t, q) = (p.translation, p.rotation);
+    [t.x, t.y, t.z, q.x, q.y, q.z, q.w]
+}
+
+/// Runs a placing `task` with the robot holding an object: watches every step for
+/// furniture contacts and for the moment the object is let go, settles, and judges
+/// against the tool pose the task planned (`world_from_tool` with the object resting;
+/// the task returns it, or `None` when it planned nothing). Returns the task's answer,
+/// the verdict and the world afterwards.
+pub fn run_place_judged<R>(
+    mut world: SimWorld,
+    robot: &str,
+    seed: u64,
+    task: impl FnOnce(&mut crate::SimDriver) -> (R, Option<Pose>),
+) -> Result<(R, StablePlaceVerdict, SimWorld), SimError> {
+    world.settle();
+    let object = world
+        .held_objects(robot)
+        .into_iter()
+        .next()
+        .ok_or_else(|| SimError::Robot(format!("robot `{robot}` holds nothing")))?;
+    let start_object = world.pose(&object)?;
+    // The tool holding it: the gripper tool frame nearest the object.
+    let grippers = world.robot(robot)?.description.grippers.clone();
+    let tool = grippers
+        .iter()
+        .filter_map(|g| world.link_pose(robot, &g.tool_link).ok())
+        .min_by(|a, b| {
+            a.translation
+                .distance(start_object.translation)
+                .total_cmp(&b.translation.distance(start_object.translation))
+        })
+        .ok_or_else(|| SimError::Robot(format!("robot `{robot}` has no gripper")))?;
+    let tool_from_object = tool.inverse() * start_object;
+    let before: Vec<(String, Pose)> = world
+        .object_poses()
+        .into_iter()
+        .filter(|(n, _)| *n != object)
+        .collect();
+    let mut driver = crate::SimDriver::new(world, robot, seed)?;
+    let watch = ContactWatch::default();
+    let mut contacts = watch.observer(robot);
+    let release: Arc<Mutex<Option<Pose>>> = Arc::default();
+    let (r2, obj2, robot2) = (release.clone(), object.clone(), robot.to_string());
+    driver.observe(move |w: &SimWorld| {
+        contacts(w);
+        if let Ok(mut r) = r2.lock()
+            && r.is_none()
+            && !w.held_objects(&robot2).contains(&obj2)
+        {
+            *r = w.pose(&obj2).ok();
+        }
+    });
+    let (answer, planned) = task(&mut driver);
+    let mut world = driver.world;
+    world.settle();
+    let now = world.pose(&object)?;
+    let released_at = release.lock().ok().and_then(|r| *r);
+    let predicted = planned.map(|p| p * tool_from_object);
+    let tol = StablePlaceTolerance::default();
+    let bounds = world.entity_bounds(&object);
+    // The furniture under it: its top within reach of the object's lowest point and
+    // its centre over the top's outline.
+    let mut surface = None;
+    let mut inside_edges = false;
+    if let Some(b) = &bounds {
+        for name in world
+            .furniture_shapes()
+            .into_iter()
+            .map(|(n, _, _)| n)
+            .collect::<std::collections::BTreeSet<_>>()
+        {
+            let Some(f) = furniture_bounds(&world, &name) else {
+                continue;
+            };
+            let c = now.translation;
+            let over = c.x >= f.mins.x && c.x <= f.maxs.x && c.y >= f.mins.y && c.y <= f.maxs.y;
+            if over && (b.mins.z - f.maxs.z).abs() <= tol.contact {
+                inside_edges = b.mins.x >= f.mins.x
+                    && b.maxs.x <= f.maxs.x
+                    && b.mins.y >= f.mins.y
+                    && b.maxs.y <= f.maxs.y;
+                surface = Some(name);
+                break;
+            }
+        }
+    }
+    let orientation_error_deg = predicted.map_or(180.0, |p| {
+        tabula_geom::rotation_angle_between(p.rotation, now.rotation).to_degrees()
+    });
+    let position_error_m =
+        predicted.map_or(f64::INFINITY, |p| p.translation.distance(now.translation));
+    let moved_after_release_m =
+        released_at.map_or(f64::INFINITY, |r| r.translation.distance(now.translation));
+    let disturbed: Vec<String> = before
+        .iter()
+        .filter(|(n, p)| {
+            world
+                .pose(n)
+                .is_ok_and(|q| q.translation.distance(p.translation) > tol.disturbed)
+        })
+        .map(|(n, _)| n.clone())
+        .collect();
+    let furniture_contacts = watch.seen();
+    let released = released_at.is_some() && world.held_objects(robot).is_empty();
+    let verdict = StablePlaceVerdict {
+        success: surface.is_some()
+            && inside_edges
+            && orientation_error_deg <= tol.orientation_deg
+            && moved_after_release_m < tol.moved_after_release
+            && disturbed.is_empty()
+            && furniture_contacts.is_empty()
+            && released,
+        object,
+        surface,
+        inside_edges,
+        orientation_error_deg,
+        position_error_m,
+        moved_after_release_m,
+        released,
+        disturbed,
+        furniture_contacts,
+        predicted_pose: predicted.map(|p| pose7(&p)),
+        final_pose: pose7(&now),
+    };
+    Ok((answer, verdict, world))
+}
+
 /// The bounds of every part of a piece of furniture.
 pub fn furniture_bounds(world: &SimWorld, name: &str) -> Option<Aabb> {
     world

@@ -669,6 +669,21 @@ impl SimWorld {
         out
     }
 
+    /// The world bounds of a named entity's colliders.
+    pub fn entity_bounds(&self, name: &str) -> Option<tabula_geom::parry::bounding_volume::Aabb> {
+        use tabula_geom::parry::bounding_volume::BoundingVolume;
+        let i = self.entity(name)?;
+        let body = &self.physics.bodies[self.entities[i].body];
+        body.colliders()
+            .iter()
+            .map(|&ch| {
+                let c = &self.physics.colliders[ch];
+                let pose = *body.position() * *c.position_wrt_parent().unwrap_or(&Pose::IDENTITY);
+                c.shared_shape().compute_aabb(&pose)
+            })
+            .reduce(|a, b| a.merged(&b))
+    }
+
     /// Every object's name and pose.
     pub fn object_poses(&self) -> Vec<(String, Pose)> {
         self.live_entities()

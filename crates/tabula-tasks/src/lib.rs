@@ -12,4 +12,5 @@
 pub mod clear;
 pub mod observe;
 pub mod pick_place;
+pub mod place;
 pub mod stable;

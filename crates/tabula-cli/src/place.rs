@@ -1,0 +1,198 @@
+//! `tabula place` and `tabula bench place`: placing an unknown held object stably
+//! (seed 000) in the simulator, judged by its physics.
+
+use crate::tasks::{TaskRunArgs, load_params, scene_robot};
+use anyhow::Result;
+use serde::Serialize;
+use tabula_geom::{Pose, Quat, Vec3};
+use tabula_sim::SimWorld;
+use tabula_sim::verdict::{StablePlaceVerdict, run_place_judged};
+use tabula_tasks::pick_place::Phase;
+use tabula_tasks::place::{PlaceParams, PlaceReport, PlaceRequest, place};
+use tabula_tasks::stable::StablePose;
+
+#[derive(clap::Args)]
+pub struct PlaceArgs {
+    #[command(flatten)]
+    pub run: TaskRunArgs,
+    /// The arm holding the object (`auto`: the one whose gripper is closed).
+    #[arg(long, default_value = "auto")]
+    pub arm: String,
+}
+
+/// A typed failure: its kind and its message.
+#[derive(Debug, Clone, Serialize)]
+pub struct TypedError {
+    pub kind: String,
+    pub message: String,
+}
+
+/// Everything `place` prints with `--json`.
+#[derive(Debug, Clone, Serialize)]
+pub struct PlaceJson {
+    pub success: bool,
+    /// The furniture the object rests on (physics), and the surface perceived.
+    pub surface: Option<String>,
+    pub stable_pose: Option<StablePose>,
+    /// Poses as x y z qx qy qz qw (world).
+    pub predicted_pose: Option<[f64; 7]>,
+    pub final_pose: [f64; 7],
+    pub orientation_error_deg: f64,
+    pub phases: Vec<Phase>,
+    pub decision_ms: f64,
+    pub error: Option<TypedError>,
+    pub report: PlaceReport,
+    pub verdict: StablePlaceVerdict,
+}
+
+/// One placement in `world`, judged by its physics; returns the world afterwards.
+pub fn place_in(
+    world: SimWorld,
+    robot: Option<&str>,
+    request: &PlaceRequest,
+    params: &PlaceParams,
+    seed: u64,
+) -> Result<(PlaceJson, SimWorld)> {
+    let robot_name = scene_robot(&world, robot)?;
+    let robot = {
+        let r = world.robot(&robot_name)?;
+        tabula_robot::robots::NamedRobot::new(r.model.clone(), r.description.clone(), &robot_name)
+    };
+    let (outcome, verdict, world) = run_place_judged(world, &robot_name, seed, |driver| {
+        let out = place(driver, &robot, request, params);
+        let planned = out.report.planned_world_from_tool.and_then(|p| {
+            let q = Quat::from_xyzw(p[3], p[4], p[5], p[6]);
+            let pose = Pose::from_parts(Vec3::new(p[0], p[1], p[2]), q);
+            // The prediction is the object resting: the tool's pose lowered by the
+            // release height.
+            out.error.is_none().then(|| {
+                Pose::from_parts(
+                    pose.translation - Vec3::Z * params.release_height,
+                    pose.rotation,
+                )
+            })
+        });
+        (out, planned)
+    })?;
+    let error = outcome.error.as_ref().map(|e| TypedError {
+        kind: e.kind().into(),
+        message: e.to_string(),
+    });
+    let success = verdict.success && error.is_none();
+    Ok((
+        PlaceJson {
+            success,
+            surface: verdict.surface.clone(),
+            stable_pose: outcome.report.stable_pose.clone(),
+            predicted_pose: verdict.predicted_pose,
+            final_pose: verdict.final_pose,
+            orientation_error_deg: verdict.orientation_error_deg,
+            phases: outcome.report.phases.clone(),
+            decision_ms: outcome.report.decision_ms,
+            error,
+            report: outcome.report,
+            verdict,
+        },
+        world,
+    ))
+}
+
+pub fn run(a: PlaceArgs) -> Result<()> {
+    let params: PlaceParams = load_params(a.run.params.as_deref())?;
+    let request = PlaceRequest {
+        arm: (a.arm != "auto").then(|| a.arm.clone()),
+    };
+    let (out, world) = place_in(
+        a.run.world()?,
+        a.run.robot.as_deref(),
+        &request,
+        &params,
+        a.run.seed,
+    )?;
+    a.run.save(&world, &out)?;
+    if a.run.json {
+        println!("{}", serde_json::to_string_pretty(&out)?);
+    } else {
+        print_summary(&out);
+    }
+    if !out.success {
+        std::process::exit(2);
+    }
+    Ok(())
+}
+
+fn print_summary(out: &PlaceJson) {
+    let r = &out.report;
+    println!(
+        "place: {} (arm {})",
+        if out.success { "success" } else { "FAILED" },
+        r.arm.as_deref().unwrap_or("-")
+    );
+    if let Some(m) = &r.model {
+        println!(
+            "  model: {} points from {}/{} views, {:.0} × {:.0} × {:.0} mm, hull {:.1} cm³",
+            m.points,
+            m.views,
+            m.views_tried,
+            m.size[0] * 1e3,
+            m.size[1] * 1e3,
+            m.size[2] * 1e3,
+            m.hull_volume_m3 * 1e6
+        );
+    }
+    if let Some(s) = &out.stable_pose {
+        println!(
+            "  stable pose: normal ({:.2}, {:.2}, {:.2}) in the tool, margin {:.1} mm, topples at {:.1}° (of {} poses)",
+            s.support_normal[0],
+            s.support_normal[1],
+            s.support_normal[2],
+            s.margin_m * 1e3,
+            s.topple_deg,
+            r.poses_found
+        );
+    }
+    if let Some(s) = &r.surface {
+        println!(
+            "  surface: {:.3} m high at ({:.2}, {:.2}), {:.0} cm² ({} found)",
+            s.height,
+            s.centroid[0],
+            s.centroid[1],
+            s.area_m2 * 1e4,
+            r.surfaces_found
+        );
+    }
+    if let Some(g) = r.base_goal {
+        println!(
+            "  base drove to ({:.2}, {:.2}, {:.0}°)",
+            g[0],
+            g[1],
+            g[2].to_degrees()
+        );
+    }
+    if let Some(e) = &out.error {
+        println!("  error ({}): {}", e.kind, e.message);
+        for why in r.rejected.iter().take(10) {
+            println!("    rejected: {why}");
+        }
+    }
+    for p in &out.phases {
+        println!(
+            "  {:<22} {:>9.1} ms  {}",
+            p.name,
+            p.ms,
+            if p.ok { "ok" } else { "failed" }
+        );
+    }
+    println!("  decision (CPU)         {:>9.1} ms", out.decision_ms);
+    let v = &out.verdict;
+    println!(
+        "  verdict: `{}` on {}, {} its edges, {:.1}° from the planned pose, moved {:.1} mm after release, {} disturbed, {} furniture contacts",
+        v.object,
+        v.surface.as_deref().unwrap_or("nothing"),
+        if v.inside_edges { "inside" } else { "outside" },
+        v.orientation_error_deg,
+        v.moved_after_release_m * 1e3,
+        v.disturbed.len(),
+        v.furniture_contacts.len()
+    );
+}
