@@ -62,6 +62,26 @@ pub enum BenchCommand {
         #[arg(long)]
         json: bool,
     },
+    /// Seed 000's placing on a generated suite: success by physics with 95 % intervals,
+    /// failures by cause, decision CPU time.
+    Place {
+        /// `simple` (cubes, boxes, cylinders) or `complex` (mugs, drills, bottles, …).
+        #[arg(long, default_value = "simple")]
+        suite: String,
+        #[arg(long, default_value_t = 20)]
+        trials: u64,
+        /// First task seed (tasks use seed, seed + 1, …).
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// Parameters (TOML, `PlaceParams`).
+        #[arg(long)]
+        params: Option<std::path::PathBuf>,
+        /// Write the scene of every failed task into this folder.
+        #[arg(long)]
+        save_failures: Option<std::path::PathBuf>,
+        #[arg(long)]
+        json: bool,
+    },
     /// Stable poses of the test objects (written as OBJ files for the side-by-side with
     /// trimesh: `scripts/trimesh_stable_poses.py DIR`): median CPU ms, most likely pose.
     StablePoses {
@@ -89,6 +109,21 @@ pub fn run(c: BenchCommand) -> Result<()> {
         } => crate::clear::bench(
             &suite,
             scenes,
+            seed,
+            params.as_deref(),
+            save_failures.as_deref(),
+            json,
+        ),
+        BenchCommand::Place {
+            suite,
+            trials,
+            seed,
+            params,
+            save_failures,
+            json,
+        } => crate::place::bench(
+            &suite,
+            trials,
             seed,
             params.as_deref(),
             save_failures.as_deref(),

@@ -181,7 +181,7 @@ struct BenchRow {
 }
 
 /// Wilson score interval (95 %) of `k` successes in `n`.
-fn wilson(k: usize, n: usize) -> (f64, f64) {
+pub fn wilson(k: usize, n: usize) -> (f64, f64) {
     if n == 0 {
         return (0.0, 1.0);
     }

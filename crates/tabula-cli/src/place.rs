@@ -99,16 +99,16 @@ pub fn place_in(
 
 pub fn run(a: PlaceArgs) -> Result<()> {
     let params: PlaceParams = load_params(a.run.params.as_deref())?;
+    let world = a.run.world()?;
+    let robot = scene_robot(&world, a.run.robot.as_deref())?;
     let request = PlaceRequest {
-        arm: (a.arm != "auto").then(|| a.arm.clone()),
+        arm: if a.arm == "auto" {
+            held_by(&world, &robot)
+        } else {
+            Some(a.arm.clone())
+        },
     };
-    let (out, world) = place_in(
-        a.run.world()?,
-        a.run.robot.as_deref(),
-        &request,
-        &params,
-        a.run.seed,
-    )?;
+    let (out, world) = place_in(world, Some(&robot), &request, &params, a.run.seed)?;
     a.run.save(&world, &out)?;
     if a.run.json {
         println!("{}", serde_json::to_string_pretty(&out)?);
@@ -195,4 +195,165 @@ fn print_summary(out: &PlaceJson) {
         v.disturbed.len(),
         v.furniture_contacts.len()
     );
+}
+
+/// The arm holding the scene's held object (the scene's `hold` says which gripper):
+/// the task's precondition, as a user would state it.
+fn held_by(world: &SimWorld, robot: &str) -> Option<String> {
+    let r = world.robot(robot).ok()?;
+    let object = world.held_objects(robot).into_iter().next()?;
+    let at = world.pose(&object).ok()?.translation;
+    r.description
+        .arms
+        .iter()
+        .filter_map(|a| {
+            let g = r.description.grippers.iter().find(|g| Some(&g.name) == a.gripper.as_ref())?;
+            let tool = world.link_pose(robot, &g.tool_link).ok()?;
+            Some((tool.translation.distance(at), a.name.clone()))
+        })
+        .min_by(|a, b| a.0.total_cmp(&b.0))
+        .map(|(_, n)| n)
+}
+
+#[derive(Serialize)]
+struct BenchRow {
+    seed: u64,
+    object: String,
+    layout: tabula_sim::generate::PlaceLayout,
+    clutter: usize,
+    arm: String,
+    success: bool,
+    cause: Option<String>,
+    orientation_error_deg: f64,
+    moved_after_release_mm: f64,
+    decision_ms: f64,
+    wall_s: f64,
+}
+
+/// `tabula bench place`: the generated suite, each task placed in the simulator (both
+/// cores, one task each) and judged by physics.
+pub fn bench(
+    suite: &str,
+    trials: u64,
+    seed: u64,
+    params: Option<&std::path::Path>,
+    save_failures: Option<&std::path::Path>,
+    json: bool,
+) -> Result<()> {
+    use rayon::prelude::*;
+    let simple = match suite {
+        "simple" => true,
+        "complex" => false,
+        other => anyhow::bail!("--suite is `simple` or `complex`, not `{other}`"),
+    };
+    let params: PlaceParams = load_params(params)?;
+    let mesh_dir = std::env::temp_dir().join(format!("tabula-place-meshes-{}", std::process::id()));
+    if let Some(d) = save_failures {
+        std::fs::create_dir_all(d)?;
+    }
+    let rows: Vec<Result<BenchRow>> = (seed..seed + trials)
+        .into_par_iter()
+        .map(|s| {
+            let task = tabula_sim::generate::place_task(s, simple, &mesh_dir)?;
+            let scene = tabula_sim::Scene::parse(&task.scene, "generated")?;
+            let world = SimWorld::from_scene(&scene, Default::default())?;
+            let t0 = std::time::Instant::now();
+            let request = PlaceRequest {
+                arm: Some(task.arm.clone()),
+            };
+            let (out, _) = place_in(world, None, &request, &params, s)?;
+            let cause = if out.success {
+                None
+            } else if let Some(e) = &out.error {
+                Some(e.kind.clone())
+            } else {
+                let v = &out.verdict;
+                Some(
+                    if v.surface.is_none() {
+                        "fell off"
+                    } else if !v.inside_edges {
+                        "over the edge"
+                    } else if v.orientation_error_deg > 5.0 {
+                        "toppled or turned"
+                    } else if v.moved_after_release_m >= 0.01 {
+                        "slid after release"
+                    } else if !v.disturbed.is_empty() {
+                        "disturbed others"
+                    } else if !v.furniture_contacts.is_empty() {
+                        "hit furniture"
+                    } else {
+                        "not released"
+                    }
+                    .to_string(),
+                )
+            };
+            if let (Some(d), Some(_)) = (save_failures, &cause) {
+                std::fs::write(d.join(format!("place-{suite}-{s}.toml")), &task.scene)?;
+            }
+            Ok(BenchRow {
+                seed: s,
+                object: task.object,
+                layout: task.layout,
+                clutter: task.clutter,
+                arm: task.arm,
+                success: out.success,
+                cause,
+                orientation_error_deg: out.orientation_error_deg,
+                moved_after_release_mm: out.verdict.moved_after_release_m * 1e3,
+                decision_ms: out.decision_ms,
+                wall_s: t0.elapsed().as_secs_f64(),
+            })
+        })
+        .collect();
+    let _ = std::fs::remove_dir_all(&mesh_dir);
+    let rows: Vec<BenchRow> = rows.into_iter().collect::<Result<_>>()?;
+    if json {
+        println!("{}", serde_json::to_string_pretty(&rows)?);
+        return Ok(());
+    }
+    for r in &rows {
+        println!(
+            "{:>5} {:<14} {:<7} clutter {} {:<5} {:<8} {:>6.1}° {:>7.1} mm {:>8.1} ms  {}",
+            r.seed,
+            r.object,
+            format!("{:?}", r.layout).to_lowercase(),
+            r.clutter,
+            r.arm,
+            if r.success { "placed" } else { "FAILED" },
+            r.orientation_error_deg.min(999.0),
+            r.moved_after_release_mm.min(9999.0),
+            r.decision_ms,
+            r.cause.as_deref().unwrap_or("")
+        );
+    }
+    let n = rows.len();
+    let k = rows.iter().filter(|r| r.success).count();
+    let (lo, hi) = crate::clear::wilson(k, n);
+    let mut causes: std::collections::BTreeMap<&str, usize> = Default::default();
+    for r in &rows {
+        if let Some(c) = &r.cause {
+            *causes.entry(c.as_str()).or_default() += 1;
+        }
+    }
+    let decisions: Vec<f64> = rows.iter().map(|r| r.decision_ms).collect();
+    let d = tabula_robot::ik::bench::Spread::of(&decisions);
+    println!(
+        "{suite}: {k}/{n} placed = {:.1} % (95 % interval {:.1}–{:.1} %); decision CPU median {:.0} ms, p95 {:.0} ms",
+        100.0 * k as f64 / n.max(1) as f64,
+        lo * 100.0,
+        hi * 100.0,
+        d.median,
+        d.p95
+    );
+    if !causes.is_empty() {
+        println!(
+            "failures by cause: {}",
+            causes
+                .iter()
+                .map(|(c, n)| format!("{c} {n}"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
+    }
+    Ok(())
 }

@@ -896,3 +896,270 @@ fn pile(rng: &mut ChaCha8Rng) -> Vec<Placed> {
     }
     out
 }
+
+/// Where the surface stands relative to the robot in a placing task.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum PlaceLayout {
+    Front,
+    Side,
+    Behind,
+    Far,
+}
+
+/// A generated placing task (seed 000): a PR2 holding an object in one gripper, a
+/// table somewhere around it, maybe cluttered.
+#[derive(Debug, Clone)]
+pub struct PlaceTask {
+    pub scene: String,
+    /// The held object's catalogue name (`cube`, `mug`, …).
+    pub object: String,
+    pub simple: bool,
+    pub layout: PlaceLayout,
+    pub clutter: usize,
+    pub arm: String,
+}
+
+/// The placing suite's task `seed`: simple objects (cubes, boxes, cylinders of several
+/// sizes, as primitives) or complex ones (the catalogue's meshes, written into
+/// `mesh_dir` once and scaled), held in an odd grip (any angle about the closing axis,
+/// the palm against the object's back), with a table in front, to a side, behind or far
+/// away, cluttered half of the time. Same seed, same task.
+pub fn place_task(seed: u64, simple: bool, mesh_dir: &std::path::Path) -> std::io::Result<PlaceTask> {
+    use crate::objects::{ObjectMesh, catalogue, cuboid, lathe};
+    use tabula_geom::Vec3;
+    let mut rng = ChaCha8Rng::seed_from_u64(seed ^ if simple { 0x5117 } else { 0xC0A7 });
+    // ---- The object: its shape line in the scene and its mesh (object frame).
+    let (name, shape_toml, mesh): (String, String, ObjectMesh) = if simple {
+        match rng.random_range(0..3) {
+            0 => {
+                let a = rng.random_range(0.04..0.07);
+                let m = ObjectMesh::from_parts("cube", true, cuboid(Vec3::splat(-a / 2.0), Vec3::splat(a)));
+                ("cube".into(), format!("{{ box = [{a:.4}, {a:.4}, {a:.4}] }}"), m)
+            }
+            1 => {
+                let s = [
+                    rng.random_range(0.04..0.07),
+                    rng.random_range(0.05..0.16),
+                    rng.random_range(0.03..0.15),
+                ];
+                let m = ObjectMesh::from_parts(
+                    "box",
+                    true,
+                    cuboid(-Vec3::from_array(s) / 2.0, Vec3::from_array(s)),
+                );
+                (
+                    "box".into(),
+                    format!("{{ box = [{:.4}, {:.4}, {:.4}] }}", s[0], s[1], s[2]),
+                    m,
+                )
+            }
+            _ => {
+                let (r, h) = (rng.random_range(0.02..0.036), rng.random_range(0.05..0.16));
+                let m = ObjectMesh::from_parts(
+                    "cylinder",
+                    true,
+                    lathe(&[(0.0, -h / 2.0), (r, -h / 2.0), (r, h / 2.0), (0.0, h / 2.0)], 32),
+                );
+                (
+                    "cylinder".into(),
+                    format!("{{ cylinder = {{ radius = {r:.4}, height = {h:.4} }} }}"),
+                    m,
+                )
+            }
+        }
+    } else {
+        let complex: Vec<ObjectMesh> = catalogue().into_iter().filter(|o| !o.simple).collect();
+        let o = complex[rng.random_range(0..complex.len())].clone();
+        std::fs::create_dir_all(mesh_dir)?;
+        let path = mesh_dir.join(format!("{}.obj", o.name));
+        if !path.exists() {
+            std::fs::write(&path, o.to_obj())?;
+        }
+        // Scaled so that its narrowest side fits the PR2's 9 cm opening.
+        let (lo, hi) = bounds(&o.vertices);
+        let fit = 0.075 / (hi - lo).min_element().max(1e-3);
+        let scale = rng.random_range(0.85..1.15f64).min(fit);
+        let scaled = ObjectMesh::from_parts(
+            &o.name,
+            false,
+            (
+                o.vertices.iter().map(|v| *v * scale).collect(),
+                o.triangles.clone(),
+            ),
+        );
+        (
+            o.name.clone(),
+            format!(
+                "{{ mesh = {{ path = \"{}\", scale = [{scale:.4}, {scale:.4}, {scale:.4}] }} }}",
+                path.display()
+            ),
+            scaled,
+        )
+    };
+    // ---- The grip: fingers closing along an object axis narrow enough, the approach
+    // at any angle about it, the palm against the object's back.
+    let (lo, hi) = bounds(&mesh.vertices);
+    let extent = hi - lo;
+    let axes: Vec<Vec3> = [Vec3::X, Vec3::Y, Vec3::Z]
+        .into_iter()
+        .zip(extent.to_array())
+        .filter(|(_, e)| *e <= 0.078)
+        .map(|(a, _)| a)
+        .collect();
+    let closing = axes[rng.random_range(0..axes.len().max(1)).min(axes.len().saturating_sub(1))];
+    let (u, v) = (closing.any_orthonormal_vector(), closing.cross(closing.any_orthonormal_vector()));
+    let theta = rng.random_range(0.0..std::f64::consts::TAU);
+    let approach = u * theta.cos() + v * theta.sin();
+    let mut origin = (lo + hi) / 2.0;
+    let behind = mesh
+        .vertices
+        .iter()
+        .map(|p| (*p - origin).dot(-approach))
+        .fold(f64::NEG_INFINITY, f64::max);
+    if behind > 0.035 {
+        origin -= approach * (behind - 0.035);
+    }
+    // Seated on the finger pads: the object reaches past the fingertips (2.25 cm beyond
+    // the tool frame on a PR2) where it can, as a grasp closed on it would hold it.
+    let front = mesh
+        .vertices
+        .iter()
+        .map(|p| (*p - origin).dot(approach))
+        .fold(f64::NEG_INFINITY, f64::max);
+    if front < 0.03 {
+        origin += approach * (front - 0.03);
+    }
+    let object_from_tool = tabula_geom::Pose::from_parts(
+        origin,
+        tabula_geom::Quat::from_mat3(&tabula_geom::Mat3::from_cols(
+            approach,
+            closing,
+            approach.cross(closing),
+        )),
+    );
+    let tool_from_object = object_from_tool.inverse();
+    let rpy = tabula_geom::rpy_from_quat(tool_from_object.rotation);
+    let t = tool_from_object.translation;
+    // ---- The arm holding it, the other one out to the side.
+    let right = rng.random_bool(0.5);
+    let (arm, side) = if right { ("right", 'r') } else { ("left", 'l') };
+    let other = if right { 'l' } else { 'r' };
+    let sign = if right { 1.0 } else { -1.0 };
+    // ---- The table.
+    let layout = match rng.random_range(0..4) {
+        0 => PlaceLayout::Front,
+        1 => PlaceLayout::Side,
+        2 => PlaceLayout::Behind,
+        _ => PlaceLayout::Far,
+    };
+    let size = [
+        rng.random_range(0.5..0.9),
+        rng.random_range(0.7..1.4),
+        rng.random_range(0.6..0.9),
+    ];
+    let yaw_jitter = rng.random_range(-0.35..0.35);
+    let (center, yaw) = match layout {
+        PlaceLayout::Front => (
+            [0.85 + size[0] / 2.0 + rng.random_range(0.0..0.6), rng.random_range(-0.4..0.4)],
+            yaw_jitter,
+        ),
+        PlaceLayout::Side => {
+            let s = if rng.random_bool(0.5) { 1.0 } else { -1.0 };
+            (
+                [rng.random_range(-0.3..0.5), s * (0.75 + size[0] / 2.0 + rng.random_range(0.0..0.6))],
+                std::f64::consts::FRAC_PI_2 + yaw_jitter,
+            )
+        }
+        PlaceLayout::Behind => (
+            [-(0.75 + size[0] / 2.0 + rng.random_range(0.0..0.6)), rng.random_range(-0.4..0.4)],
+            yaw_jitter,
+        ),
+        PlaceLayout::Far => (
+            [2.3 + size[0] / 2.0 + rng.random_range(0.0..0.5), rng.random_range(-0.5..0.5)],
+            yaw_jitter,
+        ),
+    };
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "# Generated by tabula_sim::generate::place_task(seed = {seed}, simple = {simple}): {name} in the {arm} gripper, table {layout:?}\n"
+    );
+    let _ = writeln!(s, "[floor]\nsize = [10.0, 10.0]\n");
+    let _ = writeln!(
+        s,
+        "[[furniture]]\nname = \"table\"\nkind = \"table\"\npose = {{ xyz = [{:.3}, {:.3}, 0.0], rpy = [0.0, 0.0, {yaw:.4}] }}\nsize = [{:.3}, {:.3}, {:.3}]\n",
+        center[0], center[1], size[0], size[1], size[2]
+    );
+    // Clutter half of the time: a few objects standing on the table.
+    let clutter = if rng.random_bool(0.5) { rng.random_range(2..7) } else { 0 };
+    let mut placed: Vec<([f64; 2], f64)> = Vec::new();
+    for _ in 0..clutter * 20 {
+        if placed.len() >= clutter {
+            break;
+        }
+        let shape = random_shape(&mut rng);
+        let r = shape.reach();
+        let local = [
+            rng.random_range(-(size[0] / 2.0 - r - 0.03)..(size[0] / 2.0 - r - 0.03)),
+            rng.random_range(-(size[1] / 2.0 - r - 0.03)..(size[1] / 2.0 - r - 0.03)),
+        ];
+        let (sy, cy) = yaw.sin_cos();
+        let xy = [
+            center[0] + cy * local[0] - sy * local[1],
+            center[1] + sy * local[0] + cy * local[1],
+        ];
+        if placed
+            .iter()
+            .any(|(p, pr)| ((p[0] - xy[0]).powi(2) + (p[1] - xy[1]).powi(2)).sqrt() < r + pr + 0.12)
+        {
+            continue;
+        }
+        let i = placed.len();
+        placed.push((xy, r));
+        let _ = writeln!(
+            s,
+            "[[object]]\nname = \"clutter{i}\"\nshape = {}\npose = {{ xyz = [{:.4}, {:.4}, {:.4}], rpy = [0.0, 0.0, {:.3}] }}\ndensity = 400.0\ncolor = [0.3, 0.5, 0.8]\n",
+            shape.toml(),
+            xy[0],
+            xy[1],
+            size[2] + shape.height() / 2.0,
+            rng.random_range(0.0..3.0)
+        );
+    }
+    let _ = writeln!(
+        s,
+        "[[object]]\nname = \"held\"\nshape = {shape_toml}\npose = {{ xyz = [0.5, 0.0, 1.0] }}\ndensity = 500.0\ncolor = [0.9, 0.6, 0.2]\n"
+    );
+    let _ = writeln!(
+        s,
+        "[[robot]]\nname = \"pr2\"\nurdf = \"pr2\"\njoints = {{ torso_lift_joint = 0.2, head_tilt_joint = 0.5, {side}_shoulder_pan_joint = {:.2}, {side}_shoulder_lift_joint = 0.2, {side}_elbow_flex_joint = -1.0, {side}_wrist_flex_joint = -0.6, {other}_shoulder_pan_joint = {:.2}, {other}_elbow_flex_joint = -2.0, {other}_wrist_flex_joint = -0.5 }}\nhold = {{ object = \"held\", tool_link = \"{side}_gripper_tool_frame\", finger_joint = \"{side}_gripper_l_finger_joint\", fingers = [\"{side}_gripper_l_finger_link\", \"{side}_gripper_r_finger_link\"], palm = \"{side}_gripper_palm_link\", tool_from_object = {{ xyz = [{:.4}, {:.4}, {:.4}], rpy = [{:.4}, {:.4}, {:.4}] }} }}\n",
+        -0.3 * sign,
+        1.5 * sign,
+        t.x,
+        t.y,
+        t.z,
+        rpy[0],
+        rpy[1],
+        rpy[2]
+    );
+    let _ = writeln!(
+        s,
+        "[[camera]]\nname = \"head\"\nrobot = \"pr2\"\nlink = \"head_camera_optical_frame\"\n"
+    );
+    Ok(PlaceTask {
+        scene: s,
+        object: name,
+        simple,
+        layout,
+        clutter: placed.len(),
+        arm: arm.into(),
+    })
+}
+
+fn bounds(v: &[tabula_geom::Vec3]) -> (tabula_geom::Vec3, tabula_geom::Vec3) {
+    v.iter().fold(
+        (tabula_geom::Vec3::splat(f64::INFINITY), tabula_geom::Vec3::splat(f64::NEG_INFINITY)),
+        |(a, b), p| (a.min(*p), b.max(*p)),
+    )
+}

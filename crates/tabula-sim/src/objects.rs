@@ -29,6 +29,16 @@ impl ObjectMesh {
         }
     }
 
+    /// A mesh from its parts.
+    pub fn from_parts(name: &str, simple: bool, (vertices, triangles): (Vec<Vec3>, Vec<[u32; 3]>)) -> Self {
+        Self {
+            name: name.into(),
+            simple,
+            vertices,
+            triangles,
+        }
+    }
+
     /// Appends another closed part (disjoint from the rest or touching it on a face).
     fn add(mut self, part: (Vec<Vec3>, Vec<[u32; 3]>)) -> Self {
         let off = self.vertices.len() as u32;

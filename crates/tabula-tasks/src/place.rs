@@ -111,7 +111,7 @@ impl Default for PlaceParams {
                 // Absolute thresholds (area, inscribed disc) decide; a share of a
                 // merged sweep says nothing about one table.
                 min_plane_fraction: 0.0,
-                stop_fraction: 0.02,
+                stop_fraction: 0.0,
                 height_range: [0.25, 1.3],
                 ..SurfaceParams::default()
             },
@@ -389,11 +389,15 @@ impl Run<'_> {
         let mut scene = seen;
         let mut turned = false;
         loop {
-            let surfaces = self.phase("surface search", |r| {
-                r.search_surfaces(driver, &arm, &hull, &mut scene)
-            })?;
-            self.report.surfaces_found = self.report.surfaces_found.max(surfaces.len());
-            match self.try_surfaces(driver, &arm, &hull, &poses, &surfaces, &mut scene) {
+            let found = self
+                .phase("surface search", |r| {
+                    r.search_surfaces(driver, &arm, &hull, &mut scene)
+                })
+                .and_then(|surfaces| {
+                    self.report.surfaces_found = self.report.surfaces_found.max(surfaces.len());
+                    self.try_surfaces(driver, &arm, &hull, &poses, &surfaces, &mut scene)
+                });
+            match found {
                 Ok(()) => return Ok(()),
                 Err(e) if self.params.turn_around && !turned && retry_behind(&e) => {
                     // Nothing usable in front: turn around and look behind.
@@ -433,13 +437,17 @@ impl Run<'_> {
         // around the arms before they move.
         let tool_now = tool_pose(robot, &state, root, &tool_link)?;
         let first = self.scan_view(driver, &tool_link, tool_now.translation, &mut scene)?;
-        let extent = first.iter().map(|q| q.length()).fold(0.0, f64::max);
-        model.extend(first);
-        let radius = if extent > 0.0 {
-            (extent + 0.03).min(p.protective_radius)
+        // The protective sphere (SPEC §1.1) around what this first view shows of the
+        // object, a little larger than it: the seed's fixed 20 cm ball around the palm
+        // would hold the wrist inside it and let no view be planned.
+        let (sphere_centre, radius) = if first.len() >= 10 {
+            let c = first.iter().copied().sum::<Vec3>() / first.len() as f64;
+            let r = first.iter().map(|q| q.distance(c)).fold(0.0, f64::max);
+            (c, (r + 0.03).min(p.protective_radius))
         } else {
-            p.protective_radius
+            (Vec3::ZERO, p.protective_radius)
         };
+        model.extend(first);
         let cam = driver.capture(&p.camera)?.world_from_camera.translation;
         let forward = heading_vector(&world_from_base(robot, driver)?);
         let target = Vec3::new(cam.x, cam.y, cam.z - p.scan_drop) + forward * p.scan_distance;
@@ -480,7 +488,7 @@ impl Run<'_> {
         group.attach(
             "protective sphere",
             SharedShape::ball(radius),
-            Pose::IDENTITY,
+            Pose::from_translation(sphere_centre),
         )?;
         let mut used = 0usize;
         let to_camera = (cam - target).normalize_or(Vec3::Z);
@@ -664,6 +672,7 @@ impl Run<'_> {
         self.occupy(&mut group, scene, None);
         group.attach("object", hull.clone(), Pose::IDENTITY)?;
         let start = group.arm_values(&state);
+        let world_base = world_from_base(robot, driver)?;
         let base = group
             .world
             .world_from_chain_base()
@@ -679,19 +688,23 @@ impl Run<'_> {
                     .map(|g| g.tool_link.clone())
                     .unwrap_or_default(),
             )?;
-            let local = root.inverse().transform_point(tool.translation);
+            let local = world_base.inverse().transform_point(tool.translation);
             if local.y >= 0.0 { 1.0 } else { -1.0 }
         };
+        // High beside the head: the sweep looks down at surfaces, below it.
+        let camera_z = driver.capture(&self.params.camera)?.world_from_camera.translation.z;
+        let _ = base;
         let plan = self.decide(|_| {
             for (x, y, z) in [
-                (0.3, 0.45, 0.0),
-                (0.35, 0.35, 0.05),
-                (0.25, 0.5, -0.05),
-                (0.4, 0.3, 0.1),
+                (0.25, 0.3, 0.15),
+                (0.15, 0.35, 0.1),
+                (0.3, 0.25, 0.05),
+                (0.35, 0.45, 0.0),
+                (0.3, 0.45, -0.15),
             ] {
-                let at = root.transform_point(Vec3::new(x, side * y, 0.0))
-                    + Vec3::Z * (base.translation.z + z);
-                let r = root.rotation;
+                let at = world_base.transform_point(Vec3::new(x, side * y, 0.0))
+                    + Vec3::Z * (camera_z + z - world_base.translation.z);
+                let r = world_base.rotation;
                 if let Ok(plan) = group.plan_to_pose(&start, &Pose::from_parts(at, r)) {
                     return Some(plan);
                 }
@@ -717,6 +730,12 @@ impl Run<'_> {
         let p = self.params;
         let root = world_from_base(self.robot, driver)?;
         let h = heading(&root);
+        self.mark(&format!(
+            "sweep from ({:.2}, {:.2}) heading {:.0}°",
+            root.translation.x,
+            root.translation.y,
+            h.to_degrees()
+        ));
         let looks: Vec<Vec3> = p
             .sweep_pans
             .iter()
@@ -769,15 +788,36 @@ impl Run<'_> {
     /// Horizontal surfaces in the merged scene, optionally only near height `z`.
     fn find(&self, scene: &[Vec3], z: Option<f64>) -> Vec<Surface> {
         let p = self.params;
-        let pts = tabula_perception::filters::voxel_grid(scene, p.search_leaf)
-            .unwrap_or_else(|_| scene.to_vec());
+        // Gravity is known (the world frame): only points at a reachable height can be
+        // on a reachable surface, so the floor (most of a sweep) is not searched at all
+        // — the seed peeled it off plane by plane and then rejected it by height.
+        let [lo, hi] = p.surfaces.height_range;
+        let band: Vec<Vec3> = scene
+            .iter()
+            .copied()
+            .filter(|q| q.z >= lo - 0.05 && q.z <= hi + 0.05)
+            .collect();
+        let pts = tabula_perception::filters::voxel_grid(&band, p.search_leaf).unwrap_or(band);
         let keep: Option<Vec<bool>> = z.map(|z| {
             pts.iter()
                 .map(|q| (q.z - z).abs() <= p.surfaces.refine_threshold)
                 .collect()
         });
         let cloud = PointCloud::unorganized(pts);
-        find_surfaces(&cloud, keep.as_deref(), &p.surfaces, false)
+        let search = find_surfaces(&cloud, keep.as_deref(), &p.surfaces, false);
+        if self.trace {
+            for t in &search.trials {
+                eprintln!(
+                    "place: plane of {} points at {:.2} m, tilt {:.2}: {:?} ({} points searched)",
+                    t.points,
+                    t.height,
+                    t.tilt,
+                    t.verdict,
+                    cloud.points.len()
+                );
+            }
+        }
+        search
             .surfaces
             .into_iter()
             .filter(|s| s.area >= p.surfaces.min_area)
