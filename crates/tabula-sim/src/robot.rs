@@ -385,6 +385,7 @@ impl SimWorld {
             .find_map(|link| {
                 let body = &self.physics.bodies[link.body];
                 self.first_contact(body, *body.next_position(), &[EntityKind::Furniture], -1e-3)
+                    .map(|f| format!("{f}` (link `{}`", &link.name[prefix.len()..]))
             })
     }
 

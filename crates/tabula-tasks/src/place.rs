@@ -57,7 +57,7 @@ pub struct PlaceParams {
     /// Stable poses whose topple tilt is below this are not used (deg): the seed's
     /// objects placed near an edge of their support fell when the gripper opened.
     pub min_topple_deg: f64,
-    /// The gripper must stay this far above the surface in a pose (m), Alg. 6.
+    /// The gripper must stay this far above the surface at release (m), Alg. 6.
     pub gripper_clearance: f64,
     /// Stable poses tried, best first.
     pub poses_tried: usize,
@@ -77,6 +77,9 @@ pub struct PlaceParams {
     pub reach: f64,
     /// Gap kept between the base and the surface's edge when driving up to it (m).
     pub standoff: f64,
+    /// The base turns to face the surface this far back from its goal, then drives
+    /// straight in (m).
+    pub approach_run: f64,
     /// Roll angles about the support normal per spot, SPEC §6: 10.
     pub roll_samples: usize,
     /// The object's lowest point this far above the surface when released (m), SPEC
@@ -152,6 +155,7 @@ impl Default for PlaceParams {
             turn_around: true,
             reach: 0.75,
             standoff: 0.06,
+            approach_run: 0.5,
             roll_samples: 10,
             release_height: 0.008,
             place_margin: 0.02,
@@ -635,7 +639,9 @@ impl Run<'_> {
             .poses
             .iter()
             .filter(|s| s.topple_deg >= p.min_topple_deg)
-            .filter(|s| s.clear_of(&gripper, p.gripper_clearance))
+            // At release the object hangs `release_height` above the surface: the hand
+            // may reach below the object's support plane by less than that.
+            .filter(|s| s.clear_of(&gripper, p.gripper_clearance - p.release_height))
             .take(p.poses_tried.max(1))
             .cloned()
             .collect();
@@ -677,37 +683,38 @@ impl Run<'_> {
             .world
             .world_from_chain_base()
             .map_err(|e| PlaceError::Driver(e.to_string()))?;
-        let side = {
-            let tool = tool_pose(
-                robot,
-                &state,
-                root,
-                &group
-                    .gripper
-                    .as_ref()
-                    .map(|g| g.tool_link.clone())
-                    .unwrap_or_default(),
-            )?;
-            let local = world_base.inverse().transform_point(tool.translation);
-            if local.y >= 0.0 { 1.0 } else { -1.0 }
-        };
+        let side = if shoulder_lateral(robot, arm) >= 0.0 { 1.0 } else { -1.0 };
+        let _ = base;
         // High beside the head: the sweep looks down at surfaces, below it.
         let camera_z = driver.capture(&self.params.camera)?.world_from_camera.translation.z;
-        let _ = base;
+        let trace = self.trace;
         let plan = self.decide(|_| {
+            let mut why = Vec::new();
             for (x, y, z) in [
-                (0.25, 0.3, 0.15),
-                (0.15, 0.35, 0.1),
-                (0.3, 0.25, 0.05),
-                (0.35, 0.45, 0.0),
-                (0.3, 0.45, -0.15),
+                (0.25, 0.35, 0.15),
+                (0.2, 0.45, 0.1),
+                (0.3, 0.5, 0.0),
+                (0.15, 0.55, 0.2),
+                (0.35, 0.55, -0.1),
             ] {
                 let at = world_base.transform_point(Vec3::new(x, side * y, 0.0))
                     + Vec3::Z * (camera_z + z - world_base.translation.z);
-                let r = world_base.rotation;
-                if let Ok(plan) = group.plan_to_pose(&start, &Pose::from_parts(at, r)) {
-                    return Some(plan);
+                // Pointing ahead, up and ahead, out to the side.
+                for turn in [
+                    Quat::IDENTITY,
+                    Quat::from_rotation_y(-0.8),
+                    Quat::from_rotation_z(side * 0.8),
+                    Quat::from_rotation_y(-1.4),
+                ] {
+                    let r = world_base.rotation * turn;
+                    match group.plan_to_pose(&start, &Pose::from_parts(at, r)) {
+                        Ok(plan) => return Some(plan),
+                        Err(e) => why.push(e.to_string()),
+                    }
                 }
+            }
+            if trace {
+                eprintln!("place: no carry pose: {:?}", &why[..why.len().min(4)]);
             }
             None
         });
@@ -930,9 +937,21 @@ impl Run<'_> {
             |sh: Vec3, s: &(usize, Vec3, f64, f64), reach: f64| s.1.distance(sh) <= reach;
         if !spots.iter().any(|s| reachable(sh, s, p.reach)) {
             let base = world_from_base(self.robot, driver)?;
-            let goal = self.decide(|r| r.base_goal(base, arm, surface, &spots, scene))?;
+            let state = driver.joint_state()?;
+            let root = driver.world_from_root()?;
+            // How far the robot reaches forward below the surface's top (an elbow
+            // hanging low, a tucked arm): that, not the base's edge, meets the edge.
+            let front = forward_extent(self.robot, &state, root, base, surface.centroid.z + 0.05)
+                .max(base_half_extent(self.robot));
+            self.mark(&format!("robot reaches {front:.2} m forward below the surface"));
+            let goal = self.decide(|r| r.base_goal(base, front, arm, surface, &spots, scene))?;
             self.report.base_goal = Some(goal);
             self.phase("approach", |r| {
+                // Turn while still clear of the surface, then drive straight in: a base
+                // turning at the edge would sweep its corners into it.
+                let (c, s) = (goal[2].cos(), goal[2].sin());
+                let back = r.params.approach_run;
+                driver.drive_to(goal[0] - c * back, goal[1] - s * back, goal[2])?;
                 driver.drive_to(goal[0], goal[1], goal[2])?;
                 let base = world_from_base(r.robot, driver)?;
                 let off = base
@@ -1065,6 +1084,7 @@ impl Run<'_> {
     fn base_goal(
         &self,
         base: Pose,
+        front: f64,
         arm: &str,
         surface: &Surface,
         spots: &[(usize, Vec3, f64, f64)],
@@ -1079,7 +1099,7 @@ impl Run<'_> {
         let mut best: Option<(f64, [f64; 3])> = None;
         // The shoulder stands about the base's half-length and the standoff from the
         // edge: spots deeper in than the rest of the reach cannot be placed from there.
-        let depth = p.reach - half - p.standoff - 0.05;
+        let depth = p.reach - front - p.standoff - 0.05;
         for s in spots {
             let spot = s.1.truncate();
             // Nearest point of the outline to the spot: the edge to stand at.
@@ -1092,14 +1112,16 @@ impl Run<'_> {
             let theta = facing.y.atan2(facing.x);
             // Base centre: out from the edge; shifted so the shoulder faces the spot.
             let side_shift = (spot - edge).dot(along);
-            let centre = edge + outward * (half + p.standoff) + along * side_shift
+            let centre = edge + outward * (front + p.standoff) + along * side_shift
                 - Vec2::new(-facing.y, facing.x) * lateral;
             let cost = me.distance(centre);
             if best.is_some_and(|(c, _)| cost >= c) {
                 continue;
             }
             // The base must not sweep through anything seen on the way.
-            let blocked = path_blocked(me, centre, half, scene);
+            let run_up = centre - facing * p.approach_run;
+            let blocked = path_blocked(me, run_up, half * std::f64::consts::SQRT_2, scene)
+                || path_blocked(run_up, centre, half, scene);
             let cost = cost + if blocked { 100.0 } else { 0.0 };
             if best.is_none_or(|(c, _)| cost < c) {
                 best = Some((cost, [centre.x, centre.y, theta]));
@@ -1457,6 +1479,33 @@ fn base_half_extent(robot: &NamedRobot) -> f64 {
                 })
         })
         .unwrap_or(0.35)
+}
+
+/// The robot's forward reach (m, along the base's x from its centre) of every
+/// collision shape whose bottom is below `below` (world z).
+fn forward_extent(robot: &NamedRobot, state: &JointState, root: Pose, base: Pose, below: f64) -> f64 {
+    let Ok(fk) = robot.model.forward_kinematics(&state.model_values(&robot.model)) else {
+        return 0.0;
+    };
+    let base_from_world = base.inverse();
+    let mut front: f64 = 0.0;
+    for (l, link) in robot.model.links.iter().enumerate() {
+        for s in &link.collision {
+            let Ok((shape, shape_pose)) = s.geometry.collision_shape(false) else {
+                continue;
+            };
+            let world = root * fk[l] * s.link_from_shape * shape_pose;
+            if shape.compute_aabb(&world).mins.z >= below {
+                continue;
+            }
+            let x = shape.compute_aabb(&(base_from_world * world)).maxs.x;
+            if std::env::var_os("TABULA_TRACE").is_some() && x > 0.4 {
+                eprintln!("place: link {} reaches {x:.2} m forward", link.name);
+            }
+            front = front.max(x);
+        }
+    }
+    front
 }
 
 /// Points of the gripper in the tool frame (the seed's gripper boxes' corners and face
