@@ -207,7 +207,11 @@ fn held_by(world: &SimWorld, robot: &str) -> Option<String> {
         .arms
         .iter()
         .filter_map(|a| {
-            let g = r.description.grippers.iter().find(|g| Some(&g.name) == a.gripper.as_ref())?;
+            let g = r
+                .description
+                .grippers
+                .iter()
+                .find(|g| Some(&g.name) == a.gripper.as_ref())?;
             let tool = world.link_pose(robot, &g.tool_link).ok()?;
             Some((tool.translation.distance(at), a.name.clone()))
         })
@@ -247,7 +251,11 @@ pub fn bench(
         other => anyhow::bail!("--suite is `simple` or `complex`, not `{other}`"),
     };
     let params: PlaceParams = load_params(params)?;
-    let mesh_dir = std::env::temp_dir().join(format!("tabula-place-meshes-{}", std::process::id()));
+    // Saved failures keep their meshes beside them.
+    let mesh_dir = match save_failures {
+        Some(d) => d.join("meshes"),
+        None => std::env::temp_dir().join(format!("tabula-place-meshes-{}", std::process::id())),
+    };
     if let Some(d) = save_failures {
         std::fs::create_dir_all(d)?;
     }
@@ -255,8 +263,18 @@ pub fn bench(
         .into_par_iter()
         .map(|s| {
             let task = tabula_sim::generate::place_task(s, simple, &mesh_dir)?;
-            let scene = tabula_sim::Scene::parse(&task.scene, "generated")?;
-            let world = SimWorld::from_scene(&scene, Default::default())?;
+            let world = tabula_sim::Scene::parse(&task.scene, "generated")
+                .map_err(anyhow::Error::from)
+                .and_then(|scene| Ok(SimWorld::from_scene(&scene, Default::default())?));
+            let world = match world {
+                Ok(w) => w,
+                Err(e) => {
+                    if let Some(d) = save_failures {
+                        std::fs::write(d.join(format!("place-{suite}-{s}.toml")), &task.scene)?;
+                    }
+                    anyhow::bail!("task {s}: {e:#}");
+                }
+            };
             let t0 = std::time::Instant::now();
             let request = PlaceRequest {
                 arm: Some(task.arm.clone()),
@@ -305,7 +323,9 @@ pub fn bench(
             })
         })
         .collect();
-    let _ = std::fs::remove_dir_all(&mesh_dir);
+    if save_failures.is_none() {
+        let _ = std::fs::remove_dir_all(&mesh_dir);
+    }
     let rows: Vec<BenchRow> = rows.into_iter().collect::<Result<_>>()?;
     if json {
         println!("{}", serde_json::to_string_pretty(&rows)?);

@@ -925,7 +925,11 @@ pub struct PlaceTask {
 /// `mesh_dir` once and scaled), held in an odd grip (any angle about the closing axis,
 /// the palm against the object's back), with a table in front, to a side, behind or far
 /// away, cluttered half of the time. Same seed, same task.
-pub fn place_task(seed: u64, simple: bool, mesh_dir: &std::path::Path) -> std::io::Result<PlaceTask> {
+pub fn place_task(
+    seed: u64,
+    simple: bool,
+    mesh_dir: &std::path::Path,
+) -> std::io::Result<PlaceTask> {
     use crate::objects::{ObjectMesh, catalogue, cuboid, lathe};
     use tabula_geom::Vec3;
     let mut rng = ChaCha8Rng::seed_from_u64(seed ^ if simple { 0x5117 } else { 0xC0A7 });
@@ -934,8 +938,16 @@ pub fn place_task(seed: u64, simple: bool, mesh_dir: &std::path::Path) -> std::i
         match rng.random_range(0..3) {
             0 => {
                 let a = rng.random_range(0.04..0.07);
-                let m = ObjectMesh::from_parts("cube", true, cuboid(Vec3::splat(-a / 2.0), Vec3::splat(a)));
-                ("cube".into(), format!("{{ box = [{a:.4}, {a:.4}, {a:.4}] }}"), m)
+                let m = ObjectMesh::from_parts(
+                    "cube",
+                    true,
+                    cuboid(Vec3::splat(-a / 2.0), Vec3::splat(a)),
+                );
+                (
+                    "cube".into(),
+                    format!("{{ box = [{a:.4}, {a:.4}, {a:.4}] }}"),
+                    m,
+                )
             }
             1 => {
                 let s = [
@@ -959,7 +971,10 @@ pub fn place_task(seed: u64, simple: bool, mesh_dir: &std::path::Path) -> std::i
                 let m = ObjectMesh::from_parts(
                     "cylinder",
                     true,
-                    lathe(&[(0.0, -h / 2.0), (r, -h / 2.0), (r, h / 2.0), (0.0, h / 2.0)], 32),
+                    lathe(
+                        &[(0.0, -h / 2.0), (r, -h / 2.0), (r, h / 2.0), (0.0, h / 2.0)],
+                        32,
+                    ),
                 );
                 (
                     "cylinder".into(),
@@ -1007,29 +1022,76 @@ pub fn place_task(seed: u64, simple: bool, mesh_dir: &std::path::Path) -> std::i
         .filter(|(_, e)| *e <= 0.078)
         .map(|(a, _)| a)
         .collect();
-    let closing = axes[rng.random_range(0..axes.len().max(1)).min(axes.len().saturating_sub(1))];
-    let (u, v) = (closing.any_orthonormal_vector(), closing.cross(closing.any_orthonormal_vector()));
-    let theta = rng.random_range(0.0..std::f64::consts::TAU);
-    let approach = u * theta.cos() + v * theta.sin();
-    let mut origin = (lo + hi) / 2.0;
-    let behind = mesh
-        .vertices
-        .iter()
-        .map(|p| (*p - origin).dot(-approach))
-        .fold(f64::NEG_INFINITY, f64::max);
-    if behind > 0.035 {
-        origin -= approach * (behind - 0.035);
+    let axes = if axes.is_empty() { vec![Vec3::Z] } else { axes };
+    // Candidates until the fingers, closing through the tool point, meet material on
+    // both sides (an L's or a mug's bounding-box centre may be empty air), with the hand
+    // above the object's base: it was picked up from a table, so the hand came from
+    // above or the side, never from under it.
+    let hand: Vec<Vec3> = tabula_robot::robots::load("pr2")
+        .ok()
+        .and_then(|r| r.description.grippers.first().cloned())
+        .map(|g| {
+            g.self_filter_boxes
+                .iter()
+                .flat_map(|b| {
+                    (0..8).map(move |i| {
+                        Vec3::from_array(b.center)
+                            + Vec3::from_array(b.size) / 2.0
+                                * Vec3::new(
+                                    if i & 1 == 0 { -1.0 } else { 1.0 },
+                                    if i & 2 == 0 { -1.0 } else { 1.0 },
+                                    if i & 4 == 0 { -1.0 } else { 1.0 },
+                                )
+                    })
+                })
+                .collect()
+        })
+        .unwrap_or_default();
+    let mut grip = None;
+    for attempt in 0..400 {
+        let closing = axes[rng.random_range(0..axes.len())];
+        let (u, v) = (
+            closing.any_orthonormal_vector(),
+            closing.cross(closing.any_orthonormal_vector()),
+        );
+        let theta = rng.random_range(0.0..std::f64::consts::TAU);
+        let approach = u * theta.cos() + v * theta.sin();
+        let mut origin = if attempt == 0 {
+            (lo + hi) / 2.0
+        } else {
+            lo + extent
+                * Vec3::new(
+                    rng.random_range(0.2..0.8),
+                    rng.random_range(0.2..0.8),
+                    rng.random_range(0.2..0.8),
+                )
+        };
+        let reach = |origin: Vec3, d: Vec3| {
+            mesh.vertices
+                .iter()
+                .map(|p| (*p - origin).dot(d))
+                .fold(f64::NEG_INFINITY, f64::max)
+        };
+        let behind = reach(origin, -approach);
+        if behind > 0.035 {
+            origin -= approach * (behind - 0.035);
+        }
+        // Seated on the finger pads: the object reaches past the fingertips (2.25 cm
+        // beyond the tool frame on a PR2) where it can, as a closed grasp holds it.
+        let front = reach(origin, approach);
+        if front < 0.03 {
+            origin += approach * (front - 0.03);
+        }
+        let rotation = tabula_geom::Mat3::from_cols(approach, closing, approach.cross(closing));
+        let above_base = hand
+            .iter()
+            .all(|h| (origin + rotation * *h).z >= lo.z + 0.012);
+        if above_base && ray_hits(&mesh, origin, closing) && ray_hits(&mesh, origin, -closing) {
+            grip = Some((origin, approach, closing));
+            break;
+        }
     }
-    // Seated on the finger pads: the object reaches past the fingertips (2.25 cm beyond
-    // the tool frame on a PR2) where it can, as a grasp closed on it would hold it.
-    let front = mesh
-        .vertices
-        .iter()
-        .map(|p| (*p - origin).dot(approach))
-        .fold(f64::NEG_INFINITY, f64::max);
-    if front < 0.03 {
-        origin += approach * (front - 0.03);
-    }
+    let (origin, approach, closing) = grip.unwrap_or(((lo + hi) / 2.0, Vec3::X, axes[0]));
     let object_from_tool = tabula_geom::Pose::from_parts(
         origin,
         tabula_geom::Quat::from_mat3(&tabula_geom::Mat3::from_cols(
@@ -1061,22 +1123,34 @@ pub fn place_task(seed: u64, simple: bool, mesh_dir: &std::path::Path) -> std::i
     let yaw_jitter = rng.random_range(-0.35..0.35);
     let (center, yaw) = match layout {
         PlaceLayout::Front => (
-            [0.85 + size[0] / 2.0 + rng.random_range(0.0..0.6), rng.random_range(-0.4..0.4)],
+            [
+                0.85 + size[0] / 2.0 + rng.random_range(0.0..0.6),
+                rng.random_range(-0.4..0.4),
+            ],
             yaw_jitter,
         ),
         PlaceLayout::Side => {
             let s = if rng.random_bool(0.5) { 1.0 } else { -1.0 };
             (
-                [rng.random_range(-0.3..0.5), s * (0.75 + size[0] / 2.0 + rng.random_range(0.0..0.6))],
+                [
+                    rng.random_range(-0.3..0.5),
+                    s * (0.75 + size[0] / 2.0 + rng.random_range(0.0..0.6)),
+                ],
                 std::f64::consts::FRAC_PI_2 + yaw_jitter,
             )
         }
         PlaceLayout::Behind => (
-            [-(0.75 + size[0] / 2.0 + rng.random_range(0.0..0.6)), rng.random_range(-0.4..0.4)],
+            [
+                -(0.75 + size[0] / 2.0 + rng.random_range(0.0..0.6)),
+                rng.random_range(-0.4..0.4),
+            ],
             yaw_jitter,
         ),
         PlaceLayout::Far => (
-            [2.3 + size[0] / 2.0 + rng.random_range(0.0..0.5), rng.random_range(-0.5..0.5)],
+            [
+                2.3 + size[0] / 2.0 + rng.random_range(0.0..0.5),
+                rng.random_range(-0.5..0.5),
+            ],
             yaw_jitter,
         ),
     };
@@ -1092,7 +1166,11 @@ pub fn place_task(seed: u64, simple: bool, mesh_dir: &std::path::Path) -> std::i
         center[0], center[1], size[0], size[1], size[2]
     );
     // Clutter half of the time: a few objects standing on the table.
-    let clutter = if rng.random_bool(0.5) { rng.random_range(2..7) } else { 0 };
+    let clutter = if rng.random_bool(0.5) {
+        rng.random_range(2..7)
+    } else {
+        0
+    };
     let mut placed: Vec<([f64; 2], f64)> = Vec::new();
     for _ in 0..clutter * 20 {
         if placed.len() >= clutter {
@@ -1157,9 +1235,30 @@ pub fn place_task(seed: u64, simple: bool, mesh_dir: &std::path::Path) -> std::i
     })
 }
 
+/// Whether the ray from `o` along `d` crosses a triangle of the mesh (Möller–Trumbore).
+fn ray_hits(mesh: &crate::objects::ObjectMesh, o: tabula_geom::Vec3, d: tabula_geom::Vec3) -> bool {
+    mesh.triangles.iter().any(|t| {
+        let [a, b, c] = t.map(|i| mesh.vertices[i as usize]);
+        let (e1, e2) = (b - a, c - a);
+        let p = d.cross(e2);
+        let det = e1.dot(p);
+        if det.abs() < 1e-12 {
+            return false;
+        }
+        let s = o - a;
+        let u = s.dot(p) / det;
+        let q = s.cross(e1);
+        let v = d.dot(q) / det;
+        u >= 0.0 && v >= 0.0 && u + v <= 1.0 && e2.dot(q) / det > 0.0
+    })
+}
+
 fn bounds(v: &[tabula_geom::Vec3]) -> (tabula_geom::Vec3, tabula_geom::Vec3) {
     v.iter().fold(
-        (tabula_geom::Vec3::splat(f64::INFINITY), tabula_geom::Vec3::splat(f64::NEG_INFINITY)),
+        (
+            tabula_geom::Vec3::splat(f64::INFINITY),
+            tabula_geom::Vec3::splat(f64::NEG_INFINITY),
+        ),
         |(a, b), p| (a.min(*p), b.max(*p)),
     )
 }

@@ -30,7 +30,11 @@ impl ObjectMesh {
     }
 
     /// A mesh from its parts.
-    pub fn from_parts(name: &str, simple: bool, (vertices, triangles): (Vec<Vec3>, Vec<[u32; 3]>)) -> Self {
+    pub fn from_parts(
+        name: &str,
+        simple: bool,
+        (vertices, triangles): (Vec<Vec3>, Vec<[u32; 3]>),
+    ) -> Self {
         Self {
             name: name.into(),
             simple,

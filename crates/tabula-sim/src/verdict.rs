@@ -412,6 +412,12 @@ pub fn run_place_judged<R>(
             };
             let c = now.translation;
             let over = c.x >= f.mins.x && c.x <= f.maxs.x && c.y >= f.mins.y && c.y <= f.maxs.y;
+            if std::env::var_os("TABULA_TRACE").is_some() {
+                eprintln!(
+                    "verdict: `{name}` top {:.3}, object bottom {:.3}, over {over}",
+                    f.maxs.z, b.mins.z
+                );
+            }
             if over && (b.mins.z - f.maxs.z).abs() <= tol.contact {
                 inside_edges = b.mins.x >= f.mins.x
                     && b.maxs.x <= f.maxs.x

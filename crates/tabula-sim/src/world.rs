@@ -170,6 +170,21 @@ fn y_to_z() -> Pose {
     Pose::from_rotation(Quat::from_rotation_x(FRAC_PI_2))
 }
 
+/// The bounds of a shape at `pose`, from each part of a compound (a compound's own
+/// bounds are its local box turned, centimetres loose once it is rotated).
+fn tight_aabb(shape: &SharedShape, pose: &Pose) -> tabula_geom::parry::bounding_volume::Aabb {
+    use tabula_geom::parry::bounding_volume::BoundingVolume;
+    match shape.as_compound() {
+        Some(c) => c
+            .shapes()
+            .iter()
+            .map(|(p, s)| tight_aabb(s, &(*pose * *p)))
+            .reduce(|a, b| a.merged(&b))
+            .unwrap_or_else(|| shape.compute_aabb(pose)),
+        None => shape.compute_aabb(pose),
+    }
+}
+
 /// A mesh file's solid shape (see [`tabula_geom::mesh::mesh_shape`]).
 fn mesh_shape(
     path: &Path,
@@ -679,7 +694,7 @@ impl SimWorld {
             .map(|&ch| {
                 let c = &self.physics.colliders[ch];
                 let pose = *body.position() * *c.position_wrt_parent().unwrap_or(&Pose::IDENTITY);
-                c.shared_shape().compute_aabb(&pose)
+                tight_aabb(c.shared_shape(), &pose)
             })
             .reduce(|a, b| a.merged(&b))
     }

@@ -341,6 +341,7 @@ impl Run<'_> {
         f: impl FnOnce(&mut Self) -> Result<T, PlaceError>,
     ) -> Result<T, PlaceError> {
         let t0 = Instant::now();
+        self.mark(&format!("phase {name}"));
         let out = f(self);
         self.report.phases.push(Phase {
             name: name.into(),
@@ -500,6 +501,7 @@ impl Run<'_> {
             let v = Vec3::from_array(*v).normalize_or(Vec3::X);
             let base = Quat::from_rotation_arc(v, to_camera);
             let start = group.arm_values(&state);
+            let mut why = String::new();
             let plan = self.decide(|r| {
                 (0..r.params.scan_twists.max(1)).find_map(|t| {
                     let twist = Quat::from_axis_angle(
@@ -507,11 +509,14 @@ impl Run<'_> {
                         std::f64::consts::TAU * t as f64 / r.params.scan_twists.max(1) as f64,
                     );
                     let pose = Pose::from_parts(target, twist * base);
-                    group.plan_to_pose(&start, &pose).ok()
+                    group
+                        .plan_to_pose(&start, &pose)
+                        .map_err(|e| why = e.to_string())
+                        .ok()
                 })
             });
             let Some(plan) = plan else {
-                self.mark(&format!("scan view {k} unreachable"));
+                self.mark(&format!("scan view {k} unreachable: {why}"));
                 continue;
             };
             driver.execute(&plan.trajectory)?;
@@ -582,11 +587,17 @@ impl Run<'_> {
             let parts = clusters(&near, p.observe.cluster_gap);
             let mut object = Vec::new();
             for c in parts {
-                if c.iter().any(|&i| near[i].distance(tool) <= p.grip_reach) {
+                let closest = c
+                    .iter()
+                    .map(|&i| near[i].distance(tool))
+                    .fold(f64::INFINITY, f64::min);
+                if closest <= p.grip_reach {
                     object.extend(c.iter().map(|&i| near[i]));
-                } else {
+                } else if closest > p.protective_radius {
                     scene.extend(c.iter().map(|&i| near[i]));
                 }
+                // Between: pieces of the object the fingers' shadow cut off, or
+                // something right beside it; neither model nor obstacle.
             }
             let tool_from_world = world_from_tool.inverse();
             if r.trace {
@@ -635,15 +646,25 @@ impl Run<'_> {
         }
         self.report.poses_found = found.poses.len();
         let gripper = gripper_points(self.robot, arm);
-        let usable: Vec<StablePose> = found
+        // Ranked by the tilt that topples them, weighed by how much of the support the
+        // object really touches (a bridge over a concavity rests on edges).
+        let mut usable: Vec<(f64, StablePose)> = found
             .poses
             .iter()
             .filter(|s| s.topple_deg >= p.min_topple_deg)
             // At release the object hangs `release_height` above the surface: the hand
             // may reach below the object's support plane by less than that.
             .filter(|s| s.clear_of(&gripper, p.gripper_clearance - p.release_height))
+            .map(|s| {
+                let fill = s.contact_fill(model, p.stable.cloud_contact_tolerance, p.scan_leaf);
+                (s.topple_deg * (0.4 + 0.6 * fill), s.clone())
+            })
+            .collect();
+        usable.sort_by(|a, b| b.0.total_cmp(&a.0));
+        let usable: Vec<StablePose> = usable
+            .into_iter()
             .take(p.poses_tried.max(1))
-            .cloned()
+            .map(|(_, s)| s)
             .collect();
         if usable.is_empty() {
             return Err(PlaceError::NoStablePose(format!(
@@ -683,10 +704,18 @@ impl Run<'_> {
             .world
             .world_from_chain_base()
             .map_err(|e| PlaceError::Driver(e.to_string()))?;
-        let side = if shoulder_lateral(robot, arm) >= 0.0 { 1.0 } else { -1.0 };
+        let side = if shoulder_lateral(robot, arm) >= 0.0 {
+            1.0
+        } else {
+            -1.0
+        };
         let _ = base;
         // High beside the head: the sweep looks down at surfaces, below it.
-        let camera_z = driver.capture(&self.params.camera)?.world_from_camera.translation.z;
+        let camera_z = driver
+            .capture(&self.params.camera)?
+            .world_from_camera
+            .translation
+            .z;
         let trace = self.trace;
         let plan = self.decide(|_| {
             let mut why = Vec::new();
@@ -943,7 +972,9 @@ impl Run<'_> {
             // hanging low, a tucked arm): that, not the base's edge, meets the edge.
             let front = forward_extent(self.robot, &state, root, base, surface.centroid.z + 0.05)
                 .max(base_half_extent(self.robot));
-            self.mark(&format!("robot reaches {front:.2} m forward below the surface"));
+            self.mark(&format!(
+                "robot reaches {front:.2} m forward below the surface"
+            ));
             let goal = self.decide(|r| r.base_goal(base, front, arm, surface, &spots, scene))?;
             self.report.base_goal = Some(goal);
             self.phase("approach", |r| {
@@ -1000,8 +1031,15 @@ impl Run<'_> {
                     })
                     .collect();
                 r.occupy(&mut group, &rest, None);
-                if let Some(slab) = surface_slab(surface) {
+                if let Some(slab) = surface_slab(surface, 0.0) {
                     group.add_object("surface", slab, Pose::IDENTITY)?;
+                }
+                // What stays of it while the hand is within millimetres of it (lowering,
+                // releasing, backing out): the slab sunk by the padding, so the fingers
+                // may pass just above the top and the wrist still cannot sweep through.
+                let sunk = group.world.params.padding + 0.004;
+                if let Some(slab) = surface_slab(surface, sunk) {
+                    group.add_object("surface below", slab, Pose::IDENTITY)?;
                 }
                 r.plan_placement(&mut group, &state, hull, poses, surface, &spots, sh)
             })
@@ -1264,9 +1302,9 @@ fn plan_sequence(
             }
         };
         for q_above in goals.into_iter().take(3) {
-            // Down to millimetres above the surface: closer than the padding, so the
-            // surface slab leaves the world for the line down and the line back up
-            // (the stable pose keeps the gripper clear of it, Alg. 6).
+            // Down to millimetres above the surface: closer than the padding, so only
+            // the sunk slab stays for the line down and the line back out (the stable
+            // pose keeps the gripper clear of the top, Alg. 6).
             group.world = holding.clone();
             let _ = group.world.remove_object("surface");
             let lower = match group.cartesian(&q_above, &spot.world_from_tool) {
@@ -1292,15 +1330,26 @@ fn plan_sequence(
             let _ = released.add_object("placed object", hull.clone(), object_pose);
             group.world = full.clone();
             let _ = group.world.remove_object("surface");
+            // Out of the grasp the way the fingers went in (back along the tool's own
+            // approach axis, seed 000's retreat), so an opened finger under an overhang
+            // cannot drag the object along; straight up when that line is blocked.
+            let back = -(spot.world_from_tool.rotation
+                * group.gripper.as_ref().map_or(Vec3::X, |g| g.approach()));
             let mut retreat = None;
-            for r in [
-                p.retreat_desired,
-                (p.retreat_desired + p.retreat_min) / 2.0,
-                p.retreat_min,
-            ] {
-                if let Ok(pl) = group.cartesian(lower.end(), &shifted(r)) {
-                    retreat = Some(pl);
-                    break;
+            'lines: for dir in [back, Vec3::Z] {
+                for r in [
+                    p.retreat_desired,
+                    (p.retreat_desired + p.retreat_min) / 2.0,
+                    p.retreat_min,
+                ] {
+                    let goal = Pose::from_parts(
+                        spot.world_from_tool.translation + dir * r,
+                        spot.world_from_tool.rotation,
+                    );
+                    if let Ok(pl) = group.cartesian(lower.end(), &goal) {
+                        retreat = Some(pl);
+                        break 'lines;
+                    }
                 }
             }
             let Some(retreat) = retreat else {
@@ -1320,10 +1369,11 @@ fn plan_sequence(
     Err(last)
 }
 
-/// The surface as a 2 cm slab whose top is its plane: its outline's prism.
-fn surface_slab(surface: &Surface) -> Option<SharedShape> {
+/// The surface as a 2 cm slab whose top is its plane lowered by `sunk`: its outline's
+/// prism.
+fn surface_slab(surface: &Surface, sunk: f64) -> Option<SharedShape> {
     let n = surface.plane.normal;
-    let offset = surface.centroid.dot(n);
+    let offset = surface.centroid.dot(n) - sunk;
     let pts: Vec<Vec3> = surface
         .hull
         .iter()
@@ -1483,8 +1533,17 @@ fn base_half_extent(robot: &NamedRobot) -> f64 {
 
 /// The robot's forward reach (m, along the base's x from its centre) of every
 /// collision shape whose bottom is below `below` (world z).
-fn forward_extent(robot: &NamedRobot, state: &JointState, root: Pose, base: Pose, below: f64) -> f64 {
-    let Ok(fk) = robot.model.forward_kinematics(&state.model_values(&robot.model)) else {
+fn forward_extent(
+    robot: &NamedRobot,
+    state: &JointState,
+    root: Pose,
+    base: Pose,
+    below: f64,
+) -> f64 {
+    let Ok(fk) = robot
+        .model
+        .forward_kinematics(&state.model_values(&robot.model))
+    else {
         return 0.0;
     };
     let base_from_world = base.inverse();

@@ -122,6 +122,52 @@ impl StablePose {
         Vec3::from_array(self.contact_centroid).dot(self.normal())
     }
 
+    /// Share of the contact polygon under which the object's own surface (`points`,
+    /// object frame) actually touches the plane, on a `cell` grid: a hull face bridging
+    /// a concavity (an L resting on two edges) has a large polygon and little contact,
+    /// and rests less surely than its tilt-to-topple says.
+    pub fn contact_fill(&self, points: &[Vec3], tolerance: f64, cell: f64) -> f64 {
+        let n = self.normal();
+        let d = self.origin_height();
+        let (u, v) = basis(n);
+        let poly: Vec<Vec2> = self
+            .perimeter
+            .iter()
+            .map(|q| {
+                let q = Vec3::from_array(*q);
+                Vec2::new(q.dot(u), q.dot(v))
+            })
+            .collect();
+        let area = polygon_area(&poly).abs();
+        if area <= 0.0 || cell <= 0.0 {
+            return 0.0;
+        }
+        let touched: rustc_hash::FxHashSet<(i64, i64)> = points
+            .iter()
+            .filter(|q| q.dot(n) >= d - tolerance)
+            .map(|q| {
+                (
+                    (q.dot(u) / cell).floor() as i64,
+                    (q.dot(v) / cell).floor() as i64,
+                )
+            })
+            .collect();
+        // The touched cells, each grown to its neighbours (sparse scans), inside the
+        // polygon.
+        let mut covered: rustc_hash::FxHashSet<(i64, i64)> = Default::default();
+        for &(i, j) in &touched {
+            for di in -1..=1 {
+                for dj in -1..=1 {
+                    let c = Vec2::new((i + di) as f64 + 0.5, (j + dj) as f64 + 0.5) * cell;
+                    if inside_convex(&poly, c) {
+                        covered.insert((i + di, j + dj));
+                    }
+                }
+            }
+        }
+        (covered.len() as f64 * cell * cell / area).min(1.0)
+    }
+
     /// Whether a gripper (points in the object's frame) stays on the object's side of
     /// the support plane with `clearance` to spare (seed 000's Alg. 6: a plane that
     /// cuts the gripper is unusable — the hand would have to be inside the table).
