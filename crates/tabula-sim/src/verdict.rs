@@ -381,11 +381,21 @@ pub fn run_place_judged<R>(
     let (r2, obj2, robot2) = (release.clone(), object.clone(), robot.to_string());
     driver.observe(move |w: &SimWorld| {
         contacts(w);
-        if let Ok(mut r) = r2.lock()
-            && r.is_none()
-            && !w.held_objects(&robot2).contains(&obj2)
-        {
-            *r = w.pose(&obj2).ok();
+        if let Ok(mut r) = r2.lock() {
+            if r.is_none() && !w.held_objects(&robot2).contains(&obj2) {
+                *r = w.pose(&obj2).ok();
+            }
+            if let (Some(at), Ok(now)) = (*r, w.pose(&obj2))
+                && std::env::var_os("TABULA_TRACE").is_some()
+                && (w.time() * 10.0).fract() < 0.01
+            {
+                eprintln!(
+                    "t = {:.2} s: object {:.3} m from its release pose, turned {:.1}°",
+                    w.time(),
+                    now.translation.distance(at.translation),
+                    tabula_geom::rotation_angle_between(at.rotation, now.rotation).to_degrees()
+                );
+            }
         }
     });
     let (answer, planned) = task(&mut driver);

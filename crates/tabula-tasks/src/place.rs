@@ -641,6 +641,14 @@ impl Run<'_> {
     fn stable_poses(&mut self, arm: &str, model: &[Vec3]) -> Result<Vec<StablePose>, PlaceError> {
         let p = self.params;
         let found = of_cloud(model, &p.stable).map_err(|e| PlaceError::Model(e.to_string()))?;
+        let tight = of_cloud(
+            model,
+            &StableParams {
+                cloud_contact_tolerance: p.stable.cloud_contact_tolerance / 3.0,
+                ..p.stable.clone()
+            },
+        )
+        .map_err(|e| PlaceError::Model(e.to_string()))?;
         if let Some(m) = self.report.model.as_mut() {
             m.hull_volume_m3 = found.hull_volume_m3;
         }
@@ -657,7 +665,16 @@ impl Run<'_> {
             .filter(|s| s.clear_of(&gripper, p.gripper_clearance - p.release_height))
             .map(|s| {
                 let fill = s.contact_fill(model, p.stable.cloud_contact_tolerance, p.scan_leaf);
-                (s.topple_deg * (0.4 + 0.6 * fill), s.clone())
+                // A flat face keeps its contact polygon when the contact tolerance
+                // shrinks; a curved side (a bottle lying down) loses most of it, since
+                // its contact strip only widens with the tolerance: such poses roll.
+                let flat = tight
+                    .poses
+                    .iter()
+                    .filter(|t| t.normal().dot(s.normal()) > 0.995)
+                    .map(|t| (t.area_m2 / s.area_m2.max(1e-12)).min(1.0))
+                    .fold(0.0, f64::max);
+                (s.topple_deg * (0.4 + 0.6 * fill) * flat * flat, s.clone())
             })
             .collect();
         usable.sort_by(|a, b| b.0.total_cmp(&a.0));
@@ -1327,7 +1344,24 @@ fn plan_sequence(
             let object_pose = released
                 .tip_pose(lower.end())
                 .map_err(|e| PlaceError::Driver(e.to_string()))?;
-            let _ = released.add_object("placed object", hull.clone(), object_pose);
+            // Left behind it is an obstacle, given room: it may have settled a little
+            // differently from the scan, and a brush topples a tall object.
+            let grown = hull
+                .as_convex_polyhedron()
+                .and_then(|c| {
+                    let pts = c.points();
+                    let centre = pts.iter().copied().sum::<Vec3>() / pts.len().max(1) as f64;
+                    let out: Vec<Vec3> = pts
+                        .iter()
+                        .map(|q| {
+                            let d = *q - centre;
+                            centre + d + d.normalize_or_zero() * 0.02
+                        })
+                        .collect();
+                    SharedShape::convex_hull(&out)
+                })
+                .unwrap_or_else(|| hull.clone());
+            let _ = released.add_object("placed object", grown, object_pose);
             group.world = full.clone();
             let _ = group.world.remove_object("surface");
             // Out of the grasp the way the fingers went in (back along the tool's own
