@@ -177,10 +177,11 @@ fn print_summary(out: &PlaceJson) {
     }
     for p in &out.phases {
         println!(
-            "  {:<22} {:>9.1} ms  {}",
+            "  {:<22} {:>9.1} ms  {:<6}  decision CPU {:>7.1} ms",
             p.name,
             p.ms,
-            if p.ok { "ok" } else { "failed" }
+            if p.ok { "ok" } else { "failed" },
+            p.plan_ms.unwrap_or(0.0)
         );
     }
     println!("  decision (CPU)         {:>9.1} ms", out.decision_ms);

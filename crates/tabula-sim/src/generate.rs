@@ -991,9 +991,10 @@ pub fn place_task(
         if !path.exists() {
             std::fs::write(&path, o.to_obj())?;
         }
-        // Scaled so that its narrowest side fits the PR2's 9 cm opening.
+        // Scaled so that a horizontal side fits the PR2's 9 cm opening: it can be
+        // taken from above or the side, as it was picked up from a table.
         let (lo, hi) = bounds(&o.vertices);
-        let fit = 0.075 / (hi - lo).min_element().max(1e-3);
+        let fit = 0.075 / (hi.x - lo.x).min(hi.y - lo.y).max(1e-3);
         let scale = rng.random_range(0.85..1.15f64).min(fit);
         let scaled = ObjectMesh::from_parts(
             &o.name,

