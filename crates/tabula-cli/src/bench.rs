@@ -76,7 +76,8 @@ pub enum BenchCommand {
         /// Parameters (TOML, `PlaceParams`).
         #[arg(long)]
         params: Option<std::path::PathBuf>,
-        /// Write the scene of every failed task into this folder.
+        /// Write the scene of every failed task (and of every decision over a second)
+        /// into this folder.
         #[arg(long)]
         save_failures: Option<std::path::PathBuf>,
         #[arg(long)]

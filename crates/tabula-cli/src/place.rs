@@ -306,7 +306,10 @@ pub fn bench(
                     .to_string(),
                 )
             };
-            if let (Some(d), Some(_)) = (save_failures, &cause) {
+            // Failures are kept; so are slow decisions (over a second), to look into.
+            if let Some(d) = save_failures
+                && (cause.is_some() || out.decision_ms > 1000.0)
+            {
                 std::fs::write(d.join(format!("place-{suite}-{s}.toml")), &task.scene)?;
             }
             Ok(BenchRow {

@@ -735,3 +735,73 @@ fn perceive_joints_default_to_the_simulators_start() {
     assert!(removed > 5000, "only {removed} robot points removed");
     std::fs::remove_dir_all(&dir).ok();
 }
+
+#[test]
+fn stable_poses_of_a_mesh_and_a_cloud_and_bad_files() {
+    let dir = std::env::temp_dir().join(format!("tabula-stable-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let rows = tabula_json(&[
+        "bench",
+        "stable-poses",
+        "--dir",
+        dir.to_str().unwrap(),
+        "--reps",
+        "1",
+        "--json",
+    ]);
+    assert!(rows.as_array().unwrap().len() >= 10);
+    let mug = dir.join("mug.obj");
+    let v = tabula_json(&["stable-poses", "--mesh", mug.to_str().unwrap(), "--json"]);
+    let poses = v["poses"].as_array().unwrap();
+    assert!(!poses.is_empty());
+    for key in [
+        "support_normal",
+        "probability",
+        "margin_m",
+        "topple_deg",
+        "area_m2",
+    ] {
+        assert!(poses[0].get(key).is_some(), "missing `{key}`");
+    }
+    assert!(v["cpu_ms"].as_f64().unwrap() >= 0.0);
+    // Best first: the mug stands on its bottom, its support normal down in its frame.
+    assert!(poses[0]["support_normal"][2].as_f64().unwrap() < -0.99);
+    let total: f64 = poses
+        .iter()
+        .map(|p| p["probability"].as_f64().unwrap())
+        .sum();
+    assert!((total - 1.0).abs() < 1e-6);
+    // A cloud of a box's corners.
+    let pcd = dir.join("box.pcd");
+    let mut text = String::from(
+        "# .PCD v0.7\nVERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 8\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS 8\nDATA ascii\n",
+    );
+    for i in 0..8 {
+        text += &format!(
+            "{} {} {}\n",
+            if i & 1 == 0 { -0.1 } else { 0.1 },
+            if i & 2 == 0 { -0.05 } else { 0.05 },
+            if i & 4 == 0 { 0.0 } else { 0.04 }
+        );
+    }
+    std::fs::write(&pcd, text).unwrap();
+    let v = tabula_json(&["stable-poses", "--cloud", pcd.to_str().unwrap(), "--json"]);
+    assert_eq!(v["poses"].as_array().unwrap().len(), 6);
+    // Degenerate and malformed input: one clear line, no panic.
+    let flat = dir.join("flat.obj");
+    std::fs::write(
+        &flat,
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3\nf 2 4 3\n",
+    )
+    .unwrap();
+    for bad in [flat.to_str().unwrap(), "/nonexistent.obj"] {
+        let out = tabula(&["stable-poses", "--mesh", bad]);
+        assert_eq!(out.status.code(), Some(1));
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            err.starts_with("error:") && err.lines().count() == 1,
+            "{err}"
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

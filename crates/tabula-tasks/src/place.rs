@@ -1366,6 +1366,10 @@ fn plan_sequence(
         Ok(_) => PlaceError::Unreachable,
         Err(e) => return Err(e.into()),
     };
+    // Every way down that works (approach distances, desired first; IK branches), then
+    // one RRT-Connect to all of their tops at once: a failed search is the costly part,
+    // and one that cannot reach any top need not be run again per top.
+    let mut ways: Vec<(Vec<f64>, Plan)> = Vec::new();
     for d in [
         p.approach_desired,
         (p.approach_desired + p.approach_min) / 2.0,
@@ -1386,21 +1390,32 @@ fn plan_sequence(
             // pose keeps the gripper clear of the top, Alg. 6).
             group.world = holding.clone();
             let _ = group.world.remove_object("surface");
-            let lower = match group.cartesian(&q_above, &spot.world_from_tool) {
-                Ok(l) => l,
-                Err(e) => {
-                    last = e.into();
-                    continue;
-                }
-            };
-            group.world = holding.clone();
-            let to_above = match group.plan_to_joints(start, &[q_above.clone()]) {
-                Ok(pl) => pl,
-                Err(e) => {
-                    last = e.into();
-                    continue;
-                }
-            };
+            match group.cartesian(&q_above, &spot.world_from_tool) {
+                Ok(lower) => ways.push((q_above, lower)),
+                Err(e) => last = e.into(),
+            }
+        }
+    }
+    if ways.is_empty() {
+        return Err(last);
+    }
+    group.world = holding.clone();
+    let tops: Vec<Vec<f64>> = ways.iter().map(|(q, _)| q.clone()).collect();
+    let to_above = group.plan_to_joints(start, &tops)?;
+    let reached = to_above.end().to_vec();
+    let nearest = ways
+        .iter()
+        .enumerate()
+        .min_by(|a, b| {
+            let da: f64 = a.1.0.iter().zip(&reached).map(|(x, y)| (x - y).abs()).sum();
+            let db: f64 = b.1.0.iter().zip(&reached).map(|(x, y)| (x - y).abs()).sum();
+            da.total_cmp(&db)
+        })
+        .map(|(i, _)| i)
+        .unwrap_or(0);
+    let (_, lower) = ways.swap_remove(nearest);
+    {
+        {
             // After release: the object stays, the hand backs straight up.
             let mut released = full.clone();
             let object_pose = released
@@ -1449,20 +1464,20 @@ fn plan_sequence(
                 }
             }
             let Some(retreat) = retreat else {
-                last = PlaceError::NoPath("no straight retreat from the released object".into());
-                continue;
+                return Err(PlaceError::NoPath(
+                    "no straight retreat from the released object".into(),
+                ));
             };
             group.world = released;
             let aside = group.plan_to_joints(retreat.end(), &[start.to_vec()]).ok();
-            return Ok(Sequence {
+            Ok(Sequence {
                 to_above,
                 lower,
                 retreat,
                 aside,
-            });
+            })
         }
     }
-    Err(last)
 }
 
 /// The surface as a 2 cm slab whose top is its plane lowered by `sunk`: its outline's

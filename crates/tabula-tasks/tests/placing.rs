@@ -1,0 +1,126 @@
+//! Seed 000's placing (SPEC §1) in the simulator, judged by its physics: the PR2 scans
+//! the object it holds, finds how it rests, finds a table and a free spot on it, drives
+//! up when it is out of reach, and puts the object down — with fixed camera-noise
+//! seeds. The scan is checked against the true shape.
+
+use rayon::prelude::*;
+use tabula_geom::{Pose, Quat, Vec3};
+use tabula_robot::robots::NamedRobot;
+use tabula_sim::verdict::{StablePlaceVerdict, run_place_judged};
+use tabula_sim::{Scene, SimWorld};
+use tabula_tasks::place::{PlaceOutcome, PlaceParams, PlaceRequest, place};
+
+fn run(scene_text: &str, arm: &str, seed: u64) -> (PlaceOutcome, StablePlaceVerdict) {
+    let scene = Scene::parse(scene_text, "test").unwrap();
+    let world = SimWorld::from_scene(&scene, Default::default()).unwrap();
+    let r = world.robot("pr2").unwrap();
+    let robot = NamedRobot::new(r.model.clone(), r.description.clone(), "pr2");
+    let params = PlaceParams::default();
+    let request = PlaceRequest {
+        arm: Some(arm.into()),
+    };
+    let (outcome, verdict, _) = run_place_judged(world, "pr2", seed, |driver| {
+        let out = place(driver, &robot, &request, &params);
+        let planned = out.report.planned_world_from_tool.map(|p| {
+            Pose::from_parts(
+                Vec3::new(p[0], p[1], p[2] - params.release_height),
+                Quat::from_xyzw(p[3], p[4], p[5], p[6]),
+            )
+        });
+        (out, planned)
+    })
+    .unwrap();
+    (outcome, verdict)
+}
+
+#[test]
+fn held_objects_are_scanned_and_placed_stably() {
+    let dir = std::env::temp_dir().join(format!("tabula-placing-test-{}", std::process::id()));
+    let generated = |seed: u64, simple: bool| {
+        let t = tabula_sim::generate::place_task(seed, simple, &dir).unwrap();
+        (
+            format!("{} {:?} ({seed})", t.object, t.layout),
+            t.scene,
+            t.arm,
+        )
+    };
+    let cases = vec![
+        (
+            "seed scene".to_string(),
+            include_str!("../../../scenes/pr2_holding.toml").to_string(),
+            "right".to_string(),
+        ),
+        generated(3, true),
+        generated(1, false),
+    ];
+    let results: Vec<_> = cases
+        .par_iter()
+        .map(|(name, text, arm)| (name.clone(), run(text, arm, 7)))
+        .collect();
+    for (name, (out, v)) in &results {
+        eprintln!(
+            "{name}: error {:?}, on {:?}, {:.1}° from the plan, moved {:.1} mm after release, decision {:.0} ms",
+            out.error,
+            v.surface,
+            v.orientation_error_deg,
+            v.moved_after_release_m * 1e3,
+            out.report.decision_ms
+        );
+        assert!(out.error.is_none(), "{name}: {:?}", out.error);
+        assert!(v.success, "{name}: {v:?}");
+        assert!(v.orientation_error_deg <= 5.0 && v.moved_after_release_m < 0.01);
+        let s = out.report.stable_pose.as_ref().unwrap();
+        assert!(s.topple_deg >= PlaceParams::default().min_topple_deg);
+    }
+    // The seed scene's cup (a 6 × 6 × 8 cm box held at its centre, axes along the
+    // tool's): the scan's points lie on its surface and cover most of it.
+    let (out, _) = &results[0].1;
+    let model = &out.report.model_points;
+    let half = Vec3::new(0.03, 0.03, 0.04);
+    let to_surface = |p: &Vec3| {
+        let q = p.abs() - half;
+        if q.max_element() > 0.0 {
+            q.max(Vec3::ZERO).length()
+        } else {
+            -q.max_element()
+        }
+    };
+    let mean = model.iter().map(to_surface).sum::<f64>() / model.len() as f64;
+    assert!(
+        mean < 0.004,
+        "scan points are {mean:.4} m from the cup's surface on average"
+    );
+    let volume = out.report.model.as_ref().unwrap().hull_volume_m3;
+    assert!(
+        (volume / 288e-6 - 1.0).abs() < 0.2,
+        "hull volume {:.1} cm³ against 288 cm³",
+        volume * 1e6
+    );
+    // Coverage: surface samples with a scan point within 1 cm (the fingers hide
+    // parts of two faces).
+    let mut near = 0usize;
+    let mut total = 0usize;
+    for i in 0..=12 {
+        for j in 0..=12 {
+            let (a, b) = (i as f64 / 12.0 * 2.0 - 1.0, j as f64 / 12.0 * 2.0 - 1.0);
+            for q in [
+                Vec3::new(a * half.x, b * half.y, half.z),
+                Vec3::new(a * half.x, b * half.y, -half.z),
+                Vec3::new(half.x, a * half.y, b * half.z),
+                Vec3::new(-half.x, a * half.y, b * half.z),
+                Vec3::new(a * half.x, half.y, b * half.z),
+                Vec3::new(a * half.x, -half.y, b * half.z),
+            ] {
+                total += 1;
+                if model.iter().any(|m| m.distance(q) < 0.01) {
+                    near += 1;
+                }
+            }
+        }
+    }
+    assert!(
+        near as f64 >= 0.8 * total as f64,
+        "{near} of {total} surface samples seen"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
