@@ -1080,19 +1080,25 @@ pub fn place_task(
         // Seated on the finger pads: the object reaches past the fingertips (2.25 cm
         // beyond the tool frame on a PR2) where it can, as a closed grasp holds it.
         let front = reach(origin, approach);
-        if front < 0.03 {
-            origin += approach * (front - 0.03);
-        }
+        let seated = origin + approach * (front - 0.03).min(0.0);
         let rotation = tabula_geom::Mat3::from_cols(approach, closing, approach.cross(closing));
-        let above_base = hand
-            .iter()
-            .all(|h| (origin + rotation * *h).z >= lo.z + 0.012);
-        if above_base && ray_hits(&mesh, origin, closing) && ray_hits(&mesh, origin, -closing) {
-            grip = Some((origin, approach, closing));
+        // The hand clear of the table the object stood on (a flat box taken from above
+        // cannot also be seated deep on the pads: then it is held nearer the tips).
+        let clear = |o: Vec3| hand.iter().all(|h| (o + rotation * *h).z >= lo.z + 0.004);
+        let chosen = [seated, origin]
+            .into_iter()
+            .find(|o| clear(*o) && ray_hits(&mesh, *o, closing) && ray_hits(&mesh, *o, -closing));
+        if let Some(o) = chosen {
+            grip = Some((o, approach, closing));
             break;
         }
     }
-    let (origin, approach, closing) = grip.unwrap_or(((lo + hi) / 2.0, Vec3::X, axes[0]));
+    // Never seen in the suite; a plain grip from the side if nothing else was found.
+    let (origin, approach, closing) = grip.unwrap_or((
+        (lo + hi) / 2.0,
+        Vec3::Z.cross(axes[0]).normalize_or(Vec3::X),
+        axes[0],
+    ));
     let object_from_tool = tabula_geom::Pose::from_parts(
         origin,
         tabula_geom::Quat::from_mat3(&tabula_geom::Mat3::from_cols(

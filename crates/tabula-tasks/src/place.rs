@@ -857,9 +857,9 @@ impl Run<'_> {
         }
         let mut surfaces = self.decide(|r| r.find(scene, None));
         // Refinement: look at each accepted surface again, search near its height.
-        for k in 0..surfaces.len() {
+        for surface in surfaces.iter_mut() {
             for _ in 0..p.refine_looks {
-                let c = surfaces[k].centroid;
+                let c = surface.centroid;
                 self.look_and_add(driver, arm, hull, c, scene)?;
                 let z = c.z;
                 let again = self.decide(|r| r.find(scene, Some(z)));
@@ -867,7 +867,7 @@ impl Run<'_> {
                     .into_iter()
                     .min_by(|a, b| a.centroid.distance(c).total_cmp(&b.centroid.distance(c)))
                 {
-                    surfaces[k] = best;
+                    *surface = best;
                 }
             }
         }
@@ -951,7 +951,7 @@ impl Run<'_> {
             let mut solids = robot_solids(&robot.model, &state.model_values(&robot.model), root);
             // The held object is the robot's too.
             if let Some(tool_link) = arm_gripper(robot, arm).map(|g| g.tool_link.as_str())
-                && let Ok(world_from_tool) = tool_pose(robot, &state, root, &tool_link)
+                && let Ok(world_from_tool) = tool_pose(robot, &state, root, tool_link)
                 && let Some(points) = hull.as_convex_polyhedron().map(|c| c.points().to_vec())
                 && let Some(solid) = Solid::convex_hull(&points)
             {
@@ -1182,7 +1182,7 @@ impl Run<'_> {
                     && inside_hull(&surface.hull, pts[i])
             })
             .collect();
-        let map = FreeSpaceMap::build(&seen, &pts, &objects, &fs)
+        let map = FreeSpaceMap::build(&seen, pts, &objects, &fs)
             .map_err(|e| PlaceError::NoRoom(e.to_string()))?;
         let u_yaw = map.u.y.atan2(map.u.x);
         let mut out = Vec::new();

@@ -352,7 +352,8 @@ impl Hull {
                 a.dot(b.cross(c)) / 6.0
             })
             .sum();
-        if !(volume > 1e-9 * scale.powi(3)) {
+        // NaN volumes fail too.
+        if volume.partial_cmp(&(1e-9 * scale.powi(3))) != Some(std::cmp::Ordering::Greater) {
             return Err(StableError::Degenerate);
         }
         let mut edge_owner: FxHashMap<(u32, u32), usize> = FxHashMap::default();
