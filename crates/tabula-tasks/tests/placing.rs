@@ -132,7 +132,10 @@ fn held_objects_are_scanned_and_placed_stably() {
     // PR2's reach from the observation pose; the palm hides its side), the finger faces
     // about 60 %. Pinned below those, so a scan that loses views fails here.
     assert!(per_face[0] >= 160 && per_face[1] >= 160, "{per_face:?}");
-    assert!(near_free as f64 >= 0.65 * total_free as f64, "{near_free} of {total_free}");
+    assert!(
+        near_free as f64 >= 0.65 * total_free as f64,
+        "{near_free} of {total_free}"
+    );
     assert!(near as f64 >= 0.6 * total as f64, "{near} of {total}");
     let _ = std::fs::remove_dir_all(&dir);
 }
