@@ -73,17 +73,19 @@ pub fn inside_polygon(poly: &[Vec2], p: Vec2) -> bool {
 pub fn distance_to_boundary(poly: &[Vec2], p: Vec2) -> f64 {
     let n = poly.len();
     (0..n)
-        .map(|i| {
-            let (a, b) = (poly[i], poly[(i + 1) % n]);
-            let ab = b - a;
-            let t = if ab.length_squared() > 0.0 {
-                ((p - a).dot(ab) / ab.length_squared()).clamp(0.0, 1.0)
-            } else {
-                0.0
-            };
-            (a + ab * t).distance(p)
-        })
+        .map(|i| segment_distance(p, poly[i], poly[(i + 1) % n]))
         .fold(f64::INFINITY, f64::min)
+}
+
+/// Distance from `p` to the segment `a`–`b`.
+pub fn segment_distance(p: Vec2, a: Vec2, b: Vec2) -> f64 {
+    let ab = b - a;
+    let t = if ab.length_squared() > 0.0 {
+        ((p - a).dot(ab) / ab.length_squared()).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    (a + ab * t).distance(p)
 }
 
 /// The smallest-area rectangle holding `points` (rotating calipers over the convex

@@ -619,10 +619,7 @@ impl Run<'_> {
         at: Vec3,
         scene: &mut Vec<Vec3>,
     ) -> Result<Vec<Vec3>, PlaceError> {
-        match driver.look_at(at) {
-            Ok(_) | Err(DriverError::Unsupported(_)) => {}
-            Err(e) => return Err(e.into()),
-        }
+        look_at(driver, at)?;
         let frame = driver.capture(&self.params.camera)?;
         let state = driver.joint_state()?;
         let root = driver.world_from_root()?;
@@ -939,10 +936,7 @@ impl Run<'_> {
         at: Vec3,
         scene: &mut Vec<Vec3>,
     ) -> Result<(), PlaceError> {
-        match driver.look_at(at) {
-            Ok(_) | Err(DriverError::Unsupported(_)) => {}
-            Err(e) => return Err(e.into()),
-        }
+        look_at(driver, at)?;
         let frame = driver.capture(&self.params.camera)?;
         let state = driver.joint_state()?;
         let root = driver.world_from_root()?;
@@ -1494,6 +1488,14 @@ fn surface_slab(surface: &Surface, sunk: f64) -> Option<SharedShape> {
         })
         .collect();
     SharedShape::convex_hull(&pts)
+}
+
+/// Points the head at `at`; a robot without a head looks where it looks.
+fn look_at(driver: &mut impl RobotDriver, at: Vec3) -> Result<(), PlaceError> {
+    match driver.look_at(at) {
+        Ok(_) | Err(DriverError::Unsupported(_)) => Ok(()),
+        Err(e) => Err(e.into()),
+    }
 }
 
 /// Whether a failure means "nothing here": worth turning around for.

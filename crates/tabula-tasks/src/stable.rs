@@ -18,7 +18,9 @@
 
 use rustc_hash::FxHashMap;
 use std::collections::VecDeque;
-use tabula_geom::polygon::{convex_hull_2d, distance_to_boundary, inside_convex, polygon_area};
+use tabula_geom::polygon::{
+    convex_hull_2d, distance_to_boundary, inside_convex, polygon_area, segment_distance,
+};
 use tabula_geom::{Quat, Vec2, Vec3};
 
 /// Parameters of the stable-pose search (SPEC §1.2, §6).
@@ -718,16 +720,6 @@ fn basis(n: Vec3) -> (Vec3, Vec3) {
     (u, n.cross(u))
 }
 
-fn segment_distance(p: Vec2, a: Vec2, b: Vec2) -> f64 {
-    let ab = b - a;
-    let t = if ab.length_squared() > 0.0 {
-        ((p - a).dot(ab) / ab.length_squared()).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    (a + ab * t).distance(p)
-}
-
 fn polygon_centroid(poly: &[Vec2]) -> Vec2 {
     let n = poly.len();
     let (mut a, mut c) = (0.0, Vec2::ZERO);
@@ -757,31 +749,7 @@ mod tests {
     use super::*;
 
     fn box_mesh(s: Vec3) -> (Vec<Vec3>, Vec<[u32; 3]>) {
-        let h = s / 2.0;
-        let v: Vec<Vec3> = (0..8)
-            .map(|i| {
-                Vec3::new(
-                    if i & 1 == 0 { -h.x } else { h.x },
-                    if i & 2 == 0 { -h.y } else { h.y },
-                    if i & 4 == 0 { -h.z } else { h.z },
-                )
-            })
-            .collect();
-        let t = vec![
-            [0, 2, 1],
-            [1, 2, 3],
-            [4, 5, 6],
-            [5, 7, 6],
-            [0, 1, 4],
-            [1, 5, 4],
-            [2, 6, 3],
-            [3, 6, 7],
-            [0, 4, 2],
-            [2, 4, 6],
-            [1, 3, 5],
-            [3, 7, 5],
-        ];
-        (v, t)
+        tabula_sim::objects::cuboid(-s / 2.0, s)
     }
 
     #[test]
