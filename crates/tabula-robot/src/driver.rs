@@ -13,8 +13,9 @@ use tabula_geom::{PointCloud, Pose, Vec3};
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum DriverError {
     /// The robot stopped before the goal because it would have hit something.
-    #[error("blocked by `{by}`")]
-    Blocked { by: String },
+    /// `link` of the robot would have entered `by`.
+    #[error("blocked by `{by}` (its link `{link}`)")]
+    Blocked { by: String, link: String },
     #[error("unknown joint `{0}`")]
     UnknownJoint(String),
     #[error("values must be finite")]

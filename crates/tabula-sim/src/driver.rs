@@ -26,7 +26,7 @@ pub struct SimDriver {
 impl From<SimError> for DriverError {
     fn from(e: SimError) -> Self {
         match e {
-            SimError::Blocked { by, .. } => DriverError::Blocked { by },
+            SimError::Blocked { by, link, .. } => DriverError::Blocked { by, link },
             SimError::NonFinite => DriverError::NonFinite,
             other => DriverError::Hardware(other.to_string()),
         }

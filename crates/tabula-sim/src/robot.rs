@@ -211,13 +211,14 @@ impl SimWorld {
             let t = (k as f64 * dt).min(duration);
             self.write_joints(ri, &at(t))?;
             self.place_robot(ri, true)?;
-            if guarded && let Some(hit) = self.robot_blocked(ri) {
+            if guarded && let Some((link, hit)) = self.robot_blocked(ri) {
                 let before = ((k - 1) as f64 * dt).min(duration);
                 self.write_joints(ri, &at(before))?;
                 self.place_robot(ri, false)?;
                 return Err(SimError::Blocked {
                     robot: self.robots[ri].name.clone(),
                     by: hit,
+                    link,
                 });
             }
             self.step();
@@ -377,15 +378,16 @@ impl SimWorld {
         Ok(out)
     }
 
-    /// The furniture or wall a robot link penetrates by more than a millimetre.
-    fn robot_blocked(&self, ri: usize) -> Option<String> {
+    /// A robot link (name without the robot prefix) and the furniture or wall it
+    /// penetrates by more than a millimetre.
+    fn robot_blocked(&self, ri: usize) -> Option<(String, String)> {
         let prefix = format!("{}/", self.robots[ri].name);
         self.live_entities()
             .filter(|e| e.kind == EntityKind::RobotLink && e.name.starts_with(&prefix))
             .find_map(|link| {
                 let body = &self.physics.bodies[link.body];
                 self.first_contact(body, *body.next_position(), &[EntityKind::Furniture], -1e-3)
-                    .map(|f| format!("{f}` (link `{}`", &link.name[prefix.len()..]))
+                    .map(|f| (link.name[prefix.len()..].to_string(), f))
             })
     }
 

@@ -48,8 +48,12 @@ pub enum SimError {
     Mesh { path: String, message: String },
     #[error("pose values must be finite")]
     NonFinite,
-    #[error("`{robot}` stopped: it would drive into `{by}`")]
-    Blocked { robot: String, by: String },
+    #[error("`{robot}` stopped: its link `{link}` would drive into `{by}`")]
+    Blocked {
+        robot: String,
+        by: String,
+        link: String,
+    },
     #[error(transparent)]
     Scene(#[from] crate::scene::SceneError),
 }
