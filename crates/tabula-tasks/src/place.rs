@@ -513,8 +513,10 @@ impl Run<'_> {
         self.mark(&format!(
             "scan at {target:?}, protective radius {radius:.3}"
         ));
-        let look = self.scan_view(driver, &tool_link, target, &mut scene);
-        drop(look);
+        // A look where the hand will be held: that space enters the scene (occupancy)
+        // before the arm moves there. What it sees of the object (still where it was)
+        // is not kept: the scan proper starts at the observation pose.
+        self.scan_view(driver, &tool_link, target, &mut scene)?;
         // The other arms out of the way (the seed's first step).
         self.decide(|r| r.occupy(&mut group, &scene, None));
         for other in &robot.description.arms {
@@ -768,16 +770,11 @@ impl Run<'_> {
         group.attach("object", hull.clone(), Pose::IDENTITY)?;
         let start = group.arm_values(&state);
         let world_base = world_from_base(robot, driver)?;
-        let base = group
-            .world
-            .world_from_chain_base()
-            .map_err(|e| PlaceError::Driver(e.to_string()))?;
         let side = if shoulder_lateral(robot, arm) >= 0.0 {
             1.0
         } else {
             -1.0
         };
-        let _ = base;
         // High beside the head: the sweep looks down at surfaces, below it.
         let camera_z = driver
             .capture(&self.params.camera)?
