@@ -91,16 +91,7 @@ pub fn run(a: ClearArgs) -> Result<()> {
         a.max_actions,
         a.run.seed,
     )?;
-    a.run.save(&world, &out)?;
-    if a.run.json {
-        println!("{}", serde_json::to_string_pretty(&out)?);
-    } else {
-        print_summary(&out);
-    }
-    if !out.success {
-        std::process::exit(2);
-    }
-    Ok(())
+    a.run.finish(&world, &out, out.success, print_summary)
 }
 
 fn print_summary(out: &ClearJson) {

@@ -109,16 +109,7 @@ pub fn run(a: PlaceArgs) -> Result<()> {
         },
     };
     let (out, world) = place_in(world, Some(&robot), &request, &params, a.run.seed)?;
-    a.run.save(&world, &out)?;
-    if a.run.json {
-        println!("{}", serde_json::to_string_pretty(&out)?);
-    } else {
-        print_summary(&out);
-    }
-    if !out.success {
-        std::process::exit(2);
-    }
-    Ok(())
+    a.run.finish(&world, &out, out.success, print_summary)
 }
 
 fn print_summary(out: &PlaceJson) {

@@ -53,6 +53,27 @@ impl TaskRunArgs {
         Ok(())
     }
 
+    /// The end of every task run: save what was asked, print the JSON (`--json`) or
+    /// the summary, and exit with status 2 when the task failed.
+    pub fn finish<T: Serialize>(
+        &self,
+        world: &SimWorld,
+        out: &T,
+        success: bool,
+        summary: impl FnOnce(&T),
+    ) -> Result<()> {
+        self.save(world, out)?;
+        if self.json {
+            println!("{}", serde_json::to_string_pretty(out)?);
+        } else {
+            summary(out);
+        }
+        if !success {
+            std::process::exit(2);
+        }
+        Ok(())
+    }
+
     /// The world of `--scene`.
     pub fn world(&self) -> Result<SimWorld> {
         Ok(load_world(&self.scene)?.1)

@@ -869,7 +869,7 @@ impl Run<'_> {
         let mut unique: Vec<Surface> = Vec::new();
         for s in surfaces {
             if !unique.iter().any(|u| {
-                (u.centroid.z - s.centroid.z).abs() < 0.03 && inside_hull(&u.hull, s.centroid)
+                (u.centroid.z - s.centroid.z).abs() < 0.03 && Outline::of(u).over(s.centroid)
             }) {
                 unique.push(s);
             }
@@ -977,10 +977,13 @@ impl Run<'_> {
         scene: &mut Vec<Vec3>,
     ) -> Result<(), PlaceError> {
         let me = world_from_base(self.robot, driver)?.translation.truncate();
-        let mut order: Vec<&Surface> = surfaces.iter().collect();
-        order.sort_by(|a, b| hull_distance(&a.hull, me).total_cmp(&hull_distance(&b.hull, me)));
+        let mut order: Vec<(f64, &Surface)> = surfaces
+            .iter()
+            .map(|s| (Outline::of(s).distance(me), s))
+            .collect();
+        order.sort_by(|a, b| a.0.total_cmp(&b.0));
         let mut last = PlaceError::NoRoom("no surface was tried".into());
-        for surface in order {
+        for (_, surface) in order {
             self.report.surface = Some(SurfaceReport {
                 height: surface.centroid.z,
                 centroid: surface.centroid.to_array(),
@@ -1089,16 +1092,13 @@ impl Run<'_> {
                 // The surface itself is an exact slab at its measured height (seed 000
                 // added the found surface to the planning scene), not occupancy voxels
                 // that would stand up to a voxel above it.
-                let n = surface.plane.normal;
-                let offset = surface.centroid.dot(n);
+                let outline = Outline::of(surface);
                 let rest: Vec<Vec3> = scene
                     .iter()
                     .copied()
                     .filter(|q| {
-                        let h = q.dot(n) - offset;
-                        !(h > -0.025
-                            && h < 0.015
-                            && hull_distance(&surface.hull, q.truncate()) < 0.02)
+                        let h = outline.height(*q);
+                        !(h > -0.025 && h < 0.015 && outline.distance(q.truncate()) < 0.02)
                     })
                     .collect();
                 r.occupy(&mut group, &rest, None);
@@ -1147,14 +1147,13 @@ impl Run<'_> {
         let p = self.params;
         let pts = scene;
         // Objects on the surface: what stands above it inside its outline.
-        let n = surface.plane.normal;
-        let offset = surface.centroid.dot(n);
+        let outline = Outline::of(surface);
         let above: Vec<Vec3> = pts
             .iter()
             .copied()
             .filter(|q| {
-                let h = q.dot(n) - offset;
-                h > p.observe.object_clearance + 0.004 && h < 0.5 && inside_hull(&surface.hull, *q)
+                let h = outline.height(*q);
+                h > p.observe.object_clearance + 0.004 && h < 0.5 && outline.over(*q)
             })
             .collect();
         let objects: Vec<Vec<Vec3>> = clusters(&above, p.observe.cluster_gap)
@@ -1169,8 +1168,7 @@ impl Run<'_> {
         let mut seen = surface.clone();
         seen.inliers = (0..pts.len())
             .filter(|&i| {
-                (pts[i].dot(n) - offset).abs() <= p.surfaces.ransac.threshold
-                    && inside_hull(&surface.hull, pts[i])
+                outline.height(pts[i]).abs() <= p.surfaces.ransac.threshold && outline.over(pts[i])
             })
             .collect();
         let map = FreeSpaceMap::build(&seen, pts, &objects, &fs)
@@ -1710,21 +1708,46 @@ fn footprint_of(pose: &StablePose, model: &[Vec3]) -> Vec<Vec2> {
     convex_hull_2d(&flat).into_iter().map(|i| flat[i]).collect()
 }
 
-fn inside_hull(hull: &[Vec3], q: Vec3) -> bool {
-    let mut poly: Vec<Vec2> = hull.iter().map(|p| p.truncate()).collect();
-    if tabula_geom::polygon::polygon_area(&poly) < 0.0 {
-        poly.reverse();
-    }
-    inside_convex(&poly, q.truncate())
+/// A surface's plane and outline seen from above (counter-clockwise), built once: the
+/// scene's points are tested against it one by one.
+struct Outline {
+    normal: Vec3,
+    offset: f64,
+    poly: Vec<Vec2>,
 }
 
-/// Horizontal distance from `q` to a surface's outline (0 inside).
-fn hull_distance(hull: &[Vec3], q: Vec2) -> f64 {
-    let poly: Vec<Vec2> = hull.iter().map(|p| p.truncate()).collect();
-    if inside_hull(hull, q.extend(0.0)) {
-        return 0.0;
+impl Outline {
+    fn of(surface: &Surface) -> Self {
+        let mut poly: Vec<Vec2> = surface.hull.iter().map(|p| p.truncate()).collect();
+        if tabula_geom::polygon::polygon_area(&poly) < 0.0 {
+            poly.reverse();
+        }
+        let normal = surface.plane.normal;
+        Self {
+            normal,
+            offset: surface.centroid.dot(normal),
+            poly,
+        }
     }
-    tabula_geom::polygon::distance_to_boundary(&poly, q)
+
+    /// Height of `q` above the surface's plane (m).
+    fn height(&self, q: Vec3) -> f64 {
+        q.dot(self.normal) - self.offset
+    }
+
+    /// Whether `q` is over the outline.
+    fn over(&self, q: Vec3) -> bool {
+        inside_convex(&self.poly, q.truncate())
+    }
+
+    /// Horizontal distance from `q` to the outline (0 over it).
+    fn distance(&self, q: Vec2) -> f64 {
+        if inside_convex(&self.poly, q) {
+            0.0
+        } else {
+            tabula_geom::polygon::distance_to_boundary(&self.poly, q)
+        }
+    }
 }
 
 /// The outline's point nearest `q` and the edge's outward normal there.
