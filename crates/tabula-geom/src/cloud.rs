@@ -12,6 +12,27 @@ pub struct PointCloud {
     pub points: Vec<Vec3>,
 }
 
+/// A cloud as a sensor file carries it: its points, their colours when the file has
+/// them (one per point, grid kept), and the sensor's pose in the cloud's frame (PCD's
+/// `VIEWPOINT`; identity when the file says nothing).
+#[derive(Debug, Clone, PartialEq)]
+pub struct CloudFile {
+    pub cloud: PointCloud,
+    pub colors: Option<Vec<[u8; 3]>>,
+    pub viewpoint: Pose,
+}
+
+impl CloudFile {
+    /// A cloud without colours whose sensor sits at the origin.
+    pub fn plain(cloud: PointCloud) -> Self {
+        Self {
+            cloud,
+            colors: None,
+            viewpoint: Pose::IDENTITY,
+        }
+    }
+}
+
 /// PCD data encodings this writer produces.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum PcdEncoding {
@@ -104,28 +125,75 @@ impl PointCloud {
 
     /// Writes PCD v0.7 (fields x y z, float32), keeping NaN points so the grid survives.
     pub fn write_pcd(&self, out: &mut impl Write, encoding: PcdEncoding) -> std::io::Result<()> {
+        self.write_pcd_with(out, encoding, &Pose::IDENTITY, None)
+    }
+
+    /// Writes PCD v0.7 with the sensor pose as `VIEWPOINT` (x y z qw qx qy qz) and,
+    /// when given (one per point), colours as PCL's packed float `rgb` field.
+    pub fn write_pcd_with(
+        &self,
+        out: &mut impl Write,
+        encoding: PcdEncoding,
+        viewpoint: &Pose,
+        colors: Option<&[[u8; 3]]>,
+    ) -> std::io::Result<()> {
+        let colors = colors.filter(|c| c.len() == self.points.len());
+        let (t, q) = (viewpoint.translation, viewpoint.rotation);
+        let (fields, size, kind, count) = if colors.is_some() {
+            ("x y z rgb", "4 4 4 4", "F F F F", "1 1 1 1")
+        } else {
+            ("x y z", "4 4 4", "F F F", "1 1 1")
+        };
         write!(
             out,
-            "# .PCD v0.7 - Point Cloud Data file format\nVERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH {}\nHEIGHT {}\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS {}\nDATA {}\n",
+            "# .PCD v0.7 - Point Cloud Data file format\nVERSION 0.7\nFIELDS {fields}\nSIZE {size}\nTYPE {kind}\nCOUNT {count}\nWIDTH {}\nHEIGHT {}\nVIEWPOINT {} {} {} {} {} {} {}\nPOINTS {}\nDATA {}\n",
             self.width,
             self.height,
+            t.x,
+            t.y,
+            t.z,
+            q.w,
+            q.x,
+            q.y,
+            q.z,
             self.points.len(),
             match encoding {
                 PcdEncoding::Ascii => "ascii",
                 PcdEncoding::Binary => "binary",
             }
         )?;
+        let packed = |k: usize| {
+            colors.map(|c| {
+                let [r, g, b] = c[k];
+                f32::from_bits((r as u32) << 16 | (g as u32) << 8 | b as u32)
+            })
+        };
         match encoding {
             PcdEncoding::Ascii => {
-                for p in &self.points {
+                for (k, p) in self.points.iter().enumerate() {
                     if p.is_finite() {
-                        writeln!(out, "{} {} {}", p.x as f32, p.y as f32, p.z as f32)?;
+                        write!(out, "{} {} {}", p.x as f32, p.y as f32, p.z as f32)?;
                     } else {
-                        writeln!(out, "nan nan nan")?;
+                        write!(out, "nan nan nan")?;
+                    }
+                    match packed(k) {
+                        // `{:e}` of an f32 reads back to the same bits.
+                        Some(c) => writeln!(out, " {c:e}")?,
+                        None => writeln!(out)?,
                     }
                 }
             }
-            PcdEncoding::Binary => self.write_xyz_f32_le(out)?,
+            PcdEncoding::Binary if colors.is_none() => self.write_xyz_f32_le(out)?,
+            PcdEncoding::Binary => {
+                let mut buf = Vec::with_capacity(self.points.len() * 16);
+                for (k, p) in self.points.iter().enumerate() {
+                    for v in [p.x, p.y, p.z] {
+                        buf.extend_from_slice(&(v as f32).to_le_bytes());
+                    }
+                    buf.extend_from_slice(&packed(k).unwrap_or(0.0).to_le_bytes());
+                }
+                out.write_all(&buf)?;
+            }
         }
         Ok(())
     }

@@ -19,6 +19,6 @@ pub mod pcd;
 pub mod ply;
 pub mod polygon;
 pub use angles::*;
-pub use cloud::{PcdEncoding, PointCloud, voxel_key};
-pub use pcd::{PcdError, read_pcd};
+pub use cloud::{CloudFile, PcdEncoding, PointCloud, voxel_key};
+pub use pcd::{PcdError, read_pcd, read_pcd_file};
 pub use ply::{PlyEncoding, PlyError, read_ply, write_ply};

@@ -1,9 +1,13 @@
 //! Reading PCD files (ascii, binary, binary_compressed) into a [`PointCloud`].
 //!
-//! Only the x, y, z fields are kept; any other fields (rgb, normals, labels) are skipped
-//! by their declared size. Every malformed header or short body is a [`PcdError`].
+//! The x, y, z fields become points; a packed `rgb` or `rgba` field (PCL's layout:
+//! 0x00RRGGBB in a float's or an unsigned int's bits) becomes colours; `VIEWPOINT`
+//! becomes the sensor pose in the cloud's frame. Other fields (normals, labels) are
+//! skipped by their declared size. Every size from the header is checked arithmetic
+//! and checked against the body before anything is allocated; every malformed header,
+//! short body or non-numeric value is a [`PcdError`].
 
-use crate::{PointCloud, Vec3};
+use crate::{CloudFile, PointCloud, Pose, Quat, Vec3};
 
 /// Why a PCD file cannot be read.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -12,6 +16,19 @@ pub struct PcdError(pub String);
 
 fn err<T>(m: impl Into<String>) -> Result<T, PcdError> {
     Err(PcdError(m.into()))
+}
+
+/// Most points a file may claim (a 640 × 480 frame is 0.3 M; a dense lidar map tens of M).
+pub const MAX_PCD_POINTS: usize = 100_000_000;
+
+/// Header words are quoted back in errors at most this long, so a hostile line is not
+/// echoed whole.
+fn clip(s: &str) -> String {
+    const MAX: usize = 60;
+    match s.char_indices().nth(MAX) {
+        Some((i, _)) => format!("{}…", &s[..i]),
+        None => s.to_string(),
+    }
 }
 
 #[derive(Debug)]
@@ -24,6 +41,14 @@ struct Field {
 
 /// LZF decompression (the codec of PCD's binary_compressed).
 fn lzf_decompress(input: &[u8], out_len: usize) -> Result<Vec<u8>, PcdError> {
+    // A three-byte back-reference makes at most 264 bytes: a block that claims more than
+    // 88 times its size is a lie, refused before its claim is reserved.
+    if out_len / 88 > input.len() {
+        return err(format!(
+            "{} compressed bytes cannot unpack to {out_len}",
+            input.len()
+        ));
+    }
     let mut out = Vec::with_capacity(out_len);
     let mut i = 0;
     while i < input.len() {
@@ -84,10 +109,44 @@ fn read_value(bytes: &[u8], f: &Field) -> f64 {
     }
 }
 
-/// Parses PCD bytes.
+/// PCL packs colour as 0x00RRGGBB (`rgb`) or 0xAARRGGBB (`rgba`) in four bytes, read
+/// as a float or an unsigned int: the bits are the colour either way.
+fn unpack_rgb(bits: u32) -> [u8; 3] {
+    [(bits >> 16) as u8, (bits >> 8) as u8, bits as u8]
+}
+
+/// One ascii value of a field: a number (`nan` and `inf` included); anything else is
+/// an error, not a silent NaN.
+fn parse_ascii(tok: &str, line: usize) -> Result<f64, PcdError> {
+    tok.parse::<f64>()
+        .map_err(|_| PcdError(format!("data line {line}: `{}` is not a number", clip(tok))))
+}
+
+/// Colour bits of an ascii value. Integers are the bits (some writers print a float
+/// `rgb` field as its bits: a packed colour read as a float is below 1e-30, so an
+/// integer ≥ 1 can only be bits); other floats are reinterpreted.
+fn ascii_rgb_bits(tok: &str, f: &Field, line: usize) -> Result<u32, PcdError> {
+    if let Ok(bits) = tok.parse::<u32>() {
+        return Ok(bits);
+    }
+    match tok.parse::<f32>() {
+        Ok(v) if f.kind == b'F' => Ok(v.to_bits()),
+        _ => err(format!("data line {line}: `{}` is not a colour", clip(tok))),
+    }
+}
+
+/// Parses PCD bytes into a cloud (points only; see [`read_pcd_file`] for colours and
+/// the sensor pose).
 pub fn read_pcd(bytes: &[u8]) -> Result<PointCloud, PcdError> {
+    read_pcd_file(bytes).map(|f| f.cloud)
+}
+
+/// Parses PCD bytes: points, colours if the file has an `rgb`/`rgba` field, and the
+/// `VIEWPOINT` pose (translation, then the quaternion w x y z, as PCL writes it).
+pub fn read_pcd_file(bytes: &[u8]) -> Result<CloudFile, PcdError> {
     let mut fields: Vec<Field> = Vec::new();
     let (mut width, mut height, mut points) = (None, None, None);
+    let mut viewpoint = Pose::IDENTITY;
     let mut pos = 0;
     let mut data = None;
     while pos < bytes.len() {
@@ -105,10 +164,21 @@ pub fn read_pcd(bytes: &[u8]) -> Result<PointCloud, PcdError> {
         let rest: Vec<&str> = words.collect();
         let num = |s: &str| {
             s.parse::<usize>()
-                .map_err(|_| PcdError(format!("`{s}` in `{line}` is not a count")))
+                .map_err(|_| PcdError(format!("`{}` in {key} is not a count", clip(s))))
         };
         match key.as_str() {
-            "VERSION" | "VIEWPOINT" => {}
+            "VERSION" => {}
+            "VIEWPOINT" => {
+                let v: Vec<f64> = rest.iter().filter_map(|s| s.parse().ok()).collect();
+                if v.len() != 7 || rest.len() != 7 || !v.iter().all(|x| x.is_finite()) {
+                    return err("VIEWPOINT needs seven finite numbers: x y z qw qx qy qz");
+                }
+                let q = Quat::from_xyzw(v[4], v[5], v[6], v[3]);
+                if q.length() < 1e-9 {
+                    return err("VIEWPOINT's quaternion is zero");
+                }
+                viewpoint = Pose::from_parts(Vec3::new(v[0], v[1], v[2]), q.normalize());
+            }
             "FIELDS" => {
                 fields = rest
                     .iter()
@@ -143,7 +213,7 @@ pub fn read_pcd(bytes: &[u8]) -> Result<PointCloud, PcdError> {
                 data = Some(rest.first().copied().unwrap_or("").to_ascii_lowercase());
                 break;
             }
-            other => return err(format!("unknown header line `{other}`")),
+            other => return err(format!("unknown header line `{}`", clip(other))),
         }
     }
     let Some(data) = data else {
@@ -154,8 +224,10 @@ pub fn read_pcd(bytes: &[u8]) -> Result<PointCloud, PcdError> {
     if w.checked_mul(h) != Some(n) {
         return err(format!("WIDTH {w} × HEIGHT {h} is not POINTS {n}"));
     }
-    if n > 100_000_000 {
-        return err(format!("{n} points is more than this reader accepts"));
+    if n > MAX_PCD_POINTS {
+        return err(format!(
+            "{n} points is more than this reader accepts ({MAX_PCD_POINTS})"
+        ));
     }
     for f in &fields {
         if !matches!((f.kind, f.size), (b'F', 4 | 8) | (b'I' | b'U', 1 | 2 | 4))
@@ -164,7 +236,10 @@ pub fn read_pcd(bytes: &[u8]) -> Result<PointCloud, PcdError> {
         {
             return err(format!(
                 "field `{}` has an unsupported type {}{} × {}",
-                f.name, f.kind as char, f.size, f.count
+                clip(&f.name),
+                f.kind as char,
+                f.size,
+                f.count
             ));
         }
     }
@@ -172,61 +247,81 @@ pub fn read_pcd(bytes: &[u8]) -> Result<PointCloud, PcdError> {
     let (Some(ix), Some(iy), Some(iz)) = (index("x"), index("y"), index("z")) else {
         return err("the fields must include x, y and z");
     };
+    let colour = index("rgb")
+        .or_else(|| index("rgba"))
+        .filter(|&i| fields[i].size == 4 && fields[i].count == 1);
+    // Bytes of one point (binary) and values of one point (ascii); at most 65,536
+    // fields of 65,536 values of 8 bytes each, so neither overflows.
+    let stride: usize = fields.iter().map(|f| f.size * f.count).sum();
+    let values: usize = fields.iter().map(|f| f.count).sum();
+    let offsets = |unit: &dyn Fn(&Field) -> usize| -> Vec<usize> {
+        fields
+            .iter()
+            .scan(0, |o, f| {
+                let here = *o;
+                *o += unit(f);
+                Some(here)
+            })
+            .collect()
+    };
     let body = &bytes[pos..];
-    let mut out = Vec::with_capacity(n);
-    match data.as_str() {
+    let too_short = |what: &str, have: usize, need: Option<usize>| {
+        err(format!(
+            "{what} has {have} bytes, the header needs {}",
+            need.map_or("more than memory holds".into(), |n| n.to_string())
+        ))
+    };
+    let (cloud_points, colors) = match data.as_str() {
         "ascii" => {
             let text = String::from_utf8_lossy(body);
-            let stride: usize = fields.iter().map(|f| f.count).sum();
-            let offsets: Vec<usize> = fields
-                .iter()
-                .scan(0, |o, f| {
-                    let here = *o;
-                    *o += f.count;
-                    Some(here)
-                })
-                .collect();
+            let at = offsets(&|f| f.count);
+            let mut pts = Vec::new();
+            let mut cols = Vec::new();
             for (k, line) in text.lines().filter(|l| !l.trim().is_empty()).enumerate() {
                 if k >= n {
                     break;
                 }
                 let vals: Vec<&str> = line.split_whitespace().collect();
-                if vals.len() < stride {
+                if vals.len() < values {
                     return err(format!(
-                        "data line {} has {} values, expected {stride}",
+                        "data line {} has {} values, expected {values}",
                         k + 1,
                         vals.len()
                     ));
                 }
-                let v = |i: usize| vals[offsets[i]].parse::<f64>().unwrap_or(f64::NAN);
-                out.push(Vec3::new(v(ix), v(iy), v(iz)));
+                let v = |i: usize| parse_ascii(vals[at[i]], k + 1);
+                pts.push(Vec3::new(v(ix)?, v(iy)?, v(iz)?));
+                if let Some(c) = colour {
+                    cols.push(unpack_rgb(ascii_rgb_bits(vals[at[c]], &fields[c], k + 1)?));
+                }
             }
+            (pts, colour.map(|_| cols))
         }
         "binary" => {
-            let stride: usize = fields.iter().map(|f| f.size * f.count).sum();
-            if body.len() < n * stride {
-                return err(format!(
-                    "binary data has {} bytes, expected {}",
-                    body.len(),
-                    n * stride
-                ));
+            let need = n.checked_mul(stride);
+            if need.is_none_or(|need| body.len() < need) {
+                return too_short("binary data", body.len(), need);
             }
-            let offs: Vec<usize> = fields
-                .iter()
-                .scan(0, |o, f| {
-                    let here = *o;
-                    *o += f.size * f.count;
-                    Some(here)
+            let offs = offsets(&|f| f.size * f.count);
+            let pts = (0..n)
+                .map(|k| {
+                    let p = &body[k * stride..];
+                    Vec3::new(
+                        read_value(&p[offs[ix]..], &fields[ix]),
+                        read_value(&p[offs[iy]..], &fields[iy]),
+                        read_value(&p[offs[iz]..], &fields[iz]),
+                    )
                 })
                 .collect();
-            for k in 0..n {
-                let p = &body[k * stride..];
-                out.push(Vec3::new(
-                    read_value(&p[offs[ix]..], &fields[ix]),
-                    read_value(&p[offs[iy]..], &fields[iy]),
-                    read_value(&p[offs[iz]..], &fields[iz]),
-                ));
-            }
+            let cols = colour.map(|c| {
+                (0..n)
+                    .map(|k| {
+                        let b = &body[k * stride + offs[c]..];
+                        unpack_rgb(u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+                    })
+                    .collect()
+            });
+            (pts, cols)
         }
         "binary_compressed" => {
             if body.len() < 8 {
@@ -234,39 +329,57 @@ pub fn read_pcd(bytes: &[u8]) -> Result<PointCloud, PcdError> {
             }
             let csize = u32::from_le_bytes([body[0], body[1], body[2], body[3]]) as usize;
             let usize_ = u32::from_le_bytes([body[4], body[5], body[6], body[7]]) as usize;
-            if body.len() < 8 + csize {
-                return err("compressed data truncated");
+            // The uncompressed size must be what the header's fields and points make,
+            // checked before anything is reserved for it.
+            let need = n.checked_mul(stride);
+            if need != Some(usize_) {
+                return err(format!(
+                    "compressed block unpacks to {usize_} bytes, the header needs {}",
+                    need.map_or("more than memory holds".into(), |n| n.to_string())
+                ));
+            }
+            if body.len() - 8 < csize {
+                return too_short("compressed data", body.len() - 8, Some(csize));
             }
             let raw = lzf_decompress(&body[8..8 + csize], usize_)?;
             // Field-major layout: all x, then all y, …
-            let mut offset = 0;
-            let mut starts = Vec::new();
-            for f in &fields {
-                starts.push(offset);
-                offset += f.size * f.count * n;
-            }
-            if raw.len() < offset {
-                return err("decompressed data too short");
-            }
-            for k in 0..n {
-                let at = |i: usize| {
-                    read_value(
-                        &raw[starts[i] + k * fields[i].size * fields[i].count..],
-                        &fields[i],
+            let starts = offsets(&|f| f.size * f.count * n);
+            let at = |i: usize, k: usize| &raw[starts[i] + k * fields[i].size * fields[i].count..];
+            let pts = (0..n)
+                .map(|k| {
+                    Vec3::new(
+                        read_value(at(ix, k), &fields[ix]),
+                        read_value(at(iy, k), &fields[iy]),
+                        read_value(at(iz, k), &fields[iz]),
                     )
-                };
-                out.push(Vec3::new(at(ix), at(iy), at(iz)));
-            }
+                })
+                .collect();
+            let cols = colour.map(|c| {
+                (0..n)
+                    .map(|k| {
+                        let b = at(c, k);
+                        unpack_rgb(u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+                    })
+                    .collect()
+            });
+            (pts, cols)
         }
-        other => return err(format!("unknown DATA encoding `{other}`")),
+        other => return err(format!("unknown DATA encoding `{}`", clip(other))),
+    };
+    if cloud_points.len() != n {
+        return err(format!(
+            "{} points read, header says {n}",
+            cloud_points.len()
+        ));
     }
-    if out.len() != n {
-        return err(format!("{} points read, header says {n}", out.len()));
-    }
-    Ok(PointCloud {
-        width: w,
-        height: h,
-        points: out,
+    Ok(CloudFile {
+        cloud: PointCloud {
+            width: w,
+            height: h,
+            points: cloud_points,
+        },
+        colors,
+        viewpoint,
     })
 }
 

@@ -11,6 +11,7 @@ mod kd;
 pub mod plane;
 pub mod segment;
 pub mod selffilter;
+pub mod support;
 pub mod surfaces;
 pub mod tabletop;
 

@@ -4,6 +4,7 @@
 //! one height, shelves of a bookshelf) come out as separate surfaces, and each surface
 //! reports the area it really covers, not its hull's.
 
+use crate::filters::{NormalParams, local_planes_at};
 use crate::plane::{Plane, RansacParams, ransac_plane};
 use tabula_geom::polygon::{convex_hull_2d, polygon_area};
 use tabula_geom::{PointCloud, Vec2, Vec3};
@@ -16,10 +17,17 @@ pub struct SurfaceParams {
     pub ransac: RansacParams,
     /// Largest tilt of a surface's normal from vertical (rad), SPEC §6.
     pub max_tilt: f64,
-    /// A plane needs this fraction of the cloud's points to count (SPEC §6: 5 %).
+    /// A plane needs this fraction of the cloud's points to count. SPEC §6 has 5 %;
+    /// the default is 0 because a share of the cloud says nothing about one table (a
+    /// table that is 5 % of a frame was missed in half the noise draws): absolute
+    /// units decide — `min_plane_points`, `min_area`, `min_inscribed_radius`.
     pub min_plane_fraction: f64,
-    /// Stop when less than this fraction of the cloud is left (SPEC §6: 10 %).
+    /// Stop when less than this fraction of the cloud is left. SPEC §6 has 10 %; the
+    /// default is 0 for the same reason.
     pub stop_fraction: f64,
+    /// A plane needs this many (searched) points to be looked at, and the search stops
+    /// when fewer are left.
+    pub min_plane_points: usize,
     /// Heights (world z, m) where a surface is reachable.
     pub height_range: [f64; 2],
     /// Smallest surface area (m²); the seed's tests used 100 cm².
@@ -28,6 +36,18 @@ pub struct SurfaceParams {
     /// seed's 100 cm² — so slices of vertical things (a drum's side cut by a table's
     /// plane) are not surfaces.
     pub min_inscribed_radius: f64,
+    /// A slice of something vertical (a wall or a drum's side cut by a plane, widened
+    /// by depth noise at range) has as many points just above and below the slice as
+    /// in it; a surface has empty space over it except at its rim. A piece is refused
+    /// when the points 3–8 RANSAC thresholds off its plane, over its cells, outnumber
+    /// its own points by more than this ratio.
+    pub max_slice_ratio: f64,
+    /// A surface's own points must be flat: at least `min_flat_fraction` of a sample of
+    /// them have local normals (from the whole cloud around them) within this angle
+    /// (rad) of the plane's — a plane cutting a shallow cone or a dome has a band of
+    /// inliers whose surface is tilted.
+    pub flat_normal_angle: f64,
+    pub min_flat_fraction: f64,
     /// Refinement: points this close (m) to the plane are refitted (SPEC §6: 0.02 m) …
     pub refine_threshold: f64,
     /// … this many times (SPEC §6: 3).
@@ -47,11 +67,15 @@ impl Default for SurfaceParams {
         Self {
             ransac: RansacParams::default(),
             max_tilt: 0.09,
-            min_plane_fraction: 0.05,
-            stop_fraction: 0.10,
+            min_plane_fraction: 0.0,
+            stop_fraction: 0.0,
+            min_plane_points: 30,
             height_range: [0.2, 1.6],
             min_area: 0.01,
             min_inscribed_radius: 0.05,
+            max_slice_ratio: 1.0,
+            flat_normal_angle: 15f64.to_radians(),
+            min_flat_fraction: 0.6,
             refine_threshold: 0.02,
             refine_iterations: 3,
             cell: 0.02,
@@ -139,7 +163,9 @@ pub fn find_surfaces(
     let mut out = SurfaceSearch::default();
     let mut taken = vec![false; points.len()];
     for round in 0..p.max_planes {
-        if remaining.len() < 3 || (remaining.len() as f64) < p.stop_fraction * total as f64 {
+        if remaining.len() < p.min_plane_points.max(3)
+            || (remaining.len() as f64) < p.stop_fraction * total as f64
+        {
             break;
         }
         let params = RansacParams {
@@ -149,7 +175,9 @@ pub fn find_surfaces(
         let Some((plane, inliers)) = ransac_plane(points, &remaining, &params) else {
             break;
         };
-        if (inliers.len() as f64) < p.min_plane_fraction * total as f64 || inliers.len() < 3 {
+        if (inliers.len() as f64) < p.min_plane_fraction * total as f64
+            || inliers.len() < p.min_plane_points.max(3)
+        {
             break;
         }
         let up = if plane.normal.z < 0.0 {
@@ -168,8 +196,16 @@ pub fn find_surfaces(
         };
         let mut peeled = inliers;
         if verdict == Verdict::Accepted {
-            let (plane, inliers) = refine(points, &remaining, up, p);
-            let found = split(points, &plane, &inliers, p);
+            let (plane, inliers, threshold) = refine(points, &remaining, up, p);
+            let at_noise = SurfaceParams {
+                ransac: RansacParams {
+                    threshold,
+                    ..p.ransac.clone()
+                },
+                ..p.clone()
+            };
+            let mut found = split(points, &plane, &inliers, &at_noise);
+            found.retain(|s| is_flat(cloud, s, &at_noise));
             if found.is_empty() {
                 verdict = Verdict::TooSmall;
             }
@@ -194,14 +230,50 @@ pub fn find_surfaces(
     out
 }
 
+/// Whether a surface's points lie on something flat (see `flat_normal_angle`).
+/// Neighbours come from the pixel window (organized) or, unorganized, from the points
+/// near the plane, which hold whatever the surface is part of.
+fn is_flat(cloud: &PointCloud, s: &Surface, p: &SurfaceParams) -> bool {
+    const SAMPLES: usize = 200;
+    let step = s.inliers.len().div_ceil(SAMPLES).max(1);
+    let sample: Vec<usize> = s.inliers.iter().copied().step_by(step).collect();
+    let band = 8.0 * p.ransac.threshold;
+    let mask: Vec<bool> = cloud
+        .points
+        .iter()
+        .map(|q| {
+            let off = s.plane.distance(*q).abs();
+            cloud.is_organized() && q.is_finite() || off <= band
+        })
+        .collect();
+    let eye = s.centroid + s.plane.normal;
+    // Wide neighbourhoods: depth noise at a few metres swamps a 7-pixel window.
+    let wide = NormalParams {
+        window: 7,
+        k: 200,
+        ..NormalParams::default()
+    };
+    let normals = local_planes_at(cloud, eye, &mask, &sample, &wide);
+    let cos = p.flat_normal_angle.cos();
+    let flat = normals
+        .iter()
+        .filter(|(n, _)| n.dot(s.plane.normal).abs() >= cos)
+        .count();
+    flat as f64 >= p.min_flat_fraction * sample.len() as f64
+}
+
 /// Seed 000's refinement: refit to everything within the refinement threshold, then
-/// take the inliers at the RANSAC threshold.
+/// take the inliers at the RANSAC threshold — widened to the surface's own depth noise
+/// when that is larger (2.5 σ, σ from the median distance of the points in the
+/// refinement band, at most the band): a table 2.5 m from a Kinect has σ ≈ 1 cm, and
+/// a 1 cm threshold would leave a third of it behind to be found again as a second
+/// table. Returns the plane, its inliers and the threshold used.
 fn refine(
     points: &[Vec3],
     candidates: &[usize],
     mut plane: Plane,
     p: &SurfaceParams,
-) -> (Plane, Vec<usize>) {
+) -> (Plane, Vec<usize>, f64) {
     for _ in 0..p.refine_iterations {
         let near = candidates
             .iter()
@@ -213,19 +285,60 @@ fn refine(
             None => break,
         }
     }
-    let inliers = candidates
+    let mut band: Vec<f64> = candidates
         .iter()
-        .copied()
-        .filter(|&i| plane.distance(points[i]).abs() <= p.ransac.threshold)
+        .map(|&i| plane.distance(points[i]).abs())
+        .filter(|d| *d <= p.refine_threshold)
         .collect();
-    (plane, inliers)
+    let threshold = if band.is_empty() {
+        p.ransac.threshold
+    } else {
+        let mid = band.len() / 2;
+        let median = *band.select_nth_unstable_by(mid, f64::total_cmp).1;
+        (2.5 * 1.4826 * median).clamp(
+            p.ransac.threshold,
+            p.refine_threshold.max(p.ransac.threshold),
+        )
+    };
+    let inliers_of = |plane: &Plane| -> Vec<usize> {
+        candidates
+            .iter()
+            .copied()
+            .filter(|&i| plane.distance(points[i]).abs() <= threshold)
+            .collect()
+    };
+    let mut inliers = inliers_of(&plane);
+    // Then refit to the inliers while that gains inliers: a hypothesis that crossed the
+    // table at a slant (RANSAC out of iterations on a small share of the frame) and a
+    // 2 cm band that mixed in a little of something else both settle on the surface.
+    for _ in 0..5 {
+        let Some(fit) = Plane::fit_iter(inliers.iter().map(|&i| points[i])) else {
+            break;
+        };
+        let fit = if fit.normal.dot(plane.normal) < 0.0 {
+            fit.flipped()
+        } else {
+            fit
+        };
+        let more = inliers_of(&fit);
+        if more.len() <= inliers.len() {
+            break;
+        }
+        (plane, inliers) = (fit, more);
+    }
+    (plane, inliers, threshold)
 }
 
 /// Splits a plane's inliers into connected pieces (8-connected grid cells) and keeps
 /// those with enough area. Connectivity comes from the (possibly downsampled) inliers;
 /// membership and outline from every finite point on the plane. Each cell remembers
 /// its extreme points in eight directions, so hulls come from a few points per cell.
-fn split(points: &[Vec3], plane: &Plane, inliers: &[usize], p: &SurfaceParams) -> Vec<Surface> {
+pub(crate) fn split(
+    points: &[Vec3],
+    plane: &Plane,
+    inliers: &[usize],
+    p: &SurfaceParams,
+) -> Vec<Surface> {
     let (u, v) = plane_basis(plane.normal);
     let to2 = |q: Vec3| Vec2::new(q.dot(u), q.dot(v));
     let mut cell = p.cell.max(1e-4);
@@ -319,9 +432,17 @@ fn split(points: &[Vec3], plane: &Plane, inliers: &[usize], p: &SurfaceParams) -
     let mut members: Vec<Vec<usize>> = vec![Vec::new(); n_comp as usize];
     // Cells holding full-resolution points, by piece.
     let mut filled = vec![EMPTY; nx * ny];
+    // Points just off the plane, per cell.
+    let mut beside = vec![0u32; nx * ny];
+    let (near, far) = (3.0 * p.ransac.threshold, 8.0 * p.ransac.threshold);
     for (i, q) in points.iter().enumerate() {
         let off = plane.distance(*q).abs();
         if off.is_nan() || off > p.ransac.threshold {
+            if off > near && off < far {
+                if let Some(c) = cell_of(to2(*q)) {
+                    beside[c] += 1;
+                }
+            }
             continue;
         }
         let q2 = to2(*q);
@@ -369,7 +490,12 @@ fn split(points: &[Vec3], plane: &Plane, inliers: &[usize], p: &SurfaceParams) -
     for (cells, idx) in cells_of.into_iter().zip(members) {
         let area = cells.len() as f64 * cell * cell;
         let core = cells.iter().map(|&c| room[c]).fold(0.0, f64::max).sqrt() * cell;
-        if area < p.min_area || idx.len() < 3 || core < p.min_inscribed_radius {
+        let sliced: u32 = cells.iter().map(|&c| beside[c]).sum();
+        if area < p.min_area
+            || idx.len() < 3
+            || core < p.min_inscribed_radius
+            || sliced as f64 > p.max_slice_ratio * idx.len() as f64
+        {
             continue;
         }
         let candidates: Vec<Vec2> = cells

@@ -434,7 +434,7 @@ mod tests {
         assert_eq!(p.surfaces.ransac.threshold, 0.015);
         // Untouched keys keep SPEC §6's values.
         assert_eq!(p.surfaces.max_tilt, 0.09);
-        assert_eq!(p.surfaces.min_plane_fraction, 0.05);
+        assert_eq!(p.surfaces.min_plane_points, 30);
         assert!((p.concavity_tolerance - 15f64.to_radians()).abs() < 1e-12);
         assert!(toml::from_str::<TabletopParams>("no_such_key = 1").is_err());
     }

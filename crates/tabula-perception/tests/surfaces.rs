@@ -13,6 +13,17 @@ fn search(
     Vec<u32>,
     SimWorld,
 ) {
+    search_with_noise(camera, 3)
+}
+
+fn search_with_noise(
+    camera: usize,
+    noise_seed: u64,
+) -> (
+    tabula_perception::surfaces::SurfaceSearch,
+    Vec<u32>,
+    SimWorld,
+) {
     let path = std::path::Path::new(concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/../../scenes/surfaces.toml"
@@ -20,7 +31,7 @@ fn search(
     let scene = Scene::load(path).unwrap();
     let world = SimWorld::from_scene(&scene, PhysicsParams::default()).unwrap();
     let camera = Camera::from_spec(&scene.cameras[camera], &world).unwrap();
-    let frame = tabula_sim::camera::capture(&world, &camera, 3);
+    let frame = tabula_sim::camera::capture(&world, &camera, noise_seed);
     let cloud = to_world(&frame.world_from_camera, &frame.cloud);
     let search = find_surfaces(&cloud, None, &SurfaceParams::default(), false);
     for t in &search.trials {
@@ -55,8 +66,15 @@ fn finds_the_table_when_the_floor_is_the_biggest_plane_and_rejects_ramp_cone_and
             .iter()
             .any(|t| t.verdict == Verdict::TooTilted && (t.tilt - 60f64.to_radians()).abs() < 0.05)
     );
-    assert_eq!(search.surfaces.len(), 1, "only the table");
+    // The table, and nothing but it or the drum's top (a real surface, seen from here
+    // in some noise draws).
     let table = &search.surfaces[0];
+    assert!(
+        search.surfaces[1..]
+            .iter()
+            .all(|s| share(s, &labels, &world, "drum") > 0.95),
+        "only the table and the drum"
+    );
     assert!(share(table, &labels, &world, "table") > 0.99);
     assert!((-table.plane.d - 0.72).abs() < 0.01 && table.plane.normal.z > 0.999);
     assert!((table.area - 0.8).abs() < 0.15, "seen area {}", table.area);
@@ -94,4 +112,32 @@ fn finds_the_drum_top_but_not_the_sign_drum() {
             "{rejected} was taken for a surface"
         );
     }
+}
+
+/// Absolute thresholds: the table (≈ 5 % of the frame) is found in every noise draw,
+/// and the ramp, cone, sign drum, floor and wall never pass for a surface.
+#[test]
+fn the_table_in_every_noise_draw_and_nothing_false() {
+    let mut missed = Vec::new();
+    for seed in 0..100 {
+        let (search, labels, world) = search_with_noise(0, seed);
+        let tables = search
+            .surfaces
+            .iter()
+            .filter(|s| share(s, &labels, &world, "table") > 0.99)
+            .count();
+        if tables != 1 {
+            missed.push(seed);
+        }
+        for rejected in ["sign_drum", "cone", "ramp", "floor", "wall"] {
+            assert!(
+                search
+                    .surfaces
+                    .iter()
+                    .all(|s| share(s, &labels, &world, rejected) < 0.5),
+                "seed {seed}: {rejected} was taken for a surface"
+            );
+        }
+    }
+    assert!(missed.is_empty(), "table missed for noise seeds {missed:?}");
 }

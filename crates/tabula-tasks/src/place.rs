@@ -113,10 +113,6 @@ impl Default for PlaceParams {
             },
             stable: StableParams::default(),
             surfaces: SurfaceParams {
-                // Absolute thresholds (area, inscribed disc) decide; a share of a
-                // merged sweep says nothing about one table.
-                min_plane_fraction: 0.0,
-                stop_fraction: 0.0,
                 height_range: [0.25, 1.3],
                 ..SurfaceParams::default()
             },

@@ -1,0 +1,274 @@
+//! Gravity from the scene when no world pose says where up is (SPEC §3.1's tabletop
+//! pipeline assumes a world frame; real frames from a bag file or PCL's sample data are
+//! in the camera's optical frame). As PCL's tabletop tutorials do, the support is a
+//! dominant plane with the camera on its open side; an up hint decides between a floor
+//! or table and the walls around it: the optical frame's convention (REP-103: y down)
+//! when nothing better is known, or a user's `--up`.
+//!
+//! The result is a *support frame*: z along the support's normal, the support at z = 0,
+//! the sensor straight above the origin and looking along +x. The tabletop pipeline then
+//! runs in that frame as it does in a robot's world frame.
+
+use crate::plane::{Plane, RansacParams, ransac_plane};
+use crate::surfaces::{SurfaceParams, split};
+use tabula_geom::{PointCloud, Pose, Quat, Vec3};
+
+/// Parameters of the support search.
+#[derive(Debug, Clone, serde::Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct SupportParams {
+    /// Plane fitting. The threshold is wider than the table search's 1 cm (SPEC §6)
+    /// because a floor seen at 3–4 m by a structured-light sensor is quantised in
+    /// steps of 2–4 cm; the support is then refitted by least squares.
+    pub ransac: RansacParams,
+    /// Most planes peeled off the cloud while looking for the support.
+    pub max_planes: usize,
+    /// Smallest support (m² of connected surface): a floor or a table, not a box's lid.
+    pub min_area: f64,
+    /// The support's normal must be within this angle (rad) of the up hint: the camera
+    /// may be pitched or rolled up to this much. (A wall ahead of a camera pitched down
+    /// by θ is 90° + θ from the optical up, a wall to the side 90°.)
+    pub max_angle_from_hint: f64,
+    /// Organized clouds are searched on every `stride`-th pixel of every `stride`-th row.
+    pub stride: usize,
+    /// Grid cell (m) that decides which inliers are one connected surface.
+    pub cell: f64,
+}
+
+impl Default for SupportParams {
+    fn default() -> Self {
+        Self {
+            ransac: RansacParams {
+                threshold: 0.02,
+                ..RansacParams::default()
+            },
+            max_planes: 8,
+            min_area: 0.1,
+            max_angle_from_hint: 80f64.to_radians(),
+            stride: 4,
+            cell: 0.04,
+        }
+    }
+}
+
+/// The support found and the frame built on it.
+#[derive(Debug, Clone)]
+pub struct Support {
+    /// The support plane in the cloud's frame, its normal toward the sensor.
+    pub plane: Plane,
+    /// Connected area of its largest piece (m²).
+    pub area: f64,
+    /// Angle between its normal and the up hint (rad).
+    pub angle_from_hint: f64,
+    /// Support frame from the cloud's frame (see the module's doc).
+    pub support_from_cloud: Pose,
+    /// The planes looked at: normal (cloud frame, toward the sensor), connected area
+    /// (m²) and angle from the hint (rad).
+    pub planes: Vec<(Plane, f64, f64)>,
+}
+
+/// Why no support was found.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SupportError {
+    #[error("the cloud has fewer than three finite points")]
+    Empty,
+    #[error(
+        "no plane of {min_area} m² or more within {max_angle_deg:.0}° of the up direction \
+         ({planes} planes looked at); give the sensor's pose or `--up`"
+    )]
+    NoSupport {
+        min_area: f64,
+        max_angle_deg: f64,
+        planes: usize,
+    },
+}
+
+/// Finds the support of a cloud whose up direction is only roughly known: `viewpoint`
+/// is the sensor's pose in the cloud's frame (its position orients normals, its forward
+/// axis names the support frame's x), `up_hint` a unit direction in the cloud's frame.
+///
+/// Planes are peeled off the cloud largest first; among those whose normal (toward the
+/// sensor) is within `max_angle_from_hint` of the hint and whose connected piece covers
+/// `min_area`, the support is the one with the largest area weighted by cos² of its
+/// angle from the hint: a floor or table seen from a camera pitched by θ is θ from the
+/// hint, a wall ahead 90° + θ and one to the side 90°.
+pub fn find_support(
+    cloud: &PointCloud,
+    viewpoint: &Pose,
+    up_hint: Vec3,
+    p: &SupportParams,
+) -> Result<Support, SupportError> {
+    let points = &cloud.points;
+    let stride = p.stride.max(1);
+    let mut remaining: Vec<usize> = if cloud.is_organized() && stride > 1 {
+        (0..cloud.height)
+            .step_by(stride)
+            .flat_map(|y| {
+                (0..cloud.width)
+                    .step_by(stride)
+                    .map(move |x| y * cloud.width + x)
+            })
+            .filter(|&i| points[i].is_finite())
+            .collect()
+    } else {
+        (0..points.len())
+            .filter(|&i| points[i].is_finite())
+            .collect()
+    };
+    if remaining.len() < 3 {
+        return Err(SupportError::Empty);
+    }
+    let up_hint = up_hint.normalize_or(Vec3::Z);
+    let eye = viewpoint.translation;
+    let split_params = SurfaceParams {
+        ransac: p.ransac.clone(),
+        min_area: p.min_area,
+        min_inscribed_radius: 0.0,
+        cell: p.cell,
+        ..SurfaceParams::default()
+    };
+    let mut planes = Vec::new();
+    let mut best: Option<(f64, Plane, f64, f64)> = None;
+    let mut taken = vec![false; points.len()];
+    for round in 0..p.max_planes {
+        if remaining.len() < 3 {
+            break;
+        }
+        let params = RansacParams {
+            seed: p.ransac.seed.wrapping_add(round as u64),
+            ..p.ransac.clone()
+        };
+        let Some((plane, inliers)) = ransac_plane(points, &remaining, &params) else {
+            break;
+        };
+        if inliers.len() < 3 {
+            break;
+        }
+        let plane = if plane.distance(eye) < 0.0 {
+            plane.flipped()
+        } else {
+            plane
+        };
+        let area = split(points, &plane, &inliers, &split_params)
+            .first()
+            .map_or(0.0, |s| s.area);
+        let angle = plane.normal.angle_between(up_hint);
+        planes.push((plane, area, angle));
+        if area >= p.min_area && angle <= p.max_angle_from_hint {
+            let score = area * angle.cos().powi(2);
+            if best.is_none_or(|b| score > b.0) {
+                best = Some((score, plane, area, angle));
+            }
+        }
+        for &i in &inliers {
+            taken[i] = true;
+        }
+        remaining.retain(|&i| !taken[i]);
+    }
+    let Some((_, plane, area, angle)) = best else {
+        return Err(SupportError::NoSupport {
+            min_area: p.min_area,
+            max_angle_deg: p.max_angle_from_hint.to_degrees(),
+            planes: planes.len(),
+        });
+    };
+    Ok(Support {
+        plane,
+        area,
+        angle_from_hint: angle,
+        support_from_cloud: support_frame(&plane, viewpoint),
+        planes,
+    })
+}
+
+/// The support frame of a plane (normal toward the sensor) seen from `viewpoint`.
+pub fn support_frame(plane: &Plane, viewpoint: &Pose) -> Pose {
+    let up = plane.normal;
+    let flat = |d: Vec3| (d - up * d.dot(up)).normalize_or_zero();
+    // The sensor's forward axis along the plane; straight down, its image "up" (-y).
+    let mut x = flat(viewpoint.rotation * Vec3::Z);
+    if x.length_squared() < 0.5 {
+        x = flat(viewpoint.rotation * Vec3::NEG_Y);
+    }
+    if x.length_squared() < 0.5 {
+        x = up.any_orthonormal_vector();
+    }
+    let y = up.cross(x);
+    let cloud_from_support_rot = Quat::from_mat3(&tabula_geom::Mat3::from_cols(x, y, up));
+    let origin = viewpoint.translation - up * plane.distance(viewpoint.translation);
+    Pose::from_parts(origin, cloud_from_support_rot).inverse()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A camera 1.2 m above a floor, pitched down by `pitch`, with a wall 3 m ahead:
+    /// points in the optical frame (x right, y down, z forward), organized.
+    fn room(pitch: f64, floor_extent: f64) -> (PointCloud, Pose) {
+        // world: z up, camera at (0, 0, 1.2) looking along +x pitched down.
+        let world_from_optical = Pose::from_parts(
+            Vec3::new(0.0, 0.0, 1.2),
+            Quat::from_rotation_z(0.0)
+                * Quat::from_rotation_y(pitch)
+                * Quat::from_mat3(&tabula_geom::Mat3::from_cols(
+                    Vec3::new(0.0, -1.0, 0.0),
+                    Vec3::new(0.0, 0.0, -1.0),
+                    Vec3::new(1.0, 0.0, 0.0),
+                )),
+        );
+        let mut pts = Vec::new();
+        for i in 0..60 {
+            for j in 0..60 {
+                let (a, b) = (i as f64 / 59.0, j as f64 / 59.0);
+                pts.push(Vec3::new(0.5 + a * floor_extent, -1.0 + 2.0 * b, 0.0));
+                pts.push(Vec3::new(3.0, -2.0 + 4.0 * a, 0.05 + 2.5 * b));
+            }
+        }
+        let optical_from_world = world_from_optical.inverse();
+        let cloud = PointCloud::unorganized(pts.iter().map(|q| optical_from_world * *q).collect());
+        (cloud, world_from_optical)
+    }
+
+    #[test]
+    fn the_floor_not_the_bigger_wall_from_the_optical_convention() {
+        for pitch in [0.1f64, 0.4, 0.7] {
+            // The wall (10 m²) is five times the floor (2 m²).
+            let (cloud, world_from_optical) = room(pitch, 1.0);
+            let s = find_support(
+                &cloud,
+                &Pose::IDENTITY,
+                Vec3::NEG_Y,
+                &SupportParams::default(),
+            )
+            .unwrap();
+            let up_in_optical = world_from_optical.inverse().rotation * Vec3::Z;
+            assert!(
+                s.plane.normal.angle_between(up_in_optical) < 0.02,
+                "pitch {pitch}: {:?}",
+                s.plane
+            );
+            // The sensor sits 1.2 m above the support frame's origin, looking along +x.
+            let eye = s.support_from_cloud * Vec3::ZERO;
+            assert!((eye - Vec3::new(0.0, 0.0, 1.2)).length() < 0.02, "{eye}");
+            let forward = s.support_from_cloud.rotation * Vec3::Z;
+            assert!(forward.x > 0.5 && forward.y.abs() < 1e-9, "{forward}");
+        }
+    }
+
+    #[test]
+    fn no_support_is_a_typed_error() {
+        let empty = PointCloud::unorganized(vec![Vec3::NAN; 10]);
+        let p = SupportParams::default();
+        assert_eq!(
+            find_support(&empty, &Pose::IDENTITY, Vec3::NEG_Y, &p).unwrap_err(),
+            SupportError::Empty
+        );
+        // Only the wall: 90° from the hint.
+        let (cloud, _) = room(0.0, 0.0);
+        assert!(matches!(
+            find_support(&cloud, &Pose::IDENTITY, Vec3::NEG_Y, &p),
+            Err(SupportError::NoSupport { .. })
+        ));
+    }
+}
