@@ -5,21 +5,30 @@ use anyhow::{Context, Result, bail};
 use clap::Args;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
-use tabula_geom::{PointCloud, Pose, Quat, Vec2, Vec3};
+use tabula_geom::read_pcd_file;
+use tabula_geom::{CloudFile, PointCloud, Pose, Quat, Vec2, Vec3};
 use tabula_perception::freespace::{Cell, FreeSpaceMap, FreeSpaceParams, Placement};
 use tabula_perception::selffilter::{PlacedSolid, SelfFilterParams, self_filter};
+use tabula_perception::support::{FrameSource, SupportParams, frame_cloud};
 use tabula_perception::surfaces::find_surfaces;
 use tabula_perception::tabletop::Tabletop;
-use tabula_perception::{TabletopParams, extract, read_pcd, read_ply, to_world};
+use tabula_perception::{TabletopParams, extract, read_ply, to_world};
 
 #[derive(Args)]
 pub struct PerceiveArgs {
-    /// Frame in the camera's optical frame: .pcd (ascii, binary, binary_compressed) or .ply.
+    /// A frame: .pcd (ascii, binary, binary_compressed) or .ply. Points in the camera's
+    /// optical frame (x right, y down, z forward) unless the PCD's `VIEWPOINT` places
+    /// the sensor away from the origin (then the points are in a z-up world frame).
     #[arg(long)]
     cloud: PathBuf,
-    /// world_from_camera as x y z qx qy qz qw (default: identity, cloud already in world).
+    /// world_from_camera as x y z qx qy qz qw: the points are in the camera's frame and
+    /// this places them in the world (overrides what the file says).
     #[arg(long, num_args = 7, allow_negative_numbers = true, value_names = ["X", "Y", "Z", "QX", "QY", "QZ", "QW"])]
     world_from_camera: Option<Vec<f64>>,
+    /// Roughly which way is up, in the cloud's frame: the support is the dominant
+    /// plane facing this way (default for camera-frame clouds: the optical frame's -y).
+    #[arg(long, num_args = 3, allow_negative_numbers = true, value_names = ["X", "Y", "Z"])]
+    up: Option<Vec<f64>>,
     /// Pipeline parameters (TOML, keys of `TabletopParams`; defaults from SPEC §6).
     #[arg(long)]
     params: Option<PathBuf>,
@@ -58,13 +67,20 @@ fn pose_arg(v: &[f64], what: &str) -> Result<Pose> {
 
 /// Reads a PCD or PLY file (by its first bytes, whatever the extension).
 pub fn read_cloud(path: &Path) -> Result<PointCloud> {
+    read_cloud_file(path).map(|f| f.cloud)
+}
+
+/// Reads a PCD or PLY file with its colours and sensor pose.
+pub fn read_cloud_file(path: &Path) -> Result<CloudFile> {
     let bytes = std::fs::read(path).with_context(|| format!("cannot read {}", path.display()))?;
-    let cloud = if bytes.starts_with(b"ply") {
-        read_ply(&bytes).map_err(anyhow::Error::from)
+    let file = if bytes.starts_with(b"ply") {
+        read_ply(&bytes)
+            .map(CloudFile::plain)
+            .map_err(anyhow::Error::from)
     } else {
-        read_pcd(&bytes).map_err(anyhow::Error::from)
+        read_pcd_file(&bytes).map_err(anyhow::Error::from)
     };
-    cloud.with_context(|| format!("{}", path.display()))
+    file.with_context(|| format!("{}", path.display()))
 }
 
 /// The robot's collision shapes placed by forward kinematics. Joints not given on the
@@ -93,14 +109,36 @@ fn robot_solids(name: &str, world_from_base: Pose, joints: &[String]) -> Result<
 }
 
 pub fn run(a: PerceiveArgs) -> Result<()> {
-    let camera_cloud = read_cloud(&a.cloud)?;
+    let file = read_cloud_file(&a.cloud)?;
     let world_from_camera = match &a.world_from_camera {
-        Some(v) => pose_arg(v, "world-from-camera")?,
-        None => Pose::IDENTITY,
+        Some(v) => Some(pose_arg(v, "world-from-camera")?),
+        None => None,
     };
-    let params: TabletopParams = crate::tasks::load_params(a.params.as_deref())?;
+    let up = match &a.up {
+        Some(v) => {
+            let up = Vec3::new(v[0], v[1], v[2]);
+            if !up.is_finite() || up.length() < 1e-9 {
+                bail!("--up must be a finite, non-zero direction");
+            }
+            Some(up.normalize())
+        }
+        None => None,
+    };
+    let mut params: TabletopParams = crate::tasks::load_params(a.params.as_deref())?;
     let t0 = Instant::now();
-    let mut cloud = to_world(&world_from_camera, &camera_cloud);
+    let framing = frame_cloud(
+        &file.cloud,
+        &file.viewpoint,
+        world_from_camera,
+        up,
+        &SupportParams::default(),
+    )?;
+    if framing.source == FrameSource::Support {
+        // The support is at z = 0 of its own frame: the table search looks there.
+        let band = 2.0 * params.surfaces.refine_threshold;
+        params.surfaces.height_range = [-band, band];
+    }
+    let mut cloud = to_world(&framing.world_from_cloud, &file.cloud);
     let mut removed = 0;
     if let Some(robot) = &a.robot {
         let base = match &a.robot_base {
@@ -116,7 +154,7 @@ pub fn run(a: PerceiveArgs) -> Result<()> {
             }
         }
     }
-    let viewpoint = world_from_camera.translation;
+    let viewpoint = framing.eye;
     let result = extract(&cloud, viewpoint, &params)?;
     let ms = t0.elapsed().as_secs_f64() * 1e3;
     let surfaces = find_surfaces(&cloud, None, &params.surfaces, false);
@@ -145,6 +183,9 @@ pub fn run(a: PerceiveArgs) -> Result<()> {
         std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
         let footprint = placement.flatten().zip(a.place.as_ref());
         write_report(dir, &result, &map, footprint)?;
+        if cloud.is_organized() {
+            write_frame_image(dir, &cloud, file.colors.as_deref(), &result)?;
+        }
     }
     if a.json {
         println!(
@@ -393,5 +434,74 @@ fn write_report(
     std::fs::write(dir.join("top.svg"), svg).context("cannot write top.svg")?;
     img.save(dir.join("top.png"))
         .context("cannot write top.png")?;
+    Ok(())
+}
+
+/// Object colours in the labelled frame: distinct hues, repeated after twelve.
+const LABEL_COLOURS: [[u8; 3]; 12] = [
+    [230, 25, 75],
+    [60, 180, 75],
+    [255, 225, 25],
+    [0, 130, 200],
+    [245, 130, 48],
+    [145, 30, 180],
+    [70, 240, 240],
+    [240, 50, 230],
+    [210, 245, 60],
+    [250, 190, 212],
+    [0, 128, 128],
+    [170, 110, 40],
+];
+
+/// The organized frame as the sensor saw it (its colours, or grey by depth), the
+/// support tinted green and each object in its own colour: `frame.png`.
+fn write_frame_image(
+    dir: &Path,
+    cloud: &PointCloud,
+    colors: Option<&[[u8; 3]]>,
+    t: &Tabletop,
+) -> Result<()> {
+    let (w, h) = (cloud.width, cloud.height);
+    let mut img = image::RgbImage::new(w as u32, h as u32);
+    let (lo, hi) = cloud
+        .points
+        .iter()
+        .filter(|p| p.is_finite())
+        .map(|p| p.z)
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), z| {
+            (a.min(z), b.max(z))
+        });
+    let base = |i: usize| -> [u8; 3] {
+        let p = cloud.points[i];
+        if !p.is_finite() {
+            return [0, 0, 0];
+        }
+        match colors {
+            Some(c) => c[i],
+            None => {
+                let g = (60.0 + 160.0 * (p.z - lo) / (hi - lo).max(1e-9)) as u8;
+                [g, g, g]
+            }
+        }
+    };
+    let mut label = vec![None; w * h];
+    for &i in &t.table.inliers {
+        label[i] = Some([40u8, 200, 60]);
+    }
+    for (k, o) in t.objects.iter().enumerate() {
+        for &i in &o.indices {
+            label[i] = Some(LABEL_COLOURS[k % LABEL_COLOURS.len()]);
+        }
+    }
+    for i in 0..w * h {
+        let b = base(i);
+        let px = match label[i] {
+            Some(l) => [0, 1, 2].map(|c| ((b[c] as u16 + 2 * l[c] as u16) / 3) as u8),
+            None => b,
+        };
+        img.put_pixel((i % w) as u32, (i / w) as u32, image::Rgb(px));
+    }
+    img.save(dir.join("frame.png"))
+        .context("cannot write frame.png")?;
     Ok(())
 }

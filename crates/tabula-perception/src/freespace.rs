@@ -243,6 +243,7 @@ impl FreeSpaceMap {
         let objects: Vec<Vec<Vec3>> = tabletop
             .objects
             .iter()
+            .chain(&tabletop.partial)
             .map(|o| {
                 o.indices
                     .iter()

@@ -272,3 +272,81 @@ mod tests {
         ));
     }
 }
+
+/// Where a cloud's world frame came from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FrameSource {
+    /// The caller gave the sensor's world pose (`--world-from-camera`).
+    GivenPose,
+    /// The file's `VIEWPOINT` placed the sensor in the cloud's own frame, z up.
+    Viewpoint,
+    /// The support found under the up hint (the optical frame's −y, or `--up`).
+    Support,
+}
+
+/// A cloud's world frame: z up, and where the sensor is in it.
+#[derive(Debug, Clone)]
+pub struct Framing {
+    pub world_from_cloud: Pose,
+    /// The sensor's position in the world frame.
+    pub eye: Vec3,
+    pub source: FrameSource,
+    /// The support, when the frame was built on it (the support is then at z = 0).
+    pub support: Option<Support>,
+}
+
+/// Whether a `VIEWPOINT` says "the points are in the sensor's own frame": the sensor
+/// at the origin, unrotated or turned 180° about x (PCL's grabbers write
+/// `0 0 0 0 1 0 0` over optical-frame points).
+pub fn is_sensor_frame(viewpoint: &Pose) -> bool {
+    let q = viewpoint.rotation;
+    let flipped_x = Quat::from_xyzw(1.0, 0.0, 0.0, 0.0);
+    viewpoint.translation.length() < 1e-6
+        && (q.dot(Quat::IDENTITY).abs() > 1.0 - 1e-6 || q.dot(flipped_x).abs() > 1.0 - 1e-6)
+}
+
+/// Decides a cloud's world frame: the caller's sensor pose if given; else with an up
+/// direction given (cloud frame), the support under it; else a `VIEWPOINT` that places
+/// the sensor away from the origin means the points are already in a z-up world;
+/// else the points are in the sensor's optical frame (REP-103: y down) and the
+/// support is found under the optical up.
+pub fn frame_cloud(
+    cloud: &PointCloud,
+    viewpoint: &Pose,
+    world_from_sensor: Option<Pose>,
+    up: Option<Vec3>,
+    p: &SupportParams,
+) -> Result<Framing, SupportError> {
+    if let Some(world_from_sensor) = world_from_sensor {
+        return Ok(Framing {
+            world_from_cloud: world_from_sensor,
+            eye: world_from_sensor.translation,
+            source: FrameSource::GivenPose,
+            support: None,
+        });
+    }
+    let sensor_frame = is_sensor_frame(viewpoint);
+    if up.is_none() && !sensor_frame {
+        return Ok(Framing {
+            world_from_cloud: Pose::IDENTITY,
+            eye: viewpoint.translation,
+            source: FrameSource::Viewpoint,
+            support: None,
+        });
+    }
+    let cloud_from_sensor = if sensor_frame {
+        Pose::IDENTITY
+    } else {
+        *viewpoint
+    };
+    let hint = up.unwrap_or(cloud_from_sensor.rotation * Vec3::NEG_Y);
+    let support = find_support(cloud, &cloud_from_sensor, hint, p)?;
+    let world_from_cloud = support.support_from_cloud;
+    Ok(Framing {
+        world_from_cloud,
+        eye: world_from_cloud * cloud_from_sensor.translation,
+        source: FrameSource::Support,
+        support: Some(support),
+    })
+}

@@ -10,7 +10,10 @@ use crate::plane::Plane;
 use crate::segment::{Locals, segment_organized, segment_unorganized};
 use crate::surfaces::{Surface, SurfaceParams, find_surfaces, plane_basis};
 use std::time::Instant;
-use tabula_geom::polygon::{convex_hull_2d, distance_to_boundary, inside_convex, polygon_area};
+use tabula_geom::polygon::{
+    Rectangle, convex_hull_2d, distance_to_boundary, inside_convex, min_area_rectangle,
+    polygon_area,
+};
 use tabula_geom::{PointCloud, Pose, Vec2, Vec3};
 
 /// Parameters; defaults from SPEC §6 (seed 002's repository) where it has them.
@@ -44,6 +47,12 @@ pub struct TabletopParams {
     /// A top surface is the object's points within this distance (m) of its highest
     /// level whose normals are within `max_tilt` of the table's.
     pub top_band: f64,
+    /// Organized frames: the normal window grows until the normals of the table (a
+    /// flat target in every frame) are within this median angle (rad) of its plane.
+    /// Real structured-light sensors are noisier than their σ(z) model says (depth
+    /// quantisation, correlated speckle); a window that suits the simulator cuts a
+    /// laptop lid seen by a Kinect at 1.4 m into a dozen pieces.
+    pub max_normal_noise: f64,
 }
 
 impl Default for TabletopParams {
@@ -61,6 +70,7 @@ impl Default for TabletopParams {
             min_object_points: 200,
             min_object_height: 0.025,
             top_band: 0.01,
+            max_normal_noise: 5f64.to_radians(),
         }
     }
 }
@@ -97,7 +107,9 @@ pub struct TableObject {
     /// (pushing directions, SPEC §3.1), unit vectors in the table plane.
     pub table_axes: [Vec3; 2],
     /// Oriented box of the points and their projection onto the table, aligned with
-    /// the table: the camera sees tops, the object stands on the table.
+    /// the table (the camera sees tops, the object stands on the table): the
+    /// footprint's minimal-area rectangle (rotating calipers) from the table up to the
+    /// object's highest point.
     pub obb: Obb,
     /// Convex hull of the points plus their projection onto the table (SPEC §3.1):
     /// vertices and triangles.
@@ -129,6 +141,9 @@ pub struct Tabletop {
     /// Upward normal facing the camera.
     pub plane: Plane,
     pub objects: Vec<TableObject>,
+    /// Objects cut by the edge of an organized frame's valid data: only part of each
+    /// is in view, so its size and centre are not the object's (obstacles still).
+    pub partial: Vec<TableObject>,
     /// Points kept by outlier removal.
     pub kept: usize,
     pub times: StageTimes,
@@ -213,6 +228,13 @@ pub fn extract(
     for (k, &i) in prism.iter().enumerate() {
         slot[i] = k as u32;
     }
+    let mut tuned = p.clone();
+    if organized {
+        tuned.normals.window = normal_window(cloud, viewpoint, &table, &plane, p);
+        // A crease is looked for beyond the reach of the normals' windows.
+        tuned.concavity_step = p.concavity_step.max(tuned.normals.window + 1);
+    }
+    let p = &tuned;
     let locals = Locals {
         planes: local_planes_at(cloud, viewpoint, &above, &prism, &p.normals),
         slot,
@@ -237,18 +259,101 @@ pub fn extract(
         })
         .collect();
     claim_object_bases(pts, &plane, &mut table.inliers, &mut regions, threshold);
-    let objects = regions
+    let edge = organized.then(|| FrameEdge::of(cloud));
+    let (partial, objects): (Vec<TableObject>, Vec<TableObject>) = regions
         .into_iter()
         .map(|indices| describe(pts, &locals, &plane, indices, p))
-        .collect();
+        .partition(|o| {
+            edge.as_ref()
+                .is_some_and(|e| o.indices.iter().any(|&i| e.near(i)))
+        });
     times.objects = ms(t);
     Ok(Tabletop {
         table,
         plane,
         objects,
+        partial,
         kept,
         times,
     })
+}
+
+/// Where an organized frame's valid data ends, row by row and column by column
+/// (Kinect frames have a margin of missing pixels where depth and colour do not
+/// overlap, so the image edge alone is not where an object is cut).
+struct FrameEdge {
+    width: usize,
+    /// First and last finite column of each row, first and last finite row of each
+    /// column.
+    rows: Vec<(usize, usize)>,
+    cols: Vec<(usize, usize)>,
+}
+
+impl FrameEdge {
+    /// Pixels within this many of the edge are on it.
+    const MARGIN: usize = 2;
+
+    fn of(cloud: &PointCloud) -> Self {
+        let (w, h) = (cloud.width, cloud.height);
+        let finite = |x: usize, y: usize| cloud.points[y * w + x].is_finite();
+        let span = |n: usize, ok: &dyn Fn(usize) -> bool| {
+            let first = (0..n).find(|&k| ok(k));
+            let last = (0..n).rev().find(|&k| ok(k));
+            first.zip(last).unwrap_or((usize::MAX, 0))
+        };
+        Self {
+            width: w,
+            rows: (0..h).map(|y| span(w, &|x| finite(x, y))).collect(),
+            cols: (0..w).map(|x| span(h, &|y| finite(x, y))).collect(),
+        }
+    }
+
+    fn near(&self, i: usize) -> bool {
+        let (x, y) = (i % self.width, i / self.width);
+        let m = Self::MARGIN;
+        let (l, r) = self.rows[y];
+        let (t, b) = self.cols[x];
+        x <= l + m || x + m >= r || y <= t + m || y + m >= b
+    }
+}
+
+/// The smallest normal window (from `p.normals.window` up to 15) whose normals on a
+/// sample of the table's points have a median angle to the table's plane within
+/// `max_normal_noise`: the sensor's own noise, measured on the one flat thing every
+/// frame holds.
+fn normal_window(
+    cloud: &PointCloud,
+    viewpoint: Vec3,
+    table: &Surface,
+    plane: &Plane,
+    p: &TabletopParams,
+) -> usize {
+    const SAMPLES: usize = 400;
+    let step = table.inliers.len().div_ceil(SAMPLES).max(1);
+    let sample: Vec<usize> = table.inliers.iter().copied().step_by(step).collect();
+    let mask: Vec<bool> = cloud.points.iter().map(|q| q.is_finite()).collect();
+    let mut window = p.normals.window.max(1);
+    while window < 15 {
+        let params = NormalParams {
+            window,
+            ..p.normals.clone()
+        };
+        let mut angles: Vec<f64> = local_planes_at(cloud, viewpoint, &mask, &sample, &params)
+            .iter()
+            .filter(|(n, _)| n.is_finite())
+            .map(|(n, _)| n.dot(plane.normal).abs().min(1.0).acos())
+            .collect();
+        if angles.is_empty() {
+            break;
+        }
+        let mid = angles.len() / 2;
+        let median = *angles.select_nth_unstable_by(mid, f64::total_cmp).1;
+        if median <= p.max_normal_noise {
+            break;
+        }
+        window += 2;
+    }
+    window.min(15)
 }
 
 /// Points within the plane threshold of the table but under an object's footprint
@@ -333,28 +438,65 @@ fn describe(
     let hull2: Vec<usize> = convex_hull_2d(&projected);
     let heights: Vec<f64> = points.iter().map(|q| plane.distance(*q)).collect();
     let height = heights.iter().copied().fold(0.0, f64::max);
-    let (mut lo, mut hi) = (Vec2::splat(f64::INFINITY), Vec2::splat(f64::NEG_INFINITY));
-    for &k in &hull2 {
-        lo = lo.min(projected[k]);
-        hi = hi.max(projected[k]);
-    }
     let on_table = |q: Vec3| q - up * plane.distance(q);
-    let mid = (lo + hi) / 2.0;
+    // The box: the footprint's minimal-area rectangle (a PCA frame turns a square 45°
+    // and makes it √2 too big), its long side first.
+    let rect = min_area_rectangle(&projected).unwrap_or_else(|| {
+        let (mut lo, mut hi) = (Vec2::splat(f64::INFINITY), Vec2::splat(f64::NEG_INFINITY));
+        for q in &projected {
+            lo = lo.min(*q);
+            hi = hi.max(*q);
+        }
+        Rectangle {
+            center: (lo + hi) / 2.0,
+            axis: Vec2::X,
+            size: hi - lo,
+        }
+    });
+    // Extents from the 0.5 % and 99.5 % quantiles along the rectangle's sides: the
+    // extreme points are the sensor noise's tails (2–3 σ out on every side), not the
+    // object's edge.
+    let rect = {
+        let perp = rect.axis.perp();
+        let robust = |d: Vec2| {
+            let mut v: Vec<f64> = projected.iter().map(|q| q.dot(d)).collect();
+            let n = v.len();
+            let k = n / 200;
+            let lo = *v.select_nth_unstable_by(k, f64::total_cmp).1;
+            let hi = *v.select_nth_unstable_by(n - 1 - k, f64::total_cmp).1;
+            (lo, hi)
+        };
+        let ((a0, a1), (b0, b1)) = (robust(rect.axis), robust(perp));
+        Rectangle {
+            center: rect.axis * (a0 + a1) / 2.0 + perp * (b0 + b1) / 2.0,
+            axis: rect.axis,
+            size: Vec2::new(a1 - a0, b1 - b0),
+        }
+    };
+    let box_height = {
+        let mut h = heights.clone();
+        let k = h.len() - 1 - h.len() / 200;
+        *h.select_nth_unstable_by(k, f64::total_cmp).1
+    };
+    let along = |d: Vec2| major * d.x + minor * d.y;
     let base = on_table(centroid);
-    let base = base + major * (mid.x - base.dot(major)) + minor * (mid.y - base.dot(minor));
-    let (size, box_axes) = if hi.x - lo.x >= hi.y - lo.y {
+    let base = base
+        + major * (rect.center.x - base.dot(major))
+        + minor * (rect.center.y - base.dot(minor));
+    let (first, second) = (along(rect.axis), along(rect.axis.perp()));
+    let (size, box_axes) = if rect.size.x >= rect.size.y {
         (
-            Vec3::new((hi.x - lo.x) / 2.0, (hi.y - lo.y) / 2.0, height / 2.0),
-            [major, minor, up],
+            Vec3::new(rect.size.x / 2.0, rect.size.y / 2.0, box_height / 2.0),
+            [first, second, up],
         )
     } else {
         (
-            Vec3::new((hi.y - lo.y) / 2.0, (hi.x - lo.x) / 2.0, height / 2.0),
-            [minor, -major, up],
+            Vec3::new(rect.size.y / 2.0, rect.size.x / 2.0, box_height / 2.0),
+            [second, -first, up],
         )
     };
     let obb = Obb {
-        center: base + up * (height / 2.0),
+        center: base + up * (box_height / 2.0),
         axes: box_axes,
         half_extents: size,
     };

@@ -208,3 +208,37 @@ fn bad_clouds_get_clear_answers() {
         .collect();
     assert!(extract(&PointCloud::unorganized(line), eye, &p).is_err());
 }
+
+/// Boxes are the footprint's minimal-area rectangle: a 5 × 5 cm box is reported
+/// 5 × 5 cm (± 5 mm) at any yaw, not the √2-larger box of a PCA frame.
+#[test]
+fn a_square_box_is_square_at_any_yaw() {
+    for yaw_deg in [0.0f64, 15.0, 30.0, 45.0, 60.0, 75.0] {
+        let text = format!(
+            "[floor]\nsize = [6.0, 6.0]\n\
+             [[furniture]]\nname = \"table\"\nkind = \"table\"\npose = {{ xyz = [1.0, 0.0, 0.0] }}\nsize = [0.8, 1.0, 0.72]\n\
+             [[object]]\nname = \"cube\"\nshape = {{ box = [0.05, 0.05, 0.08] }}\npose = {{ xyz = [0.9, 0.05, 0.761], rpy = [0.0, 0.0, {}] }}\nmass = 0.2\n\
+             [[camera]]\nname = \"c\"\nlook_at = {{ eye = [0.2, 0.0, 1.4], target = [0.9, 0.05, 0.72] }}\n",
+            yaw_deg.to_radians()
+        );
+        let scene = tabula_sim::Scene::parse(&text, "cube").unwrap();
+        let world =
+            tabula_sim::SimWorld::from_scene(&scene, tabula_sim::PhysicsParams::default()).unwrap();
+        let camera = tabula_sim::Camera::from_spec(&scene.cameras[0], &world).unwrap();
+        let frame = tabula_sim::camera::capture(&world, &camera, 1);
+        let cloud = to_world(&frame.world_from_camera, &frame.cloud);
+        let t = extract(
+            &cloud,
+            frame.world_from_camera.translation,
+            &TabletopParams::default(),
+        )
+        .unwrap();
+        assert_eq!(t.objects.len(), 1, "yaw {yaw_deg}");
+        let size = t.objects[0].obb.half_extents * 2.0;
+        assert!(
+            (size.x - 0.05).abs() <= 0.005 && (size.y - 0.05).abs() <= 0.005,
+            "yaw {yaw_deg}: {size}"
+        );
+        assert!((size.z - 0.08).abs() <= 0.01, "yaw {yaw_deg}: {size}");
+    }
+}
