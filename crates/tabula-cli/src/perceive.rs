@@ -12,7 +12,8 @@ use tabula_perception::selffilter::{PlacedSolid, SelfFilterParams, self_filter};
 use tabula_perception::support::{FrameSource, SupportParams, frame_cloud};
 use tabula_perception::surfaces::find_surfaces;
 use tabula_perception::tabletop::Tabletop;
-use tabula_perception::{TabletopParams, extract, read_ply, to_world};
+use tabula_perception::tabletop::{TableObject, extract_on};
+use tabula_perception::{Plane, TabletopParams, extract, read_ply, to_world};
 
 #[derive(Args)]
 pub struct PerceiveArgs {
@@ -124,7 +125,7 @@ pub fn run(a: PerceiveArgs) -> Result<()> {
         }
         None => None,
     };
-    let mut params: TabletopParams = crate::tasks::load_params(a.params.as_deref())?;
+    let params: TabletopParams = crate::tasks::load_params(a.params.as_deref())?;
     let t0 = Instant::now();
     let framing = frame_cloud(
         &file.cloud,
@@ -133,11 +134,7 @@ pub fn run(a: PerceiveArgs) -> Result<()> {
         up,
         &SupportParams::default(),
     )?;
-    if framing.source == FrameSource::Support {
-        // The support is at z = 0 of its own frame: the table search looks there.
-        let band = 2.0 * params.surfaces.refine_threshold;
-        params.surfaces.height_range = [-band, band];
-    }
+
     let mut cloud = to_world(&framing.world_from_cloud, &file.cloud);
     let mut removed = 0;
     if let Some(robot) = &a.robot {
@@ -155,7 +152,19 @@ pub fn run(a: PerceiveArgs) -> Result<()> {
         }
     }
     let viewpoint = framing.eye;
-    let result = extract(&cloud, viewpoint, &params)?;
+    let result = match &framing.support {
+        // The support frame puts the support at z = 0, facing up.
+        Some(_) => extract_on(
+            &cloud,
+            viewpoint,
+            Plane {
+                normal: Vec3::Z,
+                d: 0.0,
+            },
+            &params,
+        )?,
+        None => extract(&cloud, viewpoint, &params)?,
+    };
     let ms = t0.elapsed().as_secs_f64() * 1e3;
     let surfaces = find_surfaces(&cloud, None, &params.surfaces, false);
     let map = FreeSpaceMap::from_tabletop(&result, &cloud.points, &FreeSpaceParams::default())?;
@@ -187,27 +196,52 @@ pub fn run(a: PerceiveArgs) -> Result<()> {
             write_frame_image(dir, &cloud, file.colors.as_deref(), &result)?;
         }
     }
+    let colors = file.colors.as_deref();
     if a.json {
-        println!(
-            "{}",
-            serde_json::to_string_pretty(&to_json(
-                &result,
-                &surfaces.surfaces,
-                &map,
-                placement,
-                removed,
-                ms
-            ))?
+        let mut v = to_json(
+            &result,
+            &surfaces.surfaces,
+            &map,
+            placement,
+            removed,
+            ms,
+            colors,
         );
+        v["frame"] = serde_json::json!({
+            "source": framing.source,
+            "world_from_cloud": pose_json(&framing.world_from_cloud),
+            "sensor": arr(framing.eye),
+        });
+        println!("{}", serde_json::to_string_pretty(&v)?);
         return Ok(());
     }
+    let t = &framing.world_from_cloud;
+    match framing.source {
+        FrameSource::GivenPose => println!("frame: the world, from the sensor pose given"),
+        FrameSource::Viewpoint => println!(
+            "frame: the cloud's own (z up), sensor at ({:.3}, {:.3}, {:.3}) from its VIEWPOINT",
+            framing.eye.x, framing.eye.y, framing.eye.z
+        ),
+        FrameSource::Support => println!(
+            "frame: the support's (z up, support at z = 0, sensor {:.3} m above it looking along +x); \
+             world_from_cloud ({:.3}, {:.3}, {:.3}) ({:.4}, {:.4}, {:.4}, {:.4})",
+            framing.eye.z,
+            t.translation.x,
+            t.translation.y,
+            t.translation.z,
+            t.rotation.x,
+            t.rotation.y,
+            t.rotation.z,
+            t.rotation.w
+        ),
+    }
     println!(
-        "table: {} points, normal ({:.3}, {:.3}, {:.3}), height {:.3} m, {:.2} m² seen, hull {:.2} m² ({} corners); free {:.2} m²",
+        "table: {} points, height {:.3} m, normal ({:.3}, {:.3}, {:.3}), {:.2} m² seen, hull {:.2} m² ({} corners); free {:.2} m²",
         result.table.inliers.len(),
+        result.table.centroid.z,
         result.plane.normal.x,
         result.plane.normal.y,
         result.plane.normal.z,
-        -result.plane.d,
         result.table.area,
         result.table.hull_area,
         result.table.hull.len(),
@@ -220,7 +254,7 @@ pub fn run(a: PerceiveArgs) -> Result<()> {
     for s in &surfaces.surfaces {
         println!(
             "  at {:.3} m: {} points, {:.2} m², centroid ({:.3}, {:.3}, {:.3})",
-            -s.plane.d,
+            s.centroid.z,
             s.inliers.len(),
             s.area,
             s.centroid.x,
@@ -228,11 +262,10 @@ pub fn run(a: PerceiveArgs) -> Result<()> {
             s.centroid.z
         );
     }
-    println!("objects:");
-    for (i, o) in result.objects.iter().enumerate() {
+    let line = |i: usize, o: &TableObject| {
         let (c, s) = (o.obb.center, o.obb.half_extents * 2.0);
         println!(
-            "  {}: {} points, box centre ({:.3}, {:.3}, {:.3}), {:.3} × {:.3} × {:.3} m{}",
+            "  {}: {} points, box centre ({:.3}, {:.3}, {:.3}), {:.3} × {:.3} × {:.3} m, yaw {:.0}°{}{}",
             i + 1,
             o.indices.len(),
             c.x,
@@ -241,11 +274,26 @@ pub fn run(a: PerceiveArgs) -> Result<()> {
             s.x,
             s.y,
             s.z,
+            box_yaw(o).to_degrees(),
             o.top.as_ref().map_or(String::new(), |t| format!(
                 ", flat top {:.0} cm²",
                 t.area * 1e4
-            ))
+            )),
+            colors.map_or(String::new(), |c| {
+                let [r, g, b] = mean_colour(c, &o.indices);
+                format!(", colour #{r:02x}{g:02x}{b:02x}")
+            })
         );
+    };
+    println!("objects:");
+    for (i, o) in result.objects.iter().enumerate() {
+        line(i, o);
+    }
+    if !result.partial.is_empty() {
+        println!("cut by the frame's edge (partly seen):");
+        for (i, o) in result.partial.iter().enumerate() {
+            line(i, o);
+        }
     }
     match placement {
         Some(Some(p)) => println!(
@@ -271,6 +319,32 @@ pub fn run(a: PerceiveArgs) -> Result<()> {
     Ok(())
 }
 
+/// Yaw (rad) of a box's long side from the world x axis, in [-90°, 90°): a box turned
+/// by 180° is the same box.
+fn box_yaw(o: &TableObject) -> f64 {
+    let a = o.obb.axes[0];
+    let yaw = a.y.atan2(a.x);
+    let half = std::f64::consts::FRAC_PI_2;
+    (yaw + half).rem_euclid(std::f64::consts::PI) - half
+}
+
+/// Mean colour of some points.
+fn mean_colour(colors: &[[u8; 3]], indices: &[usize]) -> [u8; 3] {
+    let mut sum = [0u64; 3];
+    for &i in indices {
+        for (s, c) in sum.iter_mut().zip(colors[i]) {
+            *s += c as u64;
+        }
+    }
+    let n = indices.len().max(1) as u64;
+    sum.map(|s| (s / n) as u8)
+}
+
+fn pose_json(p: &Pose) -> [f64; 7] {
+    let (t, q) = (p.translation, p.rotation);
+    [t.x, t.y, t.z, q.x, q.y, q.z, q.w]
+}
+
 fn arr(v: Vec3) -> [f64; 3] {
     v.to_array()
 }
@@ -282,31 +356,34 @@ fn to_json(
     placement: Option<Option<Placement>>,
     removed: usize,
     ms: f64,
+    colors: Option<&[[u8; 3]]>,
 ) -> serde_json::Value {
     use serde_json::json;
-    let objects: Vec<_> = t
-        .objects
-        .iter()
-        .map(|o| {
-            json!({
-                "points": o.indices.len(),
-                "centroid": arr(o.centroid),
-                "axes": o.axes.map(arr),
-                "table_axes": o.table_axes.map(arr),
-                "obb": {"center": arr(o.obb.center), "axes": o.obb.axes.map(arr), "half_extents": arr(o.obb.half_extents)},
-                "height": o.height,
-                "footprint": o.footprint.iter().map(|p| arr(*p)).collect::<Vec<_>>(),
-                "hull": {"vertices": o.hull_vertices.iter().map(|p| arr(*p)).collect::<Vec<_>>(), "triangles": o.hull_triangles},
-                "top": o.top.as_ref().map(|s| json!({"height": s.height, "area": s.area, "centroid": arr(s.centroid), "hull": s.hull.iter().map(|p| arr(*p)).collect::<Vec<_>>()})),
-            })
+    let object = |o: &TableObject| {
+        json!({
+            "points": o.indices.len(),
+            "size": arr(o.obb.half_extents * 2.0),
+            "yaw": box_yaw(o),
+            "color": colors.map(|c| mean_colour(c, &o.indices)),
+            "centroid": arr(o.centroid),
+            "axes": o.axes.map(arr),
+            "table_axes": o.table_axes.map(arr),
+            "obb": {"center": arr(o.obb.center), "axes": o.obb.axes.map(arr), "half_extents": arr(o.obb.half_extents)},
+            "height": o.height,
+            "footprint": o.footprint.iter().map(|p| arr(*p)).collect::<Vec<_>>(),
+            "hull": {"vertices": o.hull_vertices.iter().map(|p| arr(*p)).collect::<Vec<_>>(), "triangles": o.hull_triangles},
+            "top": o.top.as_ref().map(|s| json!({"height": s.height, "area": s.area, "centroid": arr(s.centroid), "hull": s.hull.iter().map(|p| arr(*p)).collect::<Vec<_>>()})),
         })
-        .collect();
+    };
+    let objects: Vec<_> = t.objects.iter().map(object).collect();
+    let partial: Vec<_> = t.partial.iter().map(object).collect();
     let surfaces: Vec<_> = surfaces
         .iter()
         .map(|s| json!({"normal": arr(s.plane.normal), "d": s.plane.d, "points": s.inliers.len(), "area": s.area, "hull_area": s.hull_area, "centroid": arr(s.centroid), "hull": s.hull.iter().map(|p| arr(*p)).collect::<Vec<_>>()}))
         .collect();
     json!({
-        "table": {"normal": arr(t.plane.normal), "d": t.plane.d, "points": t.table.inliers.len(), "area": t.table.area, "hull_area": t.table.hull_area, "centroid": arr(t.table.centroid), "hull": t.table.hull.iter().map(|p| arr(*p)).collect::<Vec<_>>()},
+        "partial_objects": partial,
+        "table": {"height": t.table.centroid.z, "normal": arr(t.plane.normal), "d": t.plane.d, "points": t.table.inliers.len(), "area": t.table.area, "hull_area": t.table.hull_area, "centroid": arr(t.table.centroid), "hull": t.table.hull.iter().map(|p| arr(*p)).collect::<Vec<_>>()},
         "surfaces": surfaces,
         "objects": objects,
         "free_area": map.free_area(),
@@ -493,9 +570,13 @@ fn write_frame_image(
             label[i] = Some(LABEL_COLOURS[k % LABEL_COLOURS.len()]);
         }
     }
-    for i in 0..w * h {
+    // Objects cut by the frame's edge: white.
+    for &i in t.partial.iter().flat_map(|o| &o.indices) {
+        label[i] = Some([255, 255, 255]);
+    }
+    for (i, l) in label.iter().enumerate() {
         let b = base(i);
-        let px = match label[i] {
+        let px = match l {
             Some(l) => [0, 1, 2].map(|c| ((b[c] as u16 + 2 * l[c] as u16) / 3) as u8),
             None => b,
         };

@@ -532,6 +532,7 @@ mod tests {
             area: size * size,
             hull_area: size * size,
             centroid: Vec3::new(size / 2.0, size / 2.0, 0.7),
+            threshold: 0.01,
         };
         (surface, points)
     }

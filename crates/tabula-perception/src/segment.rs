@@ -269,8 +269,11 @@ fn split_by_tops(
     parts
 }
 
+/// `eye` is the sensor's position: neighbouring pixels are one object while closer
+/// than the cluster tolerance grown with the depth noise at their range.
 pub(crate) fn segment_organized(
     cloud: &PointCloud,
+    eye: Vec3,
     above: &[bool],
     keep: &[bool],
     locals: &Locals,
@@ -307,9 +310,13 @@ pub(crate) fn segment_organized(
             })
         })
         .collect();
-    let tol2 = p.cluster_tolerance * p.cluster_tolerance;
+    let tolerance2 = |i: usize| {
+        let t = p.cluster_tolerance + p.cluster_range_gain * pts[i].distance_squared(eye);
+        t * t
+    };
     let neighbours = |i: usize, out: &mut Vec<usize>| {
         let (x, y) = ((i % w) as isize, (i / w) as isize);
+        let tol2 = tolerance2(i);
         for (dx, dy) in [(1, 0), (-1, 0), (0, 1), (0, -1)] {
             if let Some(j) = at(x + dx, y + dy)
                 && pts[i].distance_squared(pts[j]) <= tol2

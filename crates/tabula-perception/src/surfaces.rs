@@ -38,9 +38,9 @@ pub struct SurfaceParams {
     pub min_inscribed_radius: f64,
     /// A slice of something vertical (a wall or a drum's side cut by a plane, widened
     /// by depth noise at range) has as many points just above and below the slice as
-    /// in it; a surface has empty space over it except at its rim. A piece is refused
-    /// when the points 3–8 RANSAC thresholds off its plane, over its cells, outnumber
-    /// its own points by more than this ratio.
+    /// in it; a surface has what stands on it above and nothing below. A piece is
+    /// refused when the points 3–8 RANSAC thresholds off its plane in cells that have
+    /// them on both sides outnumber its own points by more than this ratio.
     pub max_slice_ratio: f64,
     /// A surface's own points must be flat: at least `min_flat_fraction` of a sample of
     /// them have local normals (from the whole cloud around them) within this angle
@@ -99,6 +99,9 @@ pub struct Surface {
     /// Area of the hull (m²).
     pub hull_area: f64,
     pub centroid: Vec3,
+    /// Distance (m) from the plane within which its points were taken: the RANSAC
+    /// threshold, or more where the sensor's noise on this surface is larger.
+    pub threshold: f64,
 }
 
 /// A plane that was looked at, accepted or not, and why (for reports and tests).
@@ -144,21 +147,7 @@ pub fn find_surfaces(
     first_only: bool,
 ) -> SurfaceSearch {
     let points = &cloud.points;
-    let usable = |i: usize| points[i].is_finite() && keep.is_none_or(|k| k.get(i) == Some(&true));
-    let stride = p.stride.max(1);
-    let mut remaining: Vec<usize> = if cloud.is_organized() && stride > 1 {
-        (0..cloud.height)
-            .step_by(stride)
-            .flat_map(|y| {
-                (0..cloud.width)
-                    .step_by(stride)
-                    .map(move |x| y * cloud.width + x)
-            })
-            .filter(|&i| usable(i))
-            .collect()
-    } else {
-        (0..points.len()).filter(|&i| usable(i)).collect()
-    };
+    let mut remaining = searched_points(cloud, keep, p);
     let total = remaining.len();
     let mut out = SurfaceSearch::default();
     let mut taken = vec![false; points.len()];
@@ -196,16 +185,7 @@ pub fn find_surfaces(
         };
         let mut peeled = inliers;
         if verdict == Verdict::Accepted {
-            let (plane, inliers, threshold) = refine(points, &remaining, up, p);
-            let at_noise = SurfaceParams {
-                ransac: RansacParams {
-                    threshold,
-                    ..p.ransac.clone()
-                },
-                ..p.clone()
-            };
-            let mut found = split(points, &plane, &inliers, &at_noise);
-            found.retain(|s| is_flat(cloud, s, &at_noise));
+            let (found, inliers) = pieces(cloud, &remaining, up, p);
             if found.is_empty() {
                 verdict = Verdict::TooSmall;
             }
@@ -228,6 +208,60 @@ pub fn find_surfaces(
         remaining.retain(|&i| !taken[i]);
     }
     out
+}
+
+/// The points a search looks at: finite, kept, and on an organized cloud every
+/// `stride`-th pixel of every `stride`-th row.
+fn searched_points(cloud: &PointCloud, keep: Option<&[bool]>, p: &SurfaceParams) -> Vec<usize> {
+    let points = &cloud.points;
+    let usable = |i: usize| points[i].is_finite() && keep.is_none_or(|k| k.get(i) == Some(&true));
+    let stride = p.stride.max(1);
+    if cloud.is_organized() && stride > 1 {
+        (0..cloud.height)
+            .step_by(stride)
+            .flat_map(|y| {
+                (0..cloud.width)
+                    .step_by(stride)
+                    .map(move |x| y * cloud.width + x)
+            })
+            .filter(|&i| usable(i))
+            .collect()
+    } else {
+        (0..points.len()).filter(|&i| usable(i)).collect()
+    }
+}
+
+/// The surfaces on a plane hypothesis: refined, split into connected pieces, only the
+/// flat ones; and the searched points it claims.
+fn pieces(
+    cloud: &PointCloud,
+    candidates: &[usize],
+    plane: Plane,
+    p: &SurfaceParams,
+) -> (Vec<Surface>, Vec<usize>) {
+    let (plane, inliers, threshold) = refine(cloud, candidates, plane, p);
+    let at_noise = SurfaceParams {
+        ransac: RansacParams {
+            threshold,
+            ..p.ransac.clone()
+        },
+        ..p.clone()
+    };
+    let mut found = split(&cloud.points, &plane, &inliers, &at_noise);
+    found.retain(|s| is_flat(cloud, s, &at_noise));
+    (found, inliers)
+}
+
+/// The biggest surface on a plane already known (the support found under an up hint):
+/// no search, the same refinement, pieces and checks as a searched surface gets.
+pub fn surface_on(
+    cloud: &PointCloud,
+    keep: Option<&[bool]>,
+    plane: Plane,
+    p: &SurfaceParams,
+) -> Option<Surface> {
+    let candidates = searched_points(cloud, keep, p);
+    pieces(cloud, &candidates, plane, p).0.into_iter().next()
 }
 
 /// Whether a surface's points lie on something flat (see `flat_normal_angle`).
@@ -262,6 +296,40 @@ fn is_flat(cloud: &PointCloud, s: &Surface, p: &SurfaceParams) -> bool {
     flat as f64 >= p.min_flat_fraction * sample.len() as f64
 }
 
+/// The candidates within twice the refinement band of a plane whose local normals
+/// (from the whole cloud around them) are within the RANSAC normal angle of the
+/// plane's, sorted.
+fn facing_points(
+    cloud: &PointCloud,
+    candidates: &[usize],
+    plane: &Plane,
+    p: &SurfaceParams,
+) -> Vec<usize> {
+    let reach = 2.0 * p.refine_threshold.max(p.ransac.threshold);
+    let near: Vec<usize> = candidates
+        .iter()
+        .copied()
+        .filter(|&i| plane.distance(cloud.points[i]).abs() <= reach)
+        .collect();
+    let band = 8.0 * p.ransac.threshold;
+    let mask: Vec<bool> = cloud
+        .points
+        .iter()
+        .map(|q| cloud.is_organized() && q.is_finite() || plane.distance(*q).abs() <= band)
+        .collect();
+    let eye = plane.normal * (1.0 - plane.d);
+    let normals = local_planes_at(cloud, eye, &mask, &near, &NormalParams::default());
+    let cos = p.ransac.max_normal_angle.cos();
+    let mut out: Vec<usize> = near
+        .iter()
+        .zip(normals)
+        .filter(|(_, (n, _))| n.is_finite() && n.dot(plane.normal).abs() >= cos)
+        .map(|(&i, _)| i)
+        .collect();
+    out.sort_unstable();
+    out
+}
+
 /// Seed 000's refinement: refit to everything within the refinement threshold, then
 /// take the inliers at the RANSAC threshold — widened to the surface's own depth noise
 /// when that is larger (2.5 σ, σ from the median distance of the points in the
@@ -269,13 +337,18 @@ fn is_flat(cloud: &PointCloud, s: &Surface, p: &SurfaceParams) -> bool {
 /// a 1 cm threshold would leave a third of it behind to be found again as a second
 /// table. Returns the plane, its inliers and the threshold used.
 fn refine(
-    points: &[Vec3],
+    cloud: &PointCloud,
     candidates: &[usize],
     mut plane: Plane,
     p: &SurfaceParams,
 ) -> (Plane, Vec<usize>, f64) {
+    let points = &cloud.points;
+    // Fits only use points whose own surface faces the plane's way: a band around a
+    // table's plane also cuts a strip out of the wall behind it, and that strip, far
+    // from the table, tilts a least-squares fit more with every iteration.
+    let facing = facing_points(cloud, candidates, &plane, p);
     for _ in 0..p.refine_iterations {
-        let near = candidates
+        let near = facing
             .iter()
             .map(|&i| points[i])
             .filter(|q| plane.distance(*q).abs() <= p.refine_threshold);
@@ -285,7 +358,7 @@ fn refine(
             None => break,
         }
     }
-    let mut band: Vec<f64> = candidates
+    let mut band: Vec<f64> = facing
         .iter()
         .map(|&i| plane.distance(points[i]).abs())
         .filter(|d| *d <= p.refine_threshold)
@@ -308,11 +381,27 @@ fn refine(
             .collect()
     };
     let mut inliers = inliers_of(&plane);
-    // Then refit to the inliers while that gains inliers: a hypothesis that crossed the
-    // table at a slant (RANSAC out of iterations on a small share of the frame) and a
-    // 2 cm band that mixed in a little of something else both settle on the surface.
-    for _ in 0..5 {
-        let Some(fit) = Plane::fit_iter(inliers.iter().map(|&i| points[i])) else {
+    // Then refit while that gains inliers: a hypothesis that crossed the table at a
+    // slant (RANSAC out of iterations on a small share of the frame) and a 2 cm band
+    // that mixed in a little of something else (a table's apron under its edge tilts
+    // a least-squares fit) both settle on the surface. Each refit is a RANSAC among
+    // the inliers at half the threshold, which the surface dominates, then least
+    // squares on its inliers.
+    for round in 0..5 {
+        let core = RansacParams {
+            threshold: threshold / 2.0,
+            seed: p.ransac.seed.wrapping_add(1000 + round),
+            ..p.ransac.clone()
+        };
+        let facing_inliers: Vec<usize> = inliers
+            .iter()
+            .copied()
+            .filter(|i| facing.binary_search(i).is_ok())
+            .collect();
+        let Some((_, core)) = ransac_plane(points, &facing_inliers, &core) else {
+            break;
+        };
+        let Some(fit) = Plane::fit_iter(core.iter().map(|&i| points[i])) else {
             break;
         };
         let fit = if fit.normal.dot(plane.normal) < 0.0 {
@@ -329,9 +418,9 @@ fn refine(
     (plane, inliers, threshold)
 }
 
-/// Splits a plane's inliers into connected pieces (8-connected grid cells) and keeps
-/// those with enough area. Connectivity comes from the (possibly downsampled) inliers;
-/// membership and outline from every finite point on the plane. Each cell remembers
+/// Splits the points on a plane into connected pieces (grid cells) and keeps those
+/// with enough area. The (possibly downsampled) inliers only bound the grid;
+/// connectivity, membership and outline come from every finite point on the plane. Each cell remembers
 /// its extreme points in eight directions, so hulls come from a few points per cell.
 pub(crate) fn split(
     points: &[Vec3],
@@ -370,9 +459,22 @@ pub(crate) fn split(
     const EMPTY: u32 = u32::MAX;
     const UNSET: u32 = u32::MAX - 1;
     let mut comp = vec![EMPTY; nx * ny];
-    for &i in inliers {
-        if let Some(c) = cell_of(to2(points[i])) {
+    // Every finite point on the plane, with its cell; and the points just above and
+    // just below the plane, per cell.
+    let mut on_plane: Vec<(usize, usize)> = Vec::new();
+    let mut beside = vec![[0u32; 2]; nx * ny];
+    let (near, far) = (3.0 * p.ransac.threshold, 8.0 * p.ransac.threshold);
+    for (i, q) in points.iter().enumerate() {
+        let signed = plane.distance(*q);
+        let off = signed.abs();
+        let Some(c) = cell_of(to2(*q)) else {
+            continue;
+        };
+        if off <= p.ransac.threshold {
             comp[c] = UNSET;
+            on_plane.push((i, c));
+        } else if off > near && off < far {
+            beside[c][usize::from(signed > 0.0)] += 1;
         }
     }
     let mut n_comp = 0u32;
@@ -382,8 +484,9 @@ pub(crate) fn split(
         }
         comp[start] = n_comp;
         let mut stack = vec![start];
-        // Two cells' reach: a row of cells the downsampled points skipped (their
-        // spacing beating against the cell size) does not cut a surface in two.
+        // Connectivity comes from every point on the plane, at full resolution (a far
+        // floor's rows are centimetres apart, more so on a downsampled grid); two
+        // cells' reach bridges the rows a grazing view leaves between its points.
         while let Some(c) = stack.pop() {
             let (cx, cy) = ((c % nx) as isize, (c / nx) as isize);
             for dy in -2..=2 {
@@ -430,45 +533,16 @@ pub(crate) fn split(
         .collect();
     let mut extremes = vec![[(f64::NEG_INFINITY, Vec2::ZERO); 8]; nx * ny];
     let mut members: Vec<Vec<usize>> = vec![Vec::new(); n_comp as usize];
-    // Cells holding full-resolution points, by piece.
+    // Cells holding points, by piece.
     let mut filled = vec![EMPTY; nx * ny];
-    // Points just off the plane, per cell.
-    let mut beside = vec![0u32; nx * ny];
-    let (near, far) = (3.0 * p.ransac.threshold, 8.0 * p.ransac.threshold);
-    for (i, q) in points.iter().enumerate() {
-        let off = plane.distance(*q).abs();
-        if off.is_nan() || off > p.ransac.threshold {
-            if off > near && off < far {
-                if let Some(c) = cell_of(to2(*q)) {
-                    beside[c] += 1;
-                }
-            }
-            continue;
-        }
-        let q2 = to2(*q);
-        let Some(c) = cell_of(q2) else {
-            continue;
-        };
-        // A cell the downsampled search missed joins a neighbouring piece.
-        let owner = if comp[c] < UNSET {
-            comp[c]
-        } else {
-            let (cx, cy) = ((c % nx) as isize, (c / nx) as isize);
-            (-2..=2isize)
-                .flat_map(|dy| (-2..=2isize).map(move |dx| (cx + dx, cy + dy)))
-                .filter(|&(x, y)| x >= 0 && y >= 0 && (x as usize) < nx && (y as usize) < ny)
-                .map(|(x, y)| comp[y as usize * nx + x as usize])
-                .find(|&k| k < UNSET)
-                .unwrap_or(EMPTY)
-        };
-        if owner >= UNSET {
-            continue;
-        }
+    for &(i, c) in &on_plane {
+        let owner = comp[c];
         members[owner as usize].push(i);
         filled[c] = owner;
-        if !border[c] && comp[c] < UNSET {
+        if !border[c] {
             continue;
         }
+        let q2 = to2(points[i]);
         for (k, d) in DIRS.iter().enumerate() {
             let s = q2.x * d.0 + q2.y * d.1;
             if s > extremes[c][k].0 {
@@ -476,6 +550,29 @@ pub(crate) fn split(
             }
         }
     }
+    // A far surface seen at a grazing angle has rows of points more than a cell apart:
+    // an empty cell between two cells of one piece (across, along or diagonally) is
+    // that piece's, so its area and its room inside are not those of a comb.
+    let filled: Vec<u32> = (0..nx * ny)
+        .map(|c| {
+            if filled[c] < UNSET {
+                return filled[c];
+            }
+            let (cx, cy) = ((c % nx) as isize, (c / nx) as isize);
+            let at = |x: isize, y: isize| {
+                if x >= 0 && y >= 0 && (x as usize) < nx && (y as usize) < ny {
+                    filled[y as usize * nx + x as usize]
+                } else {
+                    EMPTY
+                }
+            };
+            [(1, 0), (0, 1), (1, 1), (1, -1)]
+                .iter()
+                .map(|&(dx, dy)| (at(cx - dx, cy - dy), at(cx + dx, cy + dy)))
+                .find(|&(a, b)| a == b && a < UNSET)
+                .map_or(EMPTY, |(a, _)| a)
+        })
+        .collect();
     // How far each cell is from the nearest empty one: thin pieces (the slice of a
     // drum's side within the threshold of a table's plane) have no room inside.
     let empty: Vec<bool> = filled.iter().map(|&c| c >= UNSET).collect();
@@ -490,7 +587,11 @@ pub(crate) fn split(
     for (cells, idx) in cells_of.into_iter().zip(members) {
         let area = cells.len() as f64 * cell * cell;
         let core = cells.iter().map(|&c| room[c]).fold(0.0, f64::max).sqrt() * cell;
-        let sliced: u32 = cells.iter().map(|&c| beside[c]).sum();
+        // Only cells with points on both sides: what stands on a surface is above it.
+        let sliced: u32 = cells
+            .iter()
+            .map(|&c| 2 * beside[c][0].min(beside[c][1]))
+            .sum();
         if area < p.min_area
             || idx.len() < 3
             || core < p.min_inscribed_radius
@@ -517,6 +618,7 @@ pub(crate) fn split(
             inliers: idx,
             area,
             centroid,
+            threshold: p.ransac.threshold,
         });
     }
     out.sort_by_key(|s| std::cmp::Reverse(s.inliers.len()));

@@ -8,13 +8,13 @@
 use crate::filters::{NormalParams, OutlierParams, local_planes_at, scatter, statistical_outliers};
 use crate::plane::Plane;
 use crate::segment::{Locals, segment_organized, segment_unorganized};
-use crate::surfaces::{Surface, SurfaceParams, find_surfaces, plane_basis};
+use crate::surfaces::{Surface, SurfaceParams, find_surfaces, plane_basis, surface_on};
 use std::time::Instant;
 use tabula_geom::polygon::{
     Rectangle, convex_hull_2d, distance_to_boundary, inside_convex, min_area_rectangle,
     polygon_area,
 };
-use tabula_geom::{PointCloud, Pose, Vec2, Vec3};
+use tabula_geom::{PointCloud, Pose, Vec2, Vec3, voxel_key};
 
 /// Parameters; defaults from SPEC §6 (seed 002's repository) where it has them.
 #[derive(Debug, Clone, serde::Deserialize)]
@@ -29,10 +29,19 @@ pub struct TabletopParams {
     pub normals: NormalParams,
     /// Prism points start this far above the table (m).
     pub min_height: f64,
-    /// Neighbours closer than this (m) can be one object.
+    /// Neighbours closer than this (m) can be one object …
     pub cluster_tolerance: f64,
+    /// … plus this times the squared range (m⁻¹), on organized frames: a
+    /// structured-light sensor's depth steps grow as range² (2.85e-3 · z² for a
+    /// Kinect), so neighbouring pixels of one surface 4 m away are centimetres apart
+    /// in depth (PCL's depth-dependent cluster threshold).
+    pub cluster_range_gain: f64,
     /// Normals differing by more than this (rad) across a concave crease cut objects
-    /// apart (SPEC §6: 15°).
+    /// apart. SPEC §6 has 15° (seed 002's frames); the default is 25° because real
+    /// structured-light normals over a 7-pixel window have a median error near 7°
+    /// (measured on the carpet of a real Kinect frame), and two of them differ by
+    /// more than 15° often enough to cut a laptop lid into pieces, while every
+    /// touching pair of the generated suite still comes apart at 25°.
     pub concavity_tolerance: f64,
     /// How far (pixels, or cluster tolerances when unorganized) on either side of a
     /// point its crease test looks.
@@ -47,12 +56,15 @@ pub struct TabletopParams {
     /// A top surface is the object's points within this distance (m) of its highest
     /// level whose normals are within `max_tilt` of the table's.
     pub top_band: f64,
-    /// Organized frames: the normal window grows until the normals of the table (a
-    /// flat target in every frame) are within this median angle (rad) of its plane.
-    /// Real structured-light sensors are noisier than their σ(z) model says (depth
-    /// quantisation, correlated speckle); a window that suits the simulator cuts a
-    /// laptop lid seen by a Kinect at 1.4 m into a dozen pieces.
-    pub max_normal_noise: f64,
+    /// Support found without a world pose: points this far (m) outside its outline
+    /// may still belong to objects on it (they hide the support around them) …
+    pub support_reach: f64,
+    /// … which must reach down to within this distance (m) of the prism's floor …
+    pub rest_tolerance: f64,
+    /// … and be no wider or taller than this (m).
+    pub max_object_extent: f64,
+    /// Pieces this near (m) an object cut by the frame's edge are cut too.
+    pub partial_gap: f64,
 }
 
 impl Default for TabletopParams {
@@ -64,13 +76,17 @@ impl Default for TabletopParams {
             normals: NormalParams::default(),
             min_height: 0.01,
             cluster_tolerance: 0.01,
-            concavity_tolerance: 15f64.to_radians(),
+            cluster_range_gain: 0.003,
+            concavity_tolerance: 25f64.to_radians(),
             concavity_step: 4,
             step_tolerance: 0.004,
             min_object_points: 200,
             min_object_height: 0.025,
             top_band: 0.01,
-            max_normal_noise: 5f64.to_radians(),
+            support_reach: 0.3,
+            rest_tolerance: 0.03,
+            max_object_extent: 1.5,
+            partial_gap: 0.03,
         }
     }
 }
@@ -165,10 +181,31 @@ fn ms(t: Instant) -> f64 {
 }
 
 /// Runs the pipeline on a cloud in the world frame (z up); `viewpoint` is the camera's
-/// position in the world (it orients normals and scales outlier statistics).
+/// position in the world (it orients normals and scales outlier statistics). The
+/// table is the first surface the surface search accepts.
 pub fn extract(
     cloud: &PointCloud,
     viewpoint: Vec3,
+    p: &TabletopParams,
+) -> Result<Tabletop, TabletopError> {
+    extract_from(cloud, viewpoint, None, p)
+}
+
+/// As [`extract`] on a table whose plane is already known (the support found by
+/// [`crate::support::find_support`], in the cloud's frame): its biggest flat piece.
+pub fn extract_on(
+    cloud: &PointCloud,
+    viewpoint: Vec3,
+    table: Plane,
+    p: &TabletopParams,
+) -> Result<Tabletop, TabletopError> {
+    extract_from(cloud, viewpoint, Some(table), p)
+}
+
+fn extract_from(
+    cloud: &PointCloud,
+    viewpoint: Vec3,
+    known: Option<Plane>,
     p: &TabletopParams,
 ) -> Result<Tabletop, TabletopError> {
     let pts = &cloud.points;
@@ -186,12 +223,14 @@ pub fn extract(
     times.outliers = ms(t);
 
     let t = Instant::now();
-    let search = find_surfaces(cloud, Some(&keep), &p.surfaces, true);
-    let mut table = search
-        .surfaces
-        .into_iter()
-        .next()
-        .ok_or(TabletopError::NoTable)?;
+    let mut table = match known {
+        Some(plane) => surface_on(cloud, Some(&keep), plane, &p.surfaces),
+        None => find_surfaces(cloud, Some(&keep), &p.surfaces, true)
+            .surfaces
+            .into_iter()
+            .next(),
+    }
+    .ok_or(TabletopError::NoTable)?;
     times.planes = ms(t);
 
     // The prism: the side of the plane the camera is on, inside the table's hull.
@@ -207,16 +246,26 @@ pub fn extract(
     if polygon_area(&poly) < 0.0 {
         poly.reverse();
     }
-    let threshold = p.surfaces.ransac.threshold;
+    let threshold = table.threshold.max(p.surfaces.ransac.threshold);
     let floor = p.min_height.max(threshold);
+    // A support found without a world pose (a floor, often) is seen only where what
+    // stands on it does not hide it: its objects stand at the edge of its visible
+    // part as often as inside it.
+    let reach = if known.is_some() {
+        p.support_reach
+    } else {
+        0.0
+    };
     // Outlier removal decides what may seed an object, not what may belong to one:
     // points it dropped join an object if they touch it (a real stray point touches
     // nothing), so objects keep their edges.
     let above: Vec<bool> = (0..pts.len())
         .map(|i| {
+            let q = to2(pts[i]);
             pts[i].is_finite()
                 && plane.distance(pts[i]) > floor
-                && inside_convex(&poly, to2(pts[i]))
+                && (inside_convex(&poly, q)
+                    || reach > 0.0 && distance_to_boundary(&poly, q) <= reach)
         })
         .collect();
     times.prism = ms(t);
@@ -228,13 +277,6 @@ pub fn extract(
     for (k, &i) in prism.iter().enumerate() {
         slot[i] = k as u32;
     }
-    let mut tuned = p.clone();
-    if organized {
-        tuned.normals.window = normal_window(cloud, viewpoint, &table, &plane, p);
-        // A crease is looked for beyond the reach of the normals' windows.
-        tuned.concavity_step = p.concavity_step.max(tuned.normals.window + 1);
-    }
-    let p = &tuned;
     let locals = Locals {
         planes: local_planes_at(cloud, viewpoint, &above, &prism, &p.normals),
         slot,
@@ -243,7 +285,7 @@ pub fn extract(
 
     let t = Instant::now();
     let labels = if organized {
-        segment_organized(cloud, &above, &keep, &locals, &plane, p)
+        segment_organized(cloud, viewpoint, &above, &keep, &locals, &plane, p)
     } else {
         segment_unorganized(pts, &above, &prism, &keep, &locals, &plane, p)
     };
@@ -257,16 +299,18 @@ pub fn extract(
             m.iter()
                 .any(|&i| plane.distance(pts[i]) >= p.min_object_height)
         })
+        .filter(|m| known.is_none() || stands_on(pts, &plane, m, threshold, p))
         .collect();
     claim_object_bases(pts, &plane, &mut table.inliers, &mut regions, threshold);
     let edge = organized.then(|| FrameEdge::of(cloud));
-    let (partial, objects): (Vec<TableObject>, Vec<TableObject>) = regions
+    let (mut partial, mut objects): (Vec<TableObject>, Vec<TableObject>) = regions
         .into_iter()
         .map(|indices| describe(pts, &locals, &plane, indices, p))
         .partition(|o| {
             edge.as_ref()
                 .is_some_and(|e| o.indices.iter().any(|&i| e.near(i)))
         });
+    set_apart_pieces_of_partial(pts, &mut objects, &mut partial, p.partial_gap);
     times.objects = ms(t);
     Ok(Tabletop {
         table,
@@ -276,6 +320,69 @@ pub fn extract(
         kept,
         times,
     })
+}
+
+/// Around a support found without a world pose, whether a region is an object standing
+/// on it: its lowest points reach down to the support (a cluster hanging above it is
+/// part of something else), and it is no wider or taller than `max_object_extent`
+/// (walls and rows of furniture seen at a floor's edge are background).
+fn stands_on(
+    pts: &[Vec3],
+    plane: &Plane,
+    region: &[usize],
+    threshold: f64,
+    p: &TabletopParams,
+) -> bool {
+    let lowest = region
+        .iter()
+        .map(|&i| plane.distance(pts[i]))
+        .fold(f64::INFINITY, f64::min);
+    let (u, v) = plane_basis(plane.normal);
+    let flat: Vec<Vec2> = region
+        .iter()
+        .map(|&i| Vec2::new(pts[i].dot(u), pts[i].dot(v)))
+        .collect();
+    let extent = min_area_rectangle(&flat).map_or(0.0, |r| r.size.max_element());
+    let highest = region
+        .iter()
+        .map(|&i| plane.distance(pts[i]))
+        .fold(f64::NEG_INFINITY, f64::max);
+    lowest <= p.min_height.max(threshold) + p.rest_tolerance
+        && extent <= p.max_object_extent
+        && highest <= p.max_object_extent
+}
+
+/// Pieces within `gap` (m) of an object cut by the frame's edge are more of what the
+/// frame cut (the legs of a chair whose hub is out of view), and are set apart too,
+/// until no piece is that near.
+fn set_apart_pieces_of_partial(
+    pts: &[Vec3],
+    objects: &mut Vec<TableObject>,
+    partial: &mut Vec<TableObject>,
+    gap: f64,
+) {
+    if gap <= 0.0 || !gap.is_finite() {
+        return;
+    }
+    let mut cut: rustc_hash::FxHashSet<[i64; 3]> = partial
+        .iter()
+        .flat_map(|o| &o.indices)
+        .map(|&i| voxel_key(pts[i], gap))
+        .collect();
+    let near = |cut: &rustc_hash::FxHashSet<[i64; 3]>, o: &TableObject| {
+        o.indices.iter().any(|&i| {
+            let k = voxel_key(pts[i], gap);
+            (-1..=1).any(|dx| {
+                (-1..=1)
+                    .any(|dy| (-1..=1).any(|dz| cut.contains(&[k[0] + dx, k[1] + dy, k[2] + dz])))
+            })
+        })
+    };
+    while let Some(k) = objects.iter().position(|o| near(&cut, o)) {
+        let o = objects.remove(k);
+        cut.extend(o.indices.iter().map(|&i| voxel_key(pts[i], gap)));
+        partial.push(o);
+    }
 }
 
 /// Where an organized frame's valid data ends, row by row and column by column
@@ -315,45 +422,6 @@ impl FrameEdge {
         let (t, b) = self.cols[x];
         x <= l + m || x + m >= r || y <= t + m || y + m >= b
     }
-}
-
-/// The smallest normal window (from `p.normals.window` up to 15) whose normals on a
-/// sample of the table's points have a median angle to the table's plane within
-/// `max_normal_noise`: the sensor's own noise, measured on the one flat thing every
-/// frame holds.
-fn normal_window(
-    cloud: &PointCloud,
-    viewpoint: Vec3,
-    table: &Surface,
-    plane: &Plane,
-    p: &TabletopParams,
-) -> usize {
-    const SAMPLES: usize = 400;
-    let step = table.inliers.len().div_ceil(SAMPLES).max(1);
-    let sample: Vec<usize> = table.inliers.iter().copied().step_by(step).collect();
-    let mask: Vec<bool> = cloud.points.iter().map(|q| q.is_finite()).collect();
-    let mut window = p.normals.window.max(1);
-    while window < 15 {
-        let params = NormalParams {
-            window,
-            ..p.normals.clone()
-        };
-        let mut angles: Vec<f64> = local_planes_at(cloud, viewpoint, &mask, &sample, &params)
-            .iter()
-            .filter(|(n, _)| n.is_finite())
-            .map(|(n, _)| n.dot(plane.normal).abs().min(1.0).acos())
-            .collect();
-        if angles.is_empty() {
-            break;
-        }
-        let mid = angles.len() / 2;
-        let median = *angles.select_nth_unstable_by(mid, f64::total_cmp).1;
-        if median <= p.max_normal_noise {
-            break;
-        }
-        window += 2;
-    }
-    window.min(15)
 }
 
 /// Points within the plane threshold of the table but under an object's footprint
@@ -577,7 +645,7 @@ mod tests {
         // Untouched keys keep SPEC §6's values.
         assert_eq!(p.surfaces.max_tilt, 0.09);
         assert_eq!(p.surfaces.min_plane_points, 30);
-        assert!((p.concavity_tolerance - 15f64.to_radians()).abs() < 1e-12);
+        assert!((p.concavity_tolerance - 25f64.to_radians()).abs() < 1e-12);
         assert!(toml::from_str::<TabletopParams>("no_such_key = 1").is_err());
     }
 }
