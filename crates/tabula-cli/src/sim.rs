@@ -83,6 +83,10 @@ pub struct CaptureArgs {
     /// Settle the scene before capturing.
     #[arg(long)]
     settle: bool,
+    /// Write the points in the world frame with the camera's pose as the PCD's
+    /// `VIEWPOINT` (as PCL writes registered clouds), instead of the optical frame.
+    #[arg(long)]
+    world: bool,
 }
 
 #[derive(Args)]
@@ -267,6 +271,9 @@ pub fn run(cmd: SimCommand) -> Result<()> {
                 .out
                 .extension()
                 .is_some_and(|e| e.eq_ignore_ascii_case("ply"));
+            if ply && a.world {
+                bail!("--world needs a PCD (PLY has no VIEWPOINT for the camera's pose)");
+            }
             if ply {
                 let encoding = if a.binary {
                     tabula_geom::PlyEncoding::BinaryLittleEndian
@@ -275,14 +282,19 @@ pub fn run(cmd: SimCommand) -> Result<()> {
                 };
                 tabula_geom::write_ply(&frame.cloud, &mut out, encoding)?;
             } else {
-                frame.cloud.write_pcd(
-                    &mut out,
-                    if a.binary {
-                        PcdEncoding::Binary
-                    } else {
-                        PcdEncoding::Ascii
-                    },
-                )?;
+                let encoding = if a.binary {
+                    PcdEncoding::Binary
+                } else {
+                    PcdEncoding::Ascii
+                };
+                if a.world {
+                    frame
+                        .cloud
+                        .transformed(&frame.world_from_camera)
+                        .write_pcd_with(&mut out, encoding, &frame.world_from_camera, None)?;
+                } else {
+                    frame.cloud.write_pcd(&mut out, encoding)?;
+                }
             }
             if let Some(path) = &a.labels {
                 let v = serde_json::json!({"width": frame.width, "height": frame.height, "names": frame.label_names, "labels": frame.labels});

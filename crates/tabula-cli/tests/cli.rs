@@ -807,3 +807,78 @@ fn stable_poses_of_a_mesh_and_a_cloud_and_bad_files() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A frame written in the world with the camera's pose as `VIEWPOINT` needs no pose on
+/// the command line and gives what the optical frame with the pose gives; a real Kinect
+/// frame (optical points, PCL's flipped `VIEWPOINT`) needs nothing at all.
+#[test]
+fn perceive_reads_viewpoint_and_real_frames_need_no_pose() {
+    let dir = std::env::temp_dir().join(format!("tabula-viewpoint-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/../../scenes/clutter.toml");
+    let (world, optical) = (dir.join("world.pcd"), dir.join("optical.pcd"));
+    let capture = |out: &std::path::Path, world: bool| {
+        let mut args = vec![
+            "sim",
+            "capture",
+            "--scene",
+            scene,
+            "--binary",
+            "--out",
+            out.to_str().unwrap(),
+        ];
+        if world {
+            args.push("--world");
+        }
+        let o = tabula(&args);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        String::from_utf8_lossy(&o.stdout).to_string()
+    };
+    capture(&world, true);
+    let printed = capture(&optical, false);
+    // The capture prints the pose as `--world-from-camera x y z qx qy qz qw`.
+    let pose: Vec<String> = printed
+        .split("--world-from-camera ")
+        .nth(1)
+        .unwrap()
+        .split(')')
+        .next()
+        .unwrap()
+        .split_whitespace()
+        .map(str::to_string)
+        .collect();
+    let v = tabula_json(&["perceive", "--cloud", world.to_str().unwrap(), "--json"]);
+    assert_eq!(v["frame"]["source"], "viewpoint");
+    let mut args = vec!["perceive", "--cloud", optical.to_str().unwrap(), "--json"];
+    args.push("--world-from-camera");
+    args.extend(pose.iter().map(String::as_str));
+    let w = tabula_json(&args);
+    assert_eq!(w["frame"]["source"], "given_pose");
+    // The same objects, up to the f32 rounding of points stored in another frame.
+    let centres = |v: &serde_json::Value| -> Vec<[f64; 3]> {
+        v["objects"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|o| {
+                let c = &o["centroid"];
+                [0, 1, 2].map(|k| c[k].as_f64().unwrap())
+            })
+            .collect()
+    };
+    let (a, b) = (centres(&v), centres(&w));
+    assert_eq!(a.len(), 7);
+    assert_eq!(a.len(), b.len());
+    for (p, q) in a.iter().zip(&b) {
+        assert!((0..3).all(|k| (p[k] - q[k]).abs() < 1e-3), "{p:?} {q:?}");
+    }
+    let real = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../data/real/kinect_laptop_box.pcd"
+    );
+    let r = tabula_json(&["perceive", "--cloud", real, "--json"]);
+    assert_eq!(r["frame"]["source"], "support");
+    assert_eq!(r["objects"].as_array().unwrap().len(), 3);
+    assert!(r["objects"][0]["color"].is_array());
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -425,6 +425,68 @@ mod tests {
     }
 
     #[test]
+    fn viewpoint_and_colours_round_trip_and_pcl_layouts_read() {
+        let cloud = PointCloud::organized(
+            2,
+            1,
+            vec![Vec3::new(1.0, 2.0, 3.0), Vec3::new(-1.0, 0.5, 2.0)],
+        )
+        .unwrap();
+        let viewpoint = Pose::from_parts(
+            Vec3::new(0.5, -1.0, 1.5),
+            Quat::from_rotation_z(0.7) * Quat::from_rotation_x(-2.0),
+        );
+        let colours = [[255u8, 0, 10], [1, 2, 3]];
+        for enc in [PcdEncoding::Ascii, PcdEncoding::Binary] {
+            let mut bytes = Vec::new();
+            cloud
+                .write_pcd_with(&mut bytes, enc, &viewpoint, Some(&colours))
+                .unwrap();
+            let back = read_pcd_file(&bytes).unwrap();
+            assert_eq!(back.colors.as_deref(), Some(&colours[..]), "{enc:?}");
+            assert!((back.viewpoint.translation - viewpoint.translation).length() < 1e-9);
+            assert!(back.viewpoint.rotation.dot(viewpoint.rotation).abs() > 1.0 - 1e-9);
+        }
+        // PCL's `VIEWPOINT tx ty tz qw qx qy qz`: w first.
+        let pcl = b"VERSION 0.7\nFIELDS x y z rgba\nSIZE 4 4 4 4\nTYPE F F F U\nCOUNT 1 1 1 1\nWIDTH 1\nHEIGHT 1\nVIEWPOINT 0 0 0 0 1 0 0\nPOINTS 1\nDATA ascii\n1 2 3 4278255360\n";
+        let f = read_pcd_file(pcl).unwrap();
+        assert!((f.viewpoint.rotation * Vec3::Y - Vec3::NEG_Y).length() < 1e-12);
+        assert_eq!(f.colors.unwrap()[0], [0, 255, 0]);
+        // A float `rgb` printed as its bits (an integer), and as a float.
+        let bits = (200u32 << 16) | (100 << 8) | 50;
+        for tok in [bits.to_string(), format!("{:e}", f32::from_bits(bits))] {
+            let text = format!("FIELDS x y z rgb\nWIDTH 1\nPOINTS 1\nDATA ascii\n1 2 3 {tok}\n");
+            let f = read_pcd_file(text.as_bytes()).unwrap();
+            assert_eq!(f.colors.unwrap()[0], [200, 100, 50], "{tok}");
+        }
+    }
+
+    #[test]
+    fn lies_in_headers_and_values_are_errors() {
+        for junk in [
+            // A non-numeric value is not a silent NaN (`nan` itself is a number).
+            &b"FIELDS x y z\nWIDTH 1\nPOINTS 1\nDATA ascii\n1 two 3\n"[..],
+            b"FIELDS x y z\nWIDTH 2\nPOINTS 2\nDATA ascii\n1 2 3\n",
+            b"FIELDS x y z\nWIDTH 1\nVIEWPOINT 0 0 0 0 0 0 0\nPOINTS 1\nDATA ascii\n1 2 3\n",
+            b"FIELDS x y z\nWIDTH 1\nVIEWPOINT 0 0 nan 1 0 0 0\nPOINTS 1\nDATA ascii\n1 2 3\n",
+            // A compressed block that claims far more than the header's points make …
+            b"FIELDS x y z\nWIDTH 1\nPOINTS 1\nDATA binary_compressed\n\x02\x00\x00\x00\x00\x00\x00\xff\x00\x00",
+            // … or as much as they make, from far too few bytes.
+            b"FIELDS x y z\nWIDTH 100000000\nPOINTS 100000000\nDATA binary_compressed\n\x02\x00\x00\x00\x00\x84\xd7\x47\x00\x00",
+            // Sizes whose product overflows.
+            b"FIELDS x y z\nSIZE 8 8 8\nTYPE F F F\nCOUNT 65536 65536 65536\nWIDTH 100000000\nPOINTS 100000000\nDATA binary\n",
+        ] {
+            assert!(
+                read_pcd_file(junk).is_err(),
+                "{:?}",
+                String::from_utf8_lossy(junk)
+            );
+        }
+        let nan = read_pcd(b"FIELDS x y z\nWIDTH 1\nPOINTS 1\nDATA ascii\nnan nan nan\n").unwrap();
+        assert!(nan.points[0].x.is_nan());
+    }
+
+    #[test]
     fn lzf_literal_and_back_reference() {
         // "abcabcabc": 3 literals, then copy 6 bytes from 3 back.
         // Literal run "abc", then a back-reference: length (4 + 2), distance (2 + 1).

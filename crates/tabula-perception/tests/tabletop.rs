@@ -242,3 +242,60 @@ fn a_square_box_is_square_at_any_yaw() {
         assert!((size.z - 0.08).abs() <= 0.01, "yaw {yaw_deg}: {size}");
     }
 }
+
+/// A PCD written the way PCL writes one — points in the world frame, unorganized, the
+/// sensor pose in `VIEWPOINT` — gives the same objects as the camera-frame cloud with
+/// the pose given (issue 11: `VIEWPOINT` ignored put the camera under the table).
+#[test]
+fn a_world_frame_pcd_with_its_viewpoint_is_the_camera_frame_with_the_pose() {
+    use tabula_perception::support::{FrameSource, SupportParams, frame_cloud};
+    let g = tabletop_frame(0, &TabletopLayout::nine()).unwrap();
+    let world_from_camera = g.frame.world_from_camera;
+    // Unorganized camera-frame points (finite only), as a merged cloud would arrive.
+    let camera = tabula_geom::PointCloud::unorganized(
+        g.frame
+            .cloud
+            .points
+            .iter()
+            .copied()
+            .filter(|q| q.is_finite())
+            .collect(),
+    );
+    let world = to_world(&world_from_camera, &camera);
+    let mut bytes = Vec::new();
+    world
+        .write_pcd_with(&mut bytes, PcdEncoding::Binary, &world_from_camera, None)
+        .unwrap();
+    let file = tabula_geom::read_pcd_file(&bytes).unwrap();
+    let p = SupportParams::default();
+    let from_file = frame_cloud(&file.cloud, &file.viewpoint, None, None, &p).unwrap();
+    assert_eq!(from_file.source, FrameSource::Viewpoint);
+    assert!((from_file.eye - world_from_camera.translation).length() < 1e-5);
+    let given = frame_cloud(
+        &camera,
+        &tabula_geom::Pose::IDENTITY,
+        Some(world_from_camera),
+        None,
+        &p,
+    )
+    .unwrap();
+    let params = TabletopParams::default();
+    let a = extract(
+        &to_world(&from_file.world_from_cloud, &file.cloud),
+        from_file.eye,
+        &params,
+    )
+    .unwrap();
+    let b = extract(
+        &to_world(&given.world_from_cloud, &camera),
+        given.eye,
+        &params,
+    )
+    .unwrap();
+    assert_eq!(a.objects.len(), 9);
+    assert_eq!(a.objects.len(), b.objects.len());
+    for (x, y) in a.objects.iter().zip(&b.objects) {
+        assert!((x.centroid - y.centroid).length() < 1e-3);
+        assert!(x.indices.len().abs_diff(y.indices.len()) <= x.indices.len() / 100);
+    }
+}
