@@ -31,6 +31,21 @@ pub enum BenchCommand {
         #[arg(long)]
         json: bool,
     },
+    /// The perception pipeline on PCD/PLY frames (real sensor frames, say), framed as
+    /// `perceive` frames them: CPU ms on one thread and wall ms on two, on the
+    /// organized frame and on the same points without their grid. The PCL anchor on
+    /// the same files: `scripts/pcl_tabletop.sh REPS FILE…`.
+    Frames {
+        #[arg(long = "cloud", required = true)]
+        clouds: Vec<std::path::PathBuf>,
+        #[arg(long, default_value_t = 11)]
+        reps: usize,
+        /// `both`, `organized` or `unorganized`.
+        #[arg(long, default_value = "both")]
+        layout: String,
+        #[arg(long)]
+        json: bool,
+    },
     /// Seed 001's integral test on generated Golem-III shelf scenes: success by physics,
     /// decision CPU time (perceive → grasp choice → every motion plan).
     PickPlace {
@@ -99,6 +114,12 @@ pub enum BenchCommand {
 pub fn run(c: BenchCommand) -> Result<()> {
     match c {
         BenchCommand::Perception { scenes, reps, json } => perception(scenes, reps.max(1), json),
+        BenchCommand::Frames {
+            clouds,
+            reps,
+            layout,
+            json,
+        } => frames(&clouds, reps.max(1), &layout, json),
         BenchCommand::PickPlace { variants, json } => pick_place(variants, json),
         BenchCommand::Clear {
             suite,
@@ -272,6 +293,85 @@ impl Timer {
             .collect();
         (median(cpu), median(wall))
     }
+}
+
+/// `tabula bench frames`: framing (support search when the file gives no pose) and
+/// the whole pipeline, timed together, on each file organized and unorganized.
+fn frames(clouds: &[std::path::PathBuf], reps: usize, layout: &str, json: bool) -> Result<()> {
+    if !["both", "organized", "unorganized"].contains(&layout) {
+        anyhow::bail!("--layout is both, organized or unorganized, not `{layout}`");
+    }
+    use tabula_perception::support::{SupportParams, frame_cloud};
+    use tabula_perception::tabletop::extract_framed;
+    let timer = Timer {
+        one: rayon::ThreadPoolBuilder::new().num_threads(1).build()?,
+        two: rayon::ThreadPoolBuilder::new().num_threads(2).build()?,
+        reps,
+    };
+    let params = TabletopParams::default();
+    let mut rows = Vec::new();
+    for path in clouds {
+        let file = crate::perceive::read_cloud_file(path)?;
+        let grid_free = PointCloud::unorganized(
+            file.cloud
+                .points
+                .iter()
+                .copied()
+                .filter(|q| q.is_finite())
+                .collect(),
+        );
+        for (name, cloud) in [("organized", &file.cloud), ("unorganized", &grid_free)] {
+            if layout != "both" && layout != name {
+                continue;
+            }
+            let run = || -> Result<tabula_perception::tabletop::Tabletop> {
+                let framing = frame_cloud(
+                    cloud,
+                    &file.viewpoint,
+                    None,
+                    None,
+                    &SupportParams::default(),
+                )?;
+                let world = to_world(&framing.world_from_cloud, cloud);
+                Ok(extract_framed(&world, &framing, &params)?)
+            };
+            let t = run()?;
+            let (cpu, wall) = timer.time(&|| {
+                let _ = run();
+            });
+            rows.push(serde_json::json!({
+                "file": path.display().to_string(),
+                "layout": name,
+                "points": cloud.finite_count(),
+                "objects": t.objects.len(),
+                "partial_objects": t.partial.len(),
+                "cpu_ms": cpu,
+                "wall_ms": wall,
+                "stages_ms": t.times,
+            }));
+        }
+    }
+    if json {
+        println!("{}", serde_json::to_string_pretty(&rows)?);
+        return Ok(());
+    }
+    println!(
+        "| file | layout | points | objects (+ cut by the edge) | CPU ms, 1 thread | wall ms, 2 threads |"
+    );
+    println!("|---|---|---:|---:|---:|---:|");
+    for r in &rows {
+        println!(
+            "| {} | {} | {} | {} (+{}) | {:.1} | {:.1} |",
+            r["file"].as_str().unwrap_or(""),
+            r["layout"].as_str().unwrap_or(""),
+            r["points"],
+            r["objects"],
+            r["partial_objects"],
+            r["cpu_ms"].as_f64().unwrap_or(f64::NAN),
+            r["wall_ms"].as_f64().unwrap_or(f64::NAN)
+        );
+    }
+    Ok(())
 }
 
 struct Frame {

@@ -12,8 +12,8 @@ use tabula_perception::selffilter::{PlacedSolid, SelfFilterParams, self_filter};
 use tabula_perception::support::{FrameSource, SupportParams, frame_cloud};
 use tabula_perception::surfaces::find_surfaces;
 use tabula_perception::tabletop::Tabletop;
-use tabula_perception::tabletop::{TableObject, extract_on};
-use tabula_perception::{Plane, TabletopParams, extract, read_ply, to_world};
+use tabula_perception::tabletop::{TableObject, extract_framed};
+use tabula_perception::{TabletopParams, read_ply, to_world};
 
 #[derive(Args)]
 pub struct PerceiveArgs {
@@ -151,20 +151,7 @@ pub fn run(a: PerceiveArgs) -> Result<()> {
             }
         }
     }
-    let viewpoint = framing.eye;
-    let result = match &framing.support {
-        // The support frame puts the support at z = 0, facing up.
-        Some(_) => extract_on(
-            &cloud,
-            viewpoint,
-            Plane {
-                normal: Vec3::Z,
-                d: 0.0,
-            },
-            &params,
-        )?,
-        None => extract(&cloud, viewpoint, &params)?,
-    };
+    let result = extract_framed(&cloud, &framing, &params)?;
     let ms = t0.elapsed().as_secs_f64() * 1e3;
     let surfaces = find_surfaces(&cloud, None, &params.surfaces, false);
     let map = FreeSpaceMap::from_tabletop(&result, &cloud.points, &FreeSpaceParams::default())?;

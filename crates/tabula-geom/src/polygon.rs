@@ -4,10 +4,59 @@ use crate::Vec2;
 
 /// Indices of the convex hull of `points`, counter-clockwise, without collinear points
 /// (Andrew's monotone chain). Fewer than three distinct points give what there is.
+/// Big inputs are first thinned by Akl–Toussaint's heuristic: points strictly inside
+/// the octagon of the eight extreme points in x, y, x + y and x − y cannot be on the
+/// hull, and for an object's tens of thousands of points that is nearly all of them,
+/// so the sort sees a few hundred.
 pub fn convex_hull_2d(points: &[Vec2]) -> Vec<usize> {
     let mut idx: Vec<usize> = (0..points.len())
         .filter(|&i| points[i].is_finite())
         .collect();
+    if idx.len() > 64 {
+        let key = |i: usize, k: usize| {
+            let p = points[i];
+            [
+                p.x,
+                -p.x,
+                p.y,
+                -p.y,
+                p.x + p.y,
+                -p.x - p.y,
+                p.x - p.y,
+                p.y - p.x,
+            ][k]
+        };
+        // Extremes in the order they go round: +x, +x+y, +y, −x+y, −x, −x−y, −y, +x−y.
+        let extreme: Vec<Vec2> = [0usize, 4, 2, 7, 1, 5, 3, 6]
+            .iter()
+            .map(|&k| {
+                let best = idx
+                    .iter()
+                    .copied()
+                    .max_by(|&a, &b| key(a, k).total_cmp(&key(b, k)))
+                    .unwrap_or(0);
+                points[best]
+            })
+            .collect();
+        let mut octagon: Vec<Vec2> = Vec::with_capacity(8);
+        for q in extreme {
+            if octagon.last() != Some(&q) && octagon.first() != Some(&q) {
+                octagon.push(q);
+            }
+        }
+        if octagon.len() >= 3 && polygon_area(&octagon) > 0.0 {
+            let n = octagon.len();
+            idx.retain(|&i| {
+                let p = points[i];
+                (0..n).any(|k| (octagon[(k + 1) % n] - octagon[k]).perp_dot(p - octagon[k]) <= 0.0)
+            });
+        }
+    }
+    monotone_chain(points, idx)
+}
+
+/// Andrew's monotone chain over the finite points `idx` of `points`.
+fn monotone_chain(points: &[Vec2], mut idx: Vec<usize>) -> Vec<usize> {
     idx.sort_by(|&a, &b| {
         points[a]
             .x
@@ -178,6 +227,18 @@ mod tests {
     }
 
     proptest! {
+        /// The octagon thinning keeps every hull vertex: the same hull as the monotone
+        /// chain over all points, on clouds big enough to be thinned.
+        #[test]
+        fn thinning_keeps_the_hull(pts in prop::collection::vec((-10.0..10.0f64, -10.0..10.0f64), 65..400)) {
+            let pts: Vec<Vec2> = pts.into_iter().map(|(x, y)| Vec2::new(x, y)).collect();
+            let mut fast = convex_hull_2d(&pts);
+            let mut full = monotone_chain(&pts, (0..pts.len()).collect());
+            fast.sort_unstable();
+            full.sort_unstable();
+            prop_assert_eq!(fast, full);
+        }
+
         #[test]
         fn every_point_is_inside_its_hull(pts in prop::collection::vec((-10.0..10.0f64, -10.0..10.0f64), 3..60)) {
             let pts: Vec<Vec2> = pts.into_iter().map(|(x, y)| Vec2::new(x, y)).collect();

@@ -29,10 +29,19 @@ pub struct SupportParams {
     /// may be pitched or rolled up to this much. (A wall ahead of a camera pitched down
     /// by θ is 90° + θ from the optical up, a wall to the side 90°.)
     pub max_angle_from_hint: f64,
-    /// Organized clouds are searched on every `stride`-th pixel of every `stride`-th row.
+    /// Organized clouds are searched on every `stride`-th pixel of every `stride`-th row
+    /// (unorganized ones on as many of their points).
     pub stride: usize,
     /// Grid cell (m) that decides which inliers are one connected surface.
     pub cell: f64,
+    /// Planes within this angle (rad) of the dominant one and at least this share of its
+    /// area are levels of the same scene (a table over a floor); the support is the
+    /// highest level.
+    pub level_angle: f64,
+    pub min_level_share: f64,
+    /// … and at least this much (m) above it: nearer ones are the same surface fitted
+    /// again (a far floor's depth steps).
+    pub min_level_rise: f64,
     /// Only points this near the sensor (m) are searched: a structured-light sensor
     /// quantises depth in steps of 3 cm at 3.5 m and 10 cm at 6 m, where a wall falls
     /// apart into slabs that each pass for a plane.
@@ -49,9 +58,12 @@ impl Default for SupportParams {
             max_planes: 16,
             min_area: 0.1,
             max_angle_from_hint: 80f64.to_radians(),
-            stride: 4,
+            stride: 2,
             cell: 0.04,
             max_range: 6.0,
+            level_angle: 10f64.to_radians(),
+            min_level_share: 0.25,
+            min_level_rise: 0.15,
         }
     }
 }
@@ -94,20 +106,24 @@ pub enum SupportError {
 ///
 /// Planes are peeled off the cloud largest first; among those whose normal (toward the
 /// sensor) is within `max_angle_from_hint` of the hint and whose connected piece covers
-/// `min_area`, the support is the one with the largest area weighted by cos² of its
-/// angle from the hint: a floor or table seen from a camera pitched by θ is θ from the
-/// hint, a wall ahead 90° + θ and one to the side 90°.
+/// `min_area`, the dominant one has the largest area weighted by cos² of its angle from
+/// the hint (a floor or table seen from a camera pitched by θ is θ from the hint, a
+/// wall ahead 90° + θ and one to the side 90°). The support is the highest level
+/// parallel to it (see `level_angle`).
 pub fn find_support(
     cloud: &PointCloud,
     viewpoint: &Pose,
     up_hint: Vec3,
     p: &SupportParams,
 ) -> Result<Support, SupportError> {
-    let points = &cloud.points;
+    let all = &cloud.points;
     let stride = p.stride.max(1);
     let eye = viewpoint.translation;
-    let usable = |i: usize| points[i].is_finite() && points[i].distance(eye) <= p.max_range;
-    let mut remaining: Vec<usize> = if cloud.is_organized() && stride > 1 {
+    let usable = |i: usize| all[i].is_finite() && all[i].distance(eye) <= p.max_range;
+    // The search runs on a sample (every `stride`-th pixel of every `stride`-th row, or
+    // as many of an unorganized cloud's points): planes, their areas and pieces are all
+    // measured on it, so each of the planes peeled costs a pass over the sample only.
+    let picked: Vec<usize> = if cloud.is_organized() {
         (0..cloud.height)
             .step_by(stride)
             .flat_map(|y| {
@@ -118,8 +134,13 @@ pub fn find_support(
             .filter(|&i| usable(i))
             .collect()
     } else {
-        (0..points.len()).filter(|&i| usable(i)).collect()
+        let usable: Vec<usize> = (0..all.len()).filter(|&i| usable(i)).collect();
+        let step = (usable.len() / (640 * 480 / (stride * stride)).max(1)).max(1);
+        usable.into_iter().step_by(step).collect()
     };
+    let sample: Vec<Vec3> = picked.iter().map(|&i| all[i]).collect();
+    let points = &sample;
+    let mut remaining: Vec<usize> = (0..sample.len()).collect();
     if remaining.len() < 3 {
         return Err(SupportError::Empty);
     }
@@ -169,13 +190,27 @@ pub fn find_support(
         }
         remaining.retain(|&i| !taken[i]);
     }
-    let Some((_, plane, area, angle)) = best else {
+    let Some((_, dominant, dominant_area, dominant_angle)) = best else {
         return Err(SupportError::NoSupport {
             min_area: p.min_area,
             max_angle_deg: p.max_angle_from_hint.to_degrees(),
             planes: planes.len(),
         });
     };
+    // Levels parallel to the dominant plane and a good share of its size: a table over
+    // a floor that shows more area. What one manipulates stands on the highest level,
+    // the one nearest the sensor along up.
+    let level = |(q, area, _): &&(Plane, f64, f64)| {
+        *area >= p.min_area.max(p.min_level_share * dominant_area)
+            && q.normal.angle_between(dominant.normal) <= p.level_angle
+            && q.distance(eye) > 0.0
+            && q.distance(eye) < dominant.distance(eye) - p.min_level_rise
+    };
+    let &(plane, area, angle) = planes
+        .iter()
+        .filter(level)
+        .min_by(|a, b| a.0.distance(eye).total_cmp(&b.0.distance(eye)))
+        .unwrap_or(&(dominant, dominant_area, dominant_angle));
     Ok(Support {
         plane,
         area,

@@ -296,9 +296,9 @@ fn is_flat(cloud: &PointCloud, s: &Surface, p: &SurfaceParams) -> bool {
     flat as f64 >= p.min_flat_fraction * sample.len() as f64
 }
 
-/// The candidates within twice the refinement band of a plane whose local normals
-/// (from the whole cloud around them) are within the RANSAC normal angle of the
-/// plane's, sorted.
+/// The candidates within twice the refinement band of a plane (an even sample of at
+/// most 20,000) whose local normals (from the whole cloud around them) are within the
+/// RANSAC normal angle of the plane's, sorted.
 fn facing_points(
     cloud: &PointCloud,
     candidates: &[usize],
@@ -310,6 +310,13 @@ fn facing_points(
         .iter()
         .copied()
         .filter(|&i| plane.distance(cloud.points[i]).abs() <= reach)
+        .collect();
+    // Fits need thousands of points, not a floor's hundred thousand: an even sample.
+    const MOST: usize = 20_000;
+    let near: Vec<usize> = near
+        .iter()
+        .copied()
+        .step_by(near.len().div_ceil(MOST).max(1))
         .collect();
     let band = 8.0 * p.ransac.threshold;
     let mask: Vec<bool> = cloud

@@ -84,7 +84,7 @@ impl Default for TabletopParams {
             min_object_height: 0.025,
             top_band: 0.01,
             support_reach: 0.3,
-            rest_tolerance: 0.03,
+            rest_tolerance: 0.015,
             max_object_extent: 1.5,
             partial_gap: 0.03,
         }
@@ -202,6 +202,21 @@ pub fn extract_on(
     extract_from(cloud, viewpoint, Some(table), p)
 }
 
+/// The pipeline on a cloud already moved into its [`Framing`]'s world frame: the table
+/// is the support when the frame was built on one (at z = 0, facing up), else the
+/// first surface the search accepts.
+pub fn extract_framed(
+    cloud: &PointCloud,
+    framing: &crate::support::Framing,
+    p: &TabletopParams,
+) -> Result<Tabletop, TabletopError> {
+    let support = framing.support.as_ref().map(|_| Plane {
+        normal: Vec3::Z,
+        d: 0.0,
+    });
+    extract_from(cloud, framing.eye, support, p)
+}
+
 fn extract_from(
     cloud: &PointCloud,
     viewpoint: Vec3,
@@ -259,11 +274,19 @@ fn extract_from(
     // Outlier removal decides what may seed an object, not what may belong to one:
     // points it dropped join an object if they touch it (a real stray point touches
     // nothing), so objects keep their edges.
+    let (mut lo, mut hi) = (Vec2::splat(f64::INFINITY), Vec2::splat(f64::NEG_INFINITY));
+    for q in &poly {
+        lo = lo.min(*q - Vec2::splat(reach));
+        hi = hi.max(*q + Vec2::splat(reach));
+    }
     let above: Vec<bool> = (0..pts.len())
         .map(|i| {
+            if !pts[i].is_finite() || plane.distance(pts[i]) <= floor {
+                return false;
+            }
             let q = to2(pts[i]);
-            pts[i].is_finite()
-                && plane.distance(pts[i]) > floor
+            q.cmpge(lo).all()
+                && q.cmple(hi).all()
                 && (inside_convex(&poly, q)
                     || reach > 0.0 && distance_to_boundary(&poly, q) <= reach)
         })
@@ -299,8 +322,10 @@ fn extract_from(
             m.iter()
                 .any(|&i| plane.distance(pts[i]) >= p.min_object_height)
         })
-        .filter(|m| known.is_none() || stands_on(pts, &plane, m, threshold, p))
         .collect();
+    if known.is_some() {
+        regions = standing(pts, &plane, regions, threshold, p);
+    }
     claim_object_bases(pts, &plane, &mut table.inliers, &mut regions, threshold);
     let edge = organized.then(|| FrameEdge::of(cloud));
     let (mut partial, mut objects): (Vec<TableObject>, Vec<TableObject>) = regions
@@ -322,34 +347,113 @@ fn extract_from(
     })
 }
 
-/// Around a support found without a world pose, whether a region is an object standing
-/// on it: its lowest points reach down to the support (a cluster hanging above it is
-/// part of something else), and it is no wider or taller than `max_object_extent`
-/// (walls and rows of furniture seen at a floor's edge are background).
-fn stands_on(
+/// Around a support found without a world pose, the regions that are objects standing
+/// on it: no wider or taller than `max_object_extent` (walls and rows of furniture seen
+/// at a floor's edge are background), and resting — their lowest points reach down to
+/// the support, or to the top of a resting region under them (a stack); a cluster
+/// hanging in the air is part of something else.
+fn standing(
     pts: &[Vec3],
     plane: &Plane,
-    region: &[usize],
+    regions: Vec<Vec<usize>>,
     threshold: f64,
     p: &TabletopParams,
-) -> bool {
-    let lowest = region
-        .iter()
-        .map(|&i| plane.distance(pts[i]))
-        .fold(f64::INFINITY, f64::min);
+) -> Vec<Vec<usize>> {
     let (u, v) = plane_basis(plane.normal);
-    let flat: Vec<Vec2> = region
+    struct Extent {
+        lowest: f64,
+        highest: f64,
+        lo: Vec2,
+        hi: Vec2,
+    }
+    let extents: Vec<Extent> = regions
         .iter()
-        .map(|&i| Vec2::new(pts[i].dot(u), pts[i].dot(v)))
+        .map(|r| {
+            let mut e = Extent {
+                lowest: f64::INFINITY,
+                highest: f64::NEG_INFINITY,
+                lo: Vec2::splat(f64::INFINITY),
+                hi: Vec2::splat(f64::NEG_INFINITY),
+            };
+            for &i in r {
+                let h = plane.distance(pts[i]);
+                let q = Vec2::new(pts[i].dot(u), pts[i].dot(v));
+                e.lowest = e.lowest.min(h);
+                e.highest = e.highest.max(h);
+                e.lo = e.lo.min(q);
+                e.hi = e.hi.max(q);
+            }
+            e
+        })
         .collect();
-    let extent = min_area_rectangle(&flat).map_or(0.0, |r| r.size.max_element());
-    let highest = region
+    let small = |k: usize| {
+        let flat: Vec<Vec2> = regions[k]
+            .iter()
+            .map(|&i| Vec2::new(pts[i].dot(u), pts[i].dot(v)))
+            .collect();
+        let wide = min_area_rectangle(&flat).map_or(0.0, |r| r.size.max_element());
+        wide <= p.max_object_extent && extents[k].highest <= p.max_object_extent
+    };
+    let mut order: Vec<usize> = (0..regions.len()).filter(|&k| small(k)).collect();
+    order.sort_by(|&a, &b| extents[a].lowest.total_cmp(&extents[b].lowest));
+    let ground = p.min_height.max(threshold) + p.rest_tolerance;
+    // Each region's highest point per 2 cm column: what something could rest on.
+    const COLUMN: f64 = 0.02;
+    let column = |i: usize| {
+        let q = pts[i];
+        [
+            (q.dot(u) / COLUMN).floor() as i64,
+            (q.dot(v) / COLUMN).floor() as i64,
+        ]
+    };
+    let tops: Vec<rustc_hash::FxHashMap<[i64; 2], f64>> = regions
         .iter()
-        .map(|&i| plane.distance(pts[i]))
-        .fold(f64::NEG_INFINITY, f64::max);
-    lowest <= p.min_height.max(threshold) + p.rest_tolerance
-        && extent <= p.max_object_extent
-        && highest <= p.max_object_extent
+        .map(|r| {
+            let mut m = rustc_hash::FxHashMap::default();
+            for &i in r {
+                let h = plane.distance(pts[i]);
+                let top = m.entry(column(i)).or_insert(h);
+                *top = f64::max(*top, h);
+            }
+            m
+        })
+        .collect();
+    let mut resting: Vec<usize> = Vec::new();
+    for k in order {
+        let e = &extents[k];
+        // Resting on a region: some of this one's bottom points have that region's top
+        // right beside or under them at their own height (a box on a box), not its side
+        // rising past them (a strip cut off an object's face).
+        let on = |r: &usize| {
+            let under = &extents[*r];
+            e.lo.cmple(under.hi).all()
+                && under.lo.cmple(e.hi).all()
+                && regions[k].iter().any(|&i| {
+                    let h = plane.distance(pts[i]);
+                    let c = column(i);
+                    h <= e.lowest + p.rest_tolerance
+                        && (-1..=1).any(|dx| {
+                            (-1..=1).any(|dy| {
+                                tops[*r]
+                                    .get(&[c[0] + dx, c[1] + dy])
+                                    .is_some_and(|t| (h - t).abs() <= p.rest_tolerance)
+                            })
+                        })
+                })
+        };
+        // On the support; or on a resting region and, as an object must be above the
+        // table, at least `min_object_height` tall above what it rests on.
+        let stacked = e.highest - e.lowest >= p.min_object_height && resting.iter().any(on);
+        if e.lowest <= ground || stacked {
+            resting.push(k);
+        }
+    }
+    resting.sort_unstable();
+    let mut regions: Vec<Option<Vec<usize>>> = regions.into_iter().map(Some).collect();
+    resting
+        .into_iter()
+        .filter_map(|k| regions[k].take())
+        .collect()
 }
 
 /// Pieces within `gap` (m) of an object cut by the frame's edge are more of what the
@@ -369,19 +473,22 @@ fn set_apart_pieces_of_partial(
         .flat_map(|o| &o.indices)
         .map(|&i| voxel_key(pts[i], gap))
         .collect();
-    let near = |cut: &rustc_hash::FxHashSet<[i64; 3]>, o: &TableObject| {
-        o.indices.iter().any(|&i| {
-            let k = voxel_key(pts[i], gap);
+    // Each object's voxels, once.
+    let mut voxels: Vec<rustc_hash::FxHashSet<[i64; 3]>> = objects
+        .iter()
+        .map(|o| o.indices.iter().map(|&i| voxel_key(pts[i], gap)).collect())
+        .collect();
+    let near = |cut: &rustc_hash::FxHashSet<[i64; 3]>, own: &rustc_hash::FxHashSet<[i64; 3]>| {
+        own.iter().any(|k| {
             (-1..=1).any(|dx| {
                 (-1..=1)
                     .any(|dy| (-1..=1).any(|dz| cut.contains(&[k[0] + dx, k[1] + dy, k[2] + dz])))
             })
         })
     };
-    while let Some(k) = objects.iter().position(|o| near(&cut, o)) {
-        let o = objects.remove(k);
-        cut.extend(o.indices.iter().map(|&i| voxel_key(pts[i], gap)));
-        partial.push(o);
+    while let Some(k) = voxels.iter().position(|v| near(&cut, v)) {
+        cut.extend(voxels.remove(k));
+        partial.push(objects.remove(k));
     }
 }
 
@@ -437,7 +544,11 @@ fn claim_object_bases(
     let to2 = |q: Vec3| Vec2::new(q.dot(u), q.dot(v));
     // Footprints grown by a few millimetres of sensor noise.
     let slack = 0.25 * margin;
-    let footprints: Vec<(Vec<Vec2>, Vec2, Vec2)> = regions
+    // Each footprint as its edges' outward unit normals and offsets: a point is within
+    // `slack` of the convex footprint (up to its corners' rounding) when no edge has it
+    // farther out than that — a few multiply-adds with an early exit, no square roots.
+    type Footprint = (Vec<(Vec2, f64)>, Vec2, Vec2);
+    let footprints: Vec<Footprint> = regions
         .iter()
         .map(|r| {
             let flat: Vec<Vec2> = r.iter().map(|&i| to2(pts[i])).collect();
@@ -447,17 +558,28 @@ fn claim_object_bases(
                 lo = lo.min(*q);
                 hi = hi.max(*q);
             }
-            (hull, lo - Vec2::splat(slack), hi + Vec2::splat(slack))
+            let n = hull.len();
+            let edges = if n >= 3 {
+                (0..n)
+                    .filter_map(|k| {
+                        let outward = -(hull[(k + 1) % n] - hull[k]).perp().try_normalize()?;
+                        Some((outward, outward.dot(hull[k]) + slack))
+                    })
+                    .collect()
+            } else {
+                Vec::new()
+            };
+            (edges, lo - Vec2::splat(slack), hi + Vec2::splat(slack))
         })
         .collect();
     let mut moved = false;
     table.retain(|&i| {
         let q = to2(pts[i]);
-        let owner = footprints.iter().position(|(hull, lo, hi)| {
+        let owner = footprints.iter().position(|(edges, lo, hi)| {
             q.cmpge(*lo).all()
                 && q.cmple(*hi).all()
-                && hull.len() >= 3
-                && (inside_convex(hull, q) || distance_to_boundary(hull, q) <= slack)
+                && !edges.is_empty()
+                && edges.iter().all(|(n, off)| n.dot(q) <= *off)
         });
         if let Some(k) = owner {
             regions[k].push(i);
@@ -571,8 +693,19 @@ fn describe(
     let footprint: Vec<Vec3> = hull2.iter().map(|&k| on_table(points[k])).collect();
     // 3D hull of the points and their shadow on the table: the hull of the points'
     // own hull vertices and the footprint is the same body, from far fewer points.
+    // Only the highest point of each 5 mm column can be a vertex of that body (the
+    // rest lie between it and its shadow), up to the column's width: tens of thousands
+    // of points become a few thousand.
+    let mut columns: rustc_hash::FxHashMap<[i64; 2], usize> = rustc_hash::FxHashMap::default();
+    for (k, q) in projected.iter().enumerate() {
+        let key = [(q.x / 0.005).floor() as i64, (q.y / 0.005).floor() as i64];
+        let top = columns.entry(key).or_insert(k);
+        if heights[k] > heights[*top] {
+            *top = k;
+        }
+    }
     let mut body: Vec<Vec3> = footprint.clone();
-    body.extend(points.iter().copied());
+    body.extend(columns.values().map(|&k| points[k]));
     let (hull_vertices, hull_triangles) =
         tabula_geom::parry::transformation::try_convex_hull(&body).unwrap_or_default();
     // Top: points near the highest level with table-parallel normals.

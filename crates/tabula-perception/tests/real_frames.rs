@@ -4,8 +4,8 @@
 
 use tabula_geom::{CloudFile, Vec3, read_pcd_file};
 use tabula_perception::support::{FrameSource, SupportParams, frame_cloud};
-use tabula_perception::tabletop::{Tabletop, extract_on};
-use tabula_perception::{Plane, TabletopParams, to_world};
+use tabula_perception::tabletop::{Tabletop, extract_framed};
+use tabula_perception::{TabletopParams, to_world};
 
 fn load(name: &str) -> CloudFile {
     let path = format!("{}/../../data/real/{name}", env!("CARGO_MANIFEST_DIR"));
@@ -23,11 +23,7 @@ fn perceive(file: &CloudFile) -> (tabula_perception::support::Framing, Tabletop)
     )
     .unwrap();
     let cloud = to_world(&framing.world_from_cloud, &file.cloud);
-    let up = Plane {
-        normal: Vec3::Z,
-        d: 0.0,
-    };
-    let t = extract_on(&cloud, framing.eye, up, &TabletopParams::default()).unwrap();
+    let t = extract_framed(&cloud, &framing, &TabletopParams::default()).unwrap();
     (framing, t)
 }
 

@@ -299,3 +299,47 @@ fn a_world_frame_pcd_with_its_viewpoint_is_the_camera_frame_with_the_pose() {
         assert!(x.indices.len().abs_diff(y.indices.len()) <= x.indices.len() / 100);
     }
 }
+
+/// Without a world pose (the optical frame's up only), the support is the table, not
+/// the floor around it that often shows more area: the highest level wins, and the
+/// objects are the ones the world-frame pipeline finds.
+#[test]
+fn without_a_pose_the_table_not_the_bigger_floor() {
+    use tabula_perception::support::{SupportParams, frame_cloud};
+    use tabula_perception::tabletop::extract_framed;
+    let mut floor_bigger = 0;
+    for seed in 1..=20u64 {
+        let g = tabletop_frame(seed, &TabletopLayout::random(seed)).unwrap();
+        let camera = &g.frame.cloud;
+        let framing = frame_cloud(
+            camera,
+            &tabula_geom::Pose::IDENTITY,
+            None,
+            None,
+            &SupportParams::default(),
+        )
+        .unwrap();
+        let above_table = g.frame.world_from_camera.translation.z - TABLE_TOP;
+        assert!(
+            (framing.eye.z - above_table).abs() < 0.02,
+            "seed {seed}: sensor {:.3} m above the support, {above_table:.3} above the table",
+            framing.eye.z
+        );
+        let (s, floor) = run(seed, &TabletopLayout::random(seed));
+        floor_bigger += usize::from(floor);
+        let t = extract_framed(
+            &to_world(&framing.world_from_cloud, camera),
+            &framing,
+            &TabletopParams::default(),
+        )
+        .unwrap();
+        assert!(
+            t.objects.len() + t.partial.len() >= s.recovered,
+            "seed {seed}: {} + {} objects, {} recovered with the pose",
+            t.objects.len(),
+            t.partial.len(),
+            s.recovered
+        );
+    }
+    assert!(floor_bigger >= 5);
+}
