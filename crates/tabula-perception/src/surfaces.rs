@@ -297,7 +297,7 @@ fn is_flat(cloud: &PointCloud, s: &Surface, p: &SurfaceParams) -> bool {
 }
 
 /// The candidates within twice the refinement band of a plane (an even sample of at
-/// most 20,000) whose local normals (from the whole cloud around them) are within the
+/// most 4,000) whose local normals (from the whole cloud around them) are within the
 /// RANSAC normal angle of the plane's, sorted.
 fn facing_points(
     cloud: &PointCloud,
@@ -312,7 +312,7 @@ fn facing_points(
         .filter(|&i| plane.distance(cloud.points[i]).abs() <= reach)
         .collect();
     // Fits need thousands of points, not a floor's hundred thousand: an even sample.
-    const MOST: usize = 20_000;
+    const MOST: usize = 4_000;
     let near: Vec<usize> = near
         .iter()
         .copied()
