@@ -271,6 +271,14 @@ struct Timer {
 }
 
 impl Timer {
+    fn new(reps: usize) -> Result<Self> {
+        Ok(Self {
+            one: rayon::ThreadPoolBuilder::new().num_threads(1).build()?,
+            two: rayon::ThreadPoolBuilder::new().num_threads(2).build()?,
+            reps,
+        })
+    }
+
     /// Median CPU ms on one thread and median wall ms on two.
     fn time(&self, f: &(dyn Fn() + Sync)) -> (f64, f64) {
         let cpu = (0..self.reps)
@@ -303,11 +311,7 @@ fn frames(clouds: &[std::path::PathBuf], reps: usize, layout: &str, json: bool) 
     }
     use tabula_perception::support::{SupportParams, frame_cloud};
     use tabula_perception::tabletop::extract_framed;
-    let timer = Timer {
-        one: rayon::ThreadPoolBuilder::new().num_threads(1).build()?,
-        two: rayon::ThreadPoolBuilder::new().num_threads(2).build()?,
-        reps,
-    };
+    let timer = Timer::new(reps)?;
     let params = TabletopParams::default();
     let mut rows = Vec::new();
     for path in clouds {
@@ -410,11 +414,7 @@ fn quality(f: &Frame, params: &TabletopParams) -> Result<Score> {
 }
 
 fn perception(scenes: u64, reps: usize, json: bool) -> Result<()> {
-    let timer = Timer {
-        one: rayon::ThreadPoolBuilder::new().num_threads(1).build()?,
-        two: rayon::ThreadPoolBuilder::new().num_threads(2).build()?,
-        reps,
-    };
+    let timer = Timer::new(reps)?;
     let params = TabletopParams::default();
     let nine = frame(0, &TabletopLayout::nine())?;
     let cloud = &nine.cloud;

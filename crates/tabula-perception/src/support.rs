@@ -10,7 +10,7 @@
 //! runs in that frame as it does in a robot's world frame.
 
 use crate::plane::{Plane, RansacParams, ransac_plane};
-use crate::surfaces::{SurfaceParams, split};
+use crate::surfaces::{SurfaceParams, grid_sample, split};
 use tabula_geom::{PointCloud, Pose, Quat, Vec3};
 
 /// Parameters of the support search.
@@ -123,21 +123,11 @@ pub fn find_support(
     // The search runs on a sample (every `stride`-th pixel of every `stride`-th row, or
     // as many of an unorganized cloud's points): planes, their areas and pieces are all
     // measured on it, so each of the planes peeled costs a pass over the sample only.
-    let picked: Vec<usize> = if cloud.is_organized() {
-        (0..cloud.height)
-            .step_by(stride)
-            .flat_map(|y| {
-                (0..cloud.width)
-                    .step_by(stride)
-                    .map(move |x| y * cloud.width + x)
-            })
-            .filter(|&i| usable(i))
-            .collect()
-    } else {
-        let usable: Vec<usize> = (0..all.len()).filter(|&i| usable(i)).collect();
-        let step = (usable.len() / (640 * 480 / (stride * stride)).max(1)).max(1);
-        usable.into_iter().step_by(step).collect()
-    };
+    let mut picked = grid_sample(cloud, stride, usable);
+    if !cloud.is_organized() {
+        let step = (picked.len() / (640 * 480 / (stride * stride)).max(1)).max(1);
+        picked = picked.into_iter().step_by(step).collect();
+    }
     let sample: Vec<Vec3> = picked.iter().map(|&i| all[i]).collect();
     let points = &sample;
     let mut remaining: Vec<usize> = (0..sample.len()).collect();

@@ -214,8 +214,19 @@ pub fn find_surfaces(
 /// `stride`-th pixel of every `stride`-th row.
 fn searched_points(cloud: &PointCloud, keep: Option<&[bool]>, p: &SurfaceParams) -> Vec<usize> {
     let points = &cloud.points;
-    let usable = |i: usize| points[i].is_finite() && keep.is_none_or(|k| k.get(i) == Some(&true));
-    let stride = p.stride.max(1);
+    grid_sample(cloud, p.stride, |i| {
+        points[i].is_finite() && keep.is_none_or(|k| k.get(i) == Some(&true))
+    })
+}
+
+/// The indices `usable` accepts of every `stride`-th pixel of every `stride`-th row of
+/// an organized cloud; of every point of an unorganized one.
+pub(crate) fn grid_sample(
+    cloud: &PointCloud,
+    stride: usize,
+    usable: impl Fn(usize) -> bool,
+) -> Vec<usize> {
+    let stride = stride.max(1);
     if cloud.is_organized() && stride > 1 {
         (0..cloud.height)
             .step_by(stride)
@@ -227,7 +238,7 @@ fn searched_points(cloud: &PointCloud, keep: Option<&[bool]>, p: &SurfaceParams)
             .filter(|&i| usable(i))
             .collect()
     } else {
-        (0..points.len()).filter(|&i| usable(i)).collect()
+        (0..cloud.points.len()).filter(|&i| usable(i)).collect()
     }
 }
 
