@@ -98,9 +98,13 @@ fn robot_solids(name: &str, world_from_base: Pose, joints: &[String]) -> Result<
         let idx = model
             .joint(n)
             .with_context(|| format!("{name} has no joint `{n}`"))?;
-        values[idx] = v
+        let value: f64 = v
             .parse()
             .with_context(|| format!("--joint `{j}`: bad value"))?;
+        if !value.is_finite() {
+            bail!("--joint `{j}`: the value must be finite");
+        }
+        values[idx] = value;
     }
     Ok(tabula_tasks::observe::robot_solids(
         model,
@@ -159,6 +163,15 @@ pub fn run(a: PerceiveArgs) -> Result<()> {
         Some(size) => {
             if !(size.iter().all(|s| s.is_finite() && *s > 0.0)) {
                 bail!("--place sizes must be positive");
+            }
+            if !(a.margin.is_finite() && a.margin >= 0.0) {
+                bail!("--margin must be a finite distance ≥ 0");
+            }
+            if a.near
+                .as_ref()
+                .is_some_and(|n| !n.iter().all(|v| v.is_finite()))
+            {
+                bail!("--near must be a finite point");
             }
             let (x, y) = (size[0] / 2.0, size[1] / 2.0);
             let footprint = [

@@ -882,3 +882,30 @@ fn perceive_reads_viewpoint_and_real_frames_need_no_pose() {
     assert!(r["objects"][0]["color"].is_array());
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// NaN and infinite options of `perceive` are refused with one line, not turned into a
+/// wrong placement.
+#[test]
+fn perceive_refuses_non_finite_options() {
+    let real = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../data/real/kinect_laptop_box.pcd"
+    );
+    for bad in [
+        &["--place", "0.1", "0.1", "--margin", "nan"][..],
+        &["--place", "0.1", "0.1", "--near", "nan", "0", "0"],
+        &["--robot", "wam", "--joint", "wam_joint2=inf"],
+        &["--up", "0", "nan", "0"],
+        &["--up", "0", "0", "0"],
+    ] {
+        let mut args = vec!["perceive", "--cloud", real];
+        args.extend_from_slice(bad);
+        let out = tabula(&args);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "{bad:?} was accepted");
+        assert!(
+            err.lines().count() == 1 && !err.contains("panicked"),
+            "{bad:?}: {err}"
+        );
+    }
+}
