@@ -135,6 +135,36 @@ fn ascii_rgb_bits(tok: &str, f: &Field, line: usize) -> Result<u32, PcdError> {
     }
 }
 
+/// Points and their colours, if any.
+type Decoded = (Vec<Vec3>, Option<Vec<[u8; 3]>>);
+
+/// Points (fields `xyz`) and colours (field `colour`) of `n` binary points, from the
+/// bytes of field `i` of point `k` whatever the layout (point-major binary, field-major
+/// compressed).
+fn decode<'a>(
+    n: usize,
+    fields: &[Field],
+    xyz: [usize; 3],
+    colour: Option<usize>,
+    at: &dyn Fn(usize, usize) -> &'a [u8],
+) -> Decoded {
+    let pts = (0..n)
+        .map(|k| {
+            let [x, y, z] = xyz.map(|i| read_value(at(i, k), &fields[i]));
+            Vec3::new(x, y, z)
+        })
+        .collect();
+    let cols = colour.map(|c| {
+        (0..n)
+            .map(|k| {
+                let b = at(c, k);
+                unpack_rgb(u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+            })
+            .collect()
+    });
+    (pts, cols)
+}
+
 /// Parses PCD bytes into a cloud (points only; see [`read_pcd_file`] for colours and
 /// the sensor pose).
 pub fn read_pcd(bytes: &[u8]) -> Result<PointCloud, PcdError> {
@@ -303,25 +333,9 @@ pub fn read_pcd_file(bytes: &[u8]) -> Result<CloudFile, PcdError> {
                 return too_short("binary data", body.len(), need);
             }
             let offs = offsets(&|f| f.size * f.count);
-            let pts = (0..n)
-                .map(|k| {
-                    let p = &body[k * stride..];
-                    Vec3::new(
-                        read_value(&p[offs[ix]..], &fields[ix]),
-                        read_value(&p[offs[iy]..], &fields[iy]),
-                        read_value(&p[offs[iz]..], &fields[iz]),
-                    )
-                })
-                .collect();
-            let cols = colour.map(|c| {
-                (0..n)
-                    .map(|k| {
-                        let b = &body[k * stride + offs[c]..];
-                        unpack_rgb(u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
-                    })
-                    .collect()
-            });
-            (pts, cols)
+            decode(n, &fields, [ix, iy, iz], colour, &|i, k| {
+                &body[k * stride + offs[i]..]
+            })
         }
         "binary_compressed" => {
             if body.len() < 8 {
@@ -344,25 +358,9 @@ pub fn read_pcd_file(bytes: &[u8]) -> Result<CloudFile, PcdError> {
             let raw = lzf_decompress(&body[8..8 + csize], usize_)?;
             // Field-major layout: all x, then all y, …
             let starts = offsets(&|f| f.size * f.count * n);
-            let at = |i: usize, k: usize| &raw[starts[i] + k * fields[i].size * fields[i].count..];
-            let pts = (0..n)
-                .map(|k| {
-                    Vec3::new(
-                        read_value(at(ix, k), &fields[ix]),
-                        read_value(at(iy, k), &fields[iy]),
-                        read_value(at(iz, k), &fields[iz]),
-                    )
-                })
-                .collect();
-            let cols = colour.map(|c| {
-                (0..n)
-                    .map(|k| {
-                        let b = at(c, k);
-                        unpack_rgb(u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
-                    })
-                    .collect()
-            });
-            (pts, cols)
+            decode(n, &fields, [ix, iy, iz], colour, &|i, k| {
+                &raw[starts[i] + k * fields[i].size * fields[i].count..]
+            })
         }
         other => return err(format!("unknown DATA encoding `{}`", clip(other))),
     };

@@ -84,6 +84,21 @@ pub fn ransac_plane(
     ransac_plane_with_normals(points, None, candidates, p)
 }
 
+/// [`ransac_plane`] for round `round` of a sequential search that peels planes off
+/// one after another: each round draws from its own seed.
+pub fn ransac_round(
+    points: &[Vec3],
+    candidates: &[usize],
+    p: &RansacParams,
+    round: usize,
+) -> Option<(Plane, Vec<usize>)> {
+    let params = RansacParams {
+        seed: p.seed.wrapping_add(round as u64),
+        ..p.clone()
+    };
+    ransac_plane(points, candidates, &params)
+}
+
 /// [`ransac_plane`] where, if `normals` are given, a point only counts as an inlier
 /// when its normal agrees with the plane's (points without a normal are judged by
 /// distance alone) — so the rim of an object standing on a table is not table.

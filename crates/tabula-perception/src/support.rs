@@ -9,7 +9,7 @@
 //! the sensor straight above the origin and looking along +x. The tabletop pipeline then
 //! runs in that frame as it does in a robot's world frame.
 
-use crate::plane::{Plane, RansacParams, ransac_plane};
+use crate::plane::{Plane, RansacParams, ransac_round};
 use crate::surfaces::{SurfaceParams, grid_sample, split};
 use tabula_geom::{PointCloud, Pose, Quat, Vec3};
 
@@ -149,11 +149,7 @@ pub fn find_support(
         if remaining.len() < 3 {
             break;
         }
-        let params = RansacParams {
-            seed: p.ransac.seed.wrapping_add(round as u64),
-            ..p.ransac.clone()
-        };
-        let Some((plane, inliers)) = ransac_plane(points, &remaining, &params) else {
+        let Some((plane, inliers)) = ransac_round(points, &remaining, &p.ransac, round) else {
             break;
         };
         if inliers.len() < 3 {

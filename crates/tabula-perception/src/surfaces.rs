@@ -5,7 +5,7 @@
 //! reports the area it really covers, not its hull's.
 
 use crate::filters::{NormalParams, local_planes_at};
-use crate::plane::{Plane, RansacParams, ransac_plane};
+use crate::plane::{Plane, RansacParams, ransac_plane, ransac_round};
 use tabula_geom::polygon::{convex_hull_2d, polygon_area};
 use tabula_geom::{PointCloud, Vec2, Vec3};
 
@@ -157,11 +157,7 @@ pub fn find_surfaces(
         {
             break;
         }
-        let params = RansacParams {
-            seed: p.ransac.seed.wrapping_add(round as u64),
-            ..p.ransac.clone()
-        };
-        let Some((plane, inliers)) = ransac_plane(points, &remaining, &params) else {
+        let Some((plane, inliers)) = ransac_round(points, &remaining, &p.ransac, round) else {
             break;
         };
         if (inliers.len() as f64) < p.min_plane_fraction * total as f64
