@@ -1,4 +1,4 @@
-//! Any bytes as a PDDL domain, and as a problem of the seed's domain: a parse or a
+//! Any bytes as a PDDL domain, as a problem of the seed's domain and as a plan: a parse or a
 //! located error, never a panic. Run: `cargo +nightly fuzz run pddl`.
 #![no_main]
 
@@ -12,4 +12,5 @@ fuzz_target!(|data: &[u8]| {
     if let Ok(domain) = tabula_pddl::parse_domain(DOMAIN) {
         let _ = tabula_pddl::parse_problem(&text, &domain);
     }
+    let _ = tabula_pddl::parse_plan(&text);
 });

@@ -23,10 +23,10 @@ pub enum BenchCommand {
     /// on two, the nine-object frame first, then a suite of seeded scenes.
     Perception {
         /// Scenes in the quality suite (seeds 1..=N, 3–12 objects each).
-        #[arg(long, default_value_t = 20)]
+        #[arg(long, default_value_t = 20, value_parser = crate::args::count_u64)]
         scenes: u64,
         /// Repetitions per stage (medians are reported).
-        #[arg(long, default_value_t = 11)]
+        #[arg(long, default_value_t = 11, value_parser = crate::args::count)]
         reps: usize,
         #[arg(long)]
         json: bool,
@@ -38,7 +38,7 @@ pub enum BenchCommand {
     Frames {
         #[arg(long = "cloud", required = true)]
         clouds: Vec<std::path::PathBuf>,
-        #[arg(long, default_value_t = 11)]
+        #[arg(long, default_value_t = 11, value_parser = crate::args::count)]
         reps: usize,
         /// `both`, `organized` or `unorganized`.
         #[arg(long, default_value = "both")]
@@ -50,7 +50,7 @@ pub enum BenchCommand {
     /// decision CPU time (perceive → grasp choice → every motion plan).
     PickPlace {
         /// Generated variants (seeds 1..=N) besides scenes/golem_shelves.toml.
-        #[arg(long, default_value_t = 20)]
+        #[arg(long, default_value_t = 20, value_parser = crate::args::count_u64)]
         variants: u64,
         #[arg(long)]
         json: bool,
@@ -62,7 +62,7 @@ pub enum BenchCommand {
         /// `packed` (grids: every grasp blocked at first) or `pile` (20–30 dropped).
         #[arg(long, default_value = "random")]
         suite: String,
-        #[arg(long, default_value_t = 50)]
+        #[arg(long, default_value_t = 50, value_parser = crate::args::count_u64)]
         scenes: u64,
         /// First scene seed (scenes use seed, seed + 1, …).
         #[arg(long, default_value_t = 1)]
@@ -83,7 +83,7 @@ pub enum BenchCommand {
         /// `simple` (cubes, boxes, cylinders) or `complex` (mugs, drills, bottles, …).
         #[arg(long, default_value = "simple")]
         suite: String,
-        #[arg(long, default_value_t = 20)]
+        #[arg(long, default_value_t = 20, value_parser = crate::args::count_u64)]
         trials: u64,
         /// First task seed (tasks use seed, seed + 1, …).
         #[arg(long, default_value_t = 1)]
@@ -104,7 +104,7 @@ pub enum BenchCommand {
         /// Folder the meshes are written to.
         #[arg(long, default_value = "target/stable-pose-meshes")]
         dir: std::path::PathBuf,
-        #[arg(long, default_value_t = 21)]
+        #[arg(long, default_value_t = 21, value_parser = crate::args::count)]
         reps: usize,
         #[arg(long)]
         json: bool,

@@ -14,7 +14,7 @@ pub struct ClearArgs {
     #[command(flatten)]
     pub run: TaskRunArgs,
     /// Stop after this many actions (default: 3 per object seen first, plus 5).
-    #[arg(long)]
+    #[arg(long, value_parser = crate::args::count)]
     pub max_actions: Option<usize>,
 }
 

@@ -3,10 +3,11 @@
 use anyhow::{Context, Result, bail};
 use clap::{Args, Subcommand, ValueEnum};
 use std::path::PathBuf;
+use tabula_geom::input::{Format, Validate, read_text};
 use tabula_geom::{Pose, Vec3, pose_from_xyz_rpy, rpy_from_quat};
 use tabula_robot::Chain;
 use tabula_robot::ik::{
-    ArmSide, Golem3Ik, Golem3Params, IkMode, IkSolver, NumericIk, NumericIkParams, bench,
+    ArmSide, Golem3Ik, Golem3Params, IkError, IkMode, IkSolver, NumericIk, NumericIkParams, bench,
 };
 use tabula_robot::robots::{self, NamedRobot};
 
@@ -53,10 +54,10 @@ pub struct SolveArgs {
     #[command(flatten)]
     robot: RobotArgs,
     /// Target tip pose in the base frame: x y z (m) roll pitch yaw (rad, URDF convention).
-    #[arg(long, num_args = 6, allow_negative_numbers = true, value_names = ["X", "Y", "Z", "ROLL", "PITCH", "YAW"])]
+    #[arg(long, num_args = 6, allow_negative_numbers = true, value_names = ["X", "Y", "Z", "ROLL", "PITCH", "YAW"], value_parser = crate::args::finite)]
     pose: Vec<f64>,
     /// Seed configuration (one value per chain joint); default mid-range.
-    #[arg(long, num_args = 1.., allow_negative_numbers = true)]
+    #[arg(long, num_args = 1.., allow_negative_numbers = true, value_parser = crate::args::finite)]
     seed_joints: Option<Vec<f64>>,
     /// Reach the position only; orientation is free.
     #[arg(long)]
@@ -75,7 +76,7 @@ pub struct BenchArgs {
     #[arg(long, value_enum, default_value = "auto")]
     solver: SolverKind,
     /// Number of random reachable targets (and as many unreachable ones).
-    #[arg(long, default_value_t = 10_000)]
+    #[arg(long, default_value_t = 10_000, value_parser = crate::args::count)]
     poses: usize,
     /// Seed of the target generator.
     #[arg(long, default_value_t = 1)]
@@ -92,7 +93,7 @@ pub struct FkArgs {
     #[command(flatten)]
     robot: RobotArgs,
     /// Joint values in chain order (default: all zero).
-    #[arg(long, num_args = 1.., allow_negative_numbers = true)]
+    #[arg(long, num_args = 1.., allow_negative_numbers = true, value_parser = crate::args::finite)]
     joints: Option<Vec<f64>>,
 }
 
@@ -107,9 +108,16 @@ fn load_config(path: &Option<PathBuf>) -> Result<Config> {
     match path {
         None => Ok(Config::default()),
         Some(p) => {
-            let text = std::fs::read_to_string(p)
-                .with_context(|| format!("cannot read {}", p.display()))?;
-            toml::from_str(&text).with_context(|| format!("bad parameter file {}", p.display()))
+            let text = read_text(p, Format::Params)?;
+            tabula_geom::input::check_toml_numbers(&text)
+                .map_err(|e| anyhow::anyhow!("{}: {e}", p.display()))?;
+            let config: Config = toml::from_str(&text)
+                .with_context(|| format!("bad parameter file {}", p.display()))?;
+            config
+                .numeric_ik
+                .check("numeric_ik")
+                .map_err(|e| anyhow::anyhow!("{}: {e}", p.display()))?;
+            Ok(config)
         }
     }
 }
@@ -208,7 +216,10 @@ fn solve(a: SolveArgs) -> Result<()> {
             }
         };
         println!("{}", serde_json::to_string_pretty(&value)?);
-        return Ok(());
+        return match sols {
+            Ok(_) => Ok(()),
+            Err(e) => no_solution_or_error(e),
+        };
     }
     println!(
         "{} ({}): {} → {}, {} joints, solver {}",
@@ -219,9 +230,23 @@ fn solve(a: SolveArgs) -> Result<()> {
         s.chain.dof(),
         s.solver_name
     );
-    let sols = sols?;
-    print_solutions(&s.chain, &sols);
-    Ok(())
+    match sols {
+        Ok(sols) => {
+            print_solutions(&s.chain, &sols);
+            Ok(())
+        }
+        Err(e) => no_solution_or_error(e),
+    }
+}
+
+/// A target nothing reaches is "no solution" (exit status 2, one line); anything else
+/// is an error of the input.
+fn no_solution_or_error(e: IkError) -> Result<()> {
+    if matches!(e, IkError::NoSolution | IkError::NotFound { .. }) {
+        eprintln!("{e}");
+        std::process::exit(crate::exit::NO_SOLUTION);
+    }
+    Err(e.into())
 }
 
 pub fn print_solutions(chain: &Chain, sols: &[tabula_robot::ik::IkSolution]) {
@@ -341,6 +366,21 @@ fn fk(a: FkArgs) -> Result<()> {
         .unwrap_or_else(|| robot.default_tip.clone());
     let chain = Chain::new(&robot.model, &base, &tip)?;
     let q = a.joints.unwrap_or_else(|| vec![0.0; chain.dof()]);
+    if q.len() == chain.dof() {
+        for (i, v) in q.iter().enumerate() {
+            // Continuous joints have no limits; their angle is still an angle.
+            let (lo, hi) = (
+                chain.lower[i].max(-tabula_geom::input::MAX_MAGNITUDE),
+                chain.upper[i].min(tabula_geom::input::MAX_MAGNITUDE),
+            );
+            if !(lo - 1e-9..=hi + 1e-9).contains(v) {
+                bail!(
+                    "joint `{}` = {v} is outside its limits [{lo}, {hi}]",
+                    chain.joint_names[i]
+                );
+            }
+        }
+    }
     let pose: Pose = chain.fk(&q)?;
     let [r, p, y] = rpy_from_quat(pose.rotation);
     let t: Vec3 = pose.translation;
@@ -354,6 +394,9 @@ fn fk(a: FkArgs) -> Result<()> {
 fn info(a: RobotArgs) -> Result<()> {
     let robot = robots::load(&a.robot)?;
     let m = &robot.model;
+    for link in [&a.base, &a.tip].into_iter().flatten() {
+        m.link(link)?;
+    }
     println!(
         "{} ({}): {} links, {} joints; default chain {} → {}",
         robot.label,

@@ -1,5 +1,6 @@
 //! `tabula`: the command-line face of the tabula manipulation stack.
 
+mod args;
 mod bench;
 mod clear;
 mod demo;
@@ -13,6 +14,21 @@ mod stable;
 mod tasks;
 
 use clap::{Parser, Subcommand};
+
+/// Exit statuses (INPUT_POLICY.md): scripts tell a failed task from a bad input from a
+/// bug without reading the output.
+pub mod exit {
+    /// The command did what it was asked.
+    pub const OK: i32 = 0;
+    /// The input (a file, a flag, a parameter) cannot be used; one line says why.
+    pub const ERROR: i32 = 1;
+    /// The input was fine but there is no answer: unsolvable, no plan, the task failed.
+    pub const NO_SOLUTION: i32 = 2;
+    /// The command line itself is malformed (BSD's EX_USAGE).
+    pub const USAGE: i32 = 64;
+    /// A bug: a panic reached the top (BSD's EX_SOFTWARE).
+    pub const INTERNAL: i32 = 70;
+}
 
 /// tabula — perceive, model, place and clear with one Rust workspace.
 #[derive(Parser)]
@@ -73,7 +89,37 @@ fn main() {
     unsafe {
         libc::signal(libc::SIGPIPE, libc::SIG_DFL);
     }
-    let cli = Cli::parse();
+    std::panic::set_hook(Box::new(|info| {
+        if tabula_geom::guard::is_quiet() {
+            return;
+        }
+        let message = info
+            .payload()
+            .downcast_ref::<&str>()
+            .map(|s| s.to_string())
+            .or_else(|| info.payload().downcast_ref::<String>().cloned())
+            .unwrap_or_default();
+        let place = info
+            .location()
+            .map(|l| format!(" at {}:{}", l.file(), l.line()))
+            .unwrap_or_default();
+        eprintln!(
+            "internal error: {}{place} — a bug in tabula; please report it with the command",
+            tabula_geom::input::clip(&message, 200)
+        );
+        std::process::exit(exit::INTERNAL);
+    }));
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) => {
+            let _ = e.print();
+            std::process::exit(if e.use_stderr() {
+                exit::USAGE
+            } else {
+                exit::OK
+            });
+        }
+    };
     let result = match cli.command {
         Command::Demo => demo::run(),
         Command::Bench { command } => bench::run(command),
@@ -88,7 +134,10 @@ fn main() {
         Command::StablePoses(args) => stable::run(args),
     };
     if let Err(e) = result {
-        eprintln!("error: {e:#}");
-        std::process::exit(1);
+        eprintln!(
+            "error: {}",
+            tabula_geom::input::clip(&format!("{e:#}"), 1000)
+        );
+        std::process::exit(exit::ERROR);
     }
 }

@@ -13,12 +13,12 @@ pub enum MotionCommand {
         /// wam or pr2.
         #[arg(long, default_value = "wam")]
         robot: String,
-        #[arg(long, default_value_t = 200)]
+        #[arg(long, default_value_t = 200, value_parser = crate::args::count)]
         problems: usize,
         #[arg(long, default_value_t = 1)]
         seed: u64,
         /// Planning time limit per problem (s).
-        #[arg(long, default_value_t = 1.0)]
+        #[arg(long, default_value_t = 1.0, value_parser = crate::args::seconds)]
         timeout: f64,
         #[arg(long)]
         json: bool,

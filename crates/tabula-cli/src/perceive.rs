@@ -5,6 +5,7 @@ use anyhow::{Context, Result, bail};
 use clap::Args;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
+use tabula_geom::input::{Format, read_bytes};
 use tabula_geom::read_pcd_file;
 use tabula_geom::{CloudFile, PointCloud, Pose, Quat, Vec2, Vec3};
 use tabula_perception::freespace::{Cell, FreeSpaceMap, FreeSpaceParams, Placement};
@@ -24,11 +25,11 @@ pub struct PerceiveArgs {
     cloud: PathBuf,
     /// world_from_camera as x y z qx qy qz qw: the points are in the camera's frame and
     /// this places them in the world (overrides what the file says).
-    #[arg(long, num_args = 7, allow_negative_numbers = true, value_names = ["X", "Y", "Z", "QX", "QY", "QZ", "QW"])]
+    #[arg(long, num_args = 7, allow_negative_numbers = true, value_names = ["X", "Y", "Z", "QX", "QY", "QZ", "QW"], value_parser = crate::args::finite)]
     world_from_camera: Option<Vec<f64>>,
     /// Roughly which way is up, in the cloud's frame: the support is the dominant
     /// plane facing this way (default for camera-frame clouds: the optical frame's -y).
-    #[arg(long, num_args = 3, allow_negative_numbers = true, value_names = ["X", "Y", "Z"])]
+    #[arg(long, num_args = 3, allow_negative_numbers = true, value_names = ["X", "Y", "Z"], value_parser = crate::args::finite)]
     up: Option<Vec<f64>>,
     /// Pipeline parameters (TOML, keys of `TabletopParams`; defaults from SPEC §6).
     #[arg(long)]
@@ -37,19 +38,19 @@ pub struct PerceiveArgs {
     #[arg(long)]
     robot: Option<String>,
     /// world_from_base of that robot: x y z qx qy qz qw.
-    #[arg(long, num_args = 7, allow_negative_numbers = true, value_names = ["X", "Y", "Z", "QX", "QY", "QZ", "QW"])]
+    #[arg(long, num_args = 7, allow_negative_numbers = true, value_names = ["X", "Y", "Z", "QX", "QY", "QZ", "QW"], value_parser = crate::args::finite)]
     robot_base: Option<Vec<f64>>,
     /// Joint values of that robot, `name=value` (others at 0).
     #[arg(long = "joint", value_name = "NAME=VALUE")]
     joints: Vec<String>,
     /// Find a place for a footprint of this size (m, x and y) on the table …
-    #[arg(long, num_args = 2, value_names = ["X", "Y"])]
+    #[arg(long, num_args = 2, allow_negative_numbers = true, value_names = ["X", "Y"], value_parser = crate::args::finite)]
     place: Option<Vec<f64>>,
     /// … this far (m) from objects, unseen patches and the edge …
-    #[arg(long, default_value_t = 0.02)]
+    #[arg(long, default_value_t = 0.02, allow_negative_numbers = true, value_parser = crate::args::finite)]
     margin: f64,
     /// … nearest to this world point (default: the table's centroid).
-    #[arg(long, num_args = 3, allow_negative_numbers = true, value_names = ["X", "Y", "Z"])]
+    #[arg(long, num_args = 3, allow_negative_numbers = true, value_names = ["X", "Y", "Z"], value_parser = crate::args::finite)]
     near: Option<Vec<f64>>,
     #[arg(long)]
     json: bool,
@@ -73,7 +74,7 @@ pub fn read_cloud(path: &Path) -> Result<PointCloud> {
 
 /// Reads a PCD or PLY file with its colours and sensor pose.
 pub fn read_cloud_file(path: &Path) -> Result<CloudFile> {
-    let bytes = std::fs::read(path).with_context(|| format!("cannot read {}", path.display()))?;
+    let bytes = read_bytes(path, Format::Cloud)?;
     let file = if bytes.starts_with(b"ply") {
         read_ply(&bytes)
             .map(CloudFile::plain)
@@ -196,6 +197,8 @@ pub fn run(a: PerceiveArgs) -> Result<()> {
             write_frame_image(dir, &cloud, file.colors.as_deref(), &result)?;
         }
     }
+    // A footprint that fits nowhere is "no solution": exit status 2 after the report.
+    let no_place = matches!(placement, Some(None));
     let colors = file.colors.as_deref();
     if a.json {
         let mut v = to_json(
@@ -213,6 +216,9 @@ pub fn run(a: PerceiveArgs) -> Result<()> {
             "sensor": arr(framing.eye),
         });
         println!("{}", serde_json::to_string_pretty(&v)?);
+        if no_place {
+            std::process::exit(crate::exit::NO_SOLUTION);
+        }
         return Ok(());
     }
     let t = &framing.world_from_cloud;
@@ -316,6 +322,9 @@ pub fn run(a: PerceiveArgs) -> Result<()> {
         result.times.segmentation,
         result.times.objects
     );
+    if no_place {
+        std::process::exit(crate::exit::NO_SOLUTION);
+    }
     Ok(())
 }
 

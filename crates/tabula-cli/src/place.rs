@@ -101,6 +101,7 @@ pub fn run(a: PlaceArgs) -> Result<()> {
     let params: PlaceParams = load_params(a.run.params.as_deref())?;
     let world = a.run.world()?;
     let robot = scene_robot(&world, a.run.robot.as_deref())?;
+    crate::tasks::check_arm(&world, &robot, &a.arm)?;
     let request = PlaceRequest {
         arm: if a.arm == "auto" {
             held_by(&world, &robot)

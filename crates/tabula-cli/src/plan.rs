@@ -4,10 +4,11 @@ use anyhow::{Context, Result, bail};
 use clap::{Args, Subcommand};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
+use tabula_geom::input::{Format, read_text};
 use tabula_pddl::generator::table_clearing_problem;
 use tabula_pddl::{
-    Domain, GroundAtom, NoPlan, Planner, Problem, SearchMode, parse_domain, parse_plan,
-    parse_problem, validate,
+    Domain, GroundAtom, GroundError, GroundOptions, NoPlan, Planner, Problem, SearchMode,
+    parse_domain, parse_plan, parse_problem, validate,
 };
 
 #[derive(Args)]
@@ -23,9 +24,10 @@ pub struct PlanArgs {
     /// A plan fast: greedy best-first with h^FF and preferred operators.
     #[arg(long)]
     fast: bool,
-    /// Time limit in seconds.
-    #[arg(long)]
-    timeout: Option<f64>,
+    /// Time limit in seconds, grounding included (an unsolvable problem too large to
+    /// exhaust ends there, with exit status 2).
+    #[arg(long, default_value_t = 600.0, value_parser = crate::args::seconds)]
+    timeout: f64,
     /// Check PLAN against DOMAIN and PROBLEM instead of planning.
     #[arg(long)]
     validate: bool,
@@ -40,7 +42,7 @@ enum PlanCommand {
     Bench(BenchArgs),
     /// Print a generated table-clearing problem (seed 002's domain).
     Generate {
-        #[arg(long, default_value_t = 10)]
+        #[arg(long, default_value_t = 10, value_parser = crate::args::objects)]
         objects: usize,
         #[arg(long, default_value_t = 1)]
         seed: u64,
@@ -50,17 +52,17 @@ enum PlanCommand {
 #[derive(Args)]
 struct BenchArgs {
     /// Object counts, comma separated.
-    #[arg(long, value_delimiter = ',', default_value = "10,20,30,40,100")]
+    #[arg(long, value_delimiter = ',', default_value = "10,20,30,40,100", value_parser = crate::args::objects)]
     objects: Vec<usize>,
     /// Problems per object count (seeds 1..=N).
-    #[arg(long, default_value_t = 5)]
+    #[arg(long, default_value_t = 5, value_parser = crate::args::count_u64)]
     problems: u64,
     #[arg(long)]
     json: bool,
 }
 
 fn read(path: &Path) -> Result<String> {
-    std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))
+    Ok(read_text(path, Format::Pddl)?)
 }
 
 fn load(domain: &Path, problem: &Path) -> Result<(Domain, Problem)> {
@@ -100,15 +102,28 @@ pub fn run(a: PlanArgs) -> Result<()> {
         SearchMode::Optimal
     };
     let t0 = Instant::now();
-    let planner = Planner::new(d, p, Default::default())?;
-    let ground_ms = t0.elapsed().as_secs_f64() * 1e3;
-    let timeout = match a.timeout {
-        Some(s) if s.is_finite() && s > 0.0 => Some(Duration::from_secs_f64(s)),
-        Some(s) => bail!("--timeout must be a positive number of seconds, got {s}"),
-        None => None,
+    let deadline = t0 + Duration::from_secs_f64(a.timeout);
+    let options = GroundOptions {
+        deadline: Some(deadline),
+        ..GroundOptions::default()
     };
+    let planner = match Planner::new(d, p, options) {
+        Ok(planner) => planner,
+        Err(GroundError::Timeout) => {
+            if a.json {
+                println!(
+                    "{}",
+                    serde_json::json!({"status": "timeout", "message": "still grounding at the time limit"})
+                );
+            }
+            eprintln!("no plan found within the time limit (still grounding)");
+            std::process::exit(crate::exit::NO_SOLUTION);
+        }
+        Err(e) => return Err(e.into()),
+    };
+    let ground_ms = t0.elapsed().as_secs_f64() * 1e3;
     let t1 = Instant::now();
-    let result = planner.plan(mode, timeout);
+    let result = planner.plan(mode, Some(deadline.saturating_duration_since(t1)));
     let search_ms = t1.elapsed().as_secs_f64() * 1e3;
     let unit = !(planner.domain().uses_action_costs() && planner.problem().minimize_total_cost);
     if a.json {
@@ -128,7 +143,9 @@ pub fn run(a: PlanArgs) -> Result<()> {
             Ok(_) => Ok(()),
             // Not an error of the input, but no plan either: scripts must be able to
             // tell (exit status 2, as `pick-place` uses for a task that failed).
-            Err(NoPlan::Unsolvable) => std::process::exit(2),
+            Err(NoPlan::Unsolvable | NoPlan::Timeout) => {
+                std::process::exit(crate::exit::NO_SOLUTION)
+            }
             Err(e) => Err(e.into()),
         };
     }
@@ -151,7 +168,11 @@ pub fn run(a: PlanArgs) -> Result<()> {
         }
         Err(NoPlan::Unsolvable) => {
             println!("; unsolvable: the search space was exhausted, no plan exists");
-            std::process::exit(2)
+            std::process::exit(crate::exit::NO_SOLUTION)
+        }
+        Err(NoPlan::Timeout) => {
+            println!("; no plan found within the time limit");
+            std::process::exit(crate::exit::NO_SOLUTION)
         }
         Err(e) => Err(e.into()),
     }

@@ -30,7 +30,7 @@ pub enum SimCommand {
         model: String,
         #[arg(long)]
         name: String,
-        #[arg(long, num_args = 3, allow_negative_numbers = true, value_names = ["X", "Y", "Z"])]
+        #[arg(long, num_args = 3, allow_negative_numbers = true, value_names = ["X", "Y", "Z"], value_parser = crate::args::finite)]
         at: Vec<f64>,
         /// Lower it onto the surface below before settling.
         #[arg(long)]
@@ -55,7 +55,7 @@ pub enum SimCommand {
     Bench {
         #[arg(long)]
         scene: PathBuf,
-        #[arg(long, default_value_t = 20)]
+        #[arg(long, default_value_t = 20, value_parser = crate::args::count)]
         frames: usize,
         #[arg(long)]
         json: bool,
@@ -95,13 +95,13 @@ pub struct SnapshotArgs {
     scene: PathBuf,
     #[arg(long)]
     png: PathBuf,
-    #[arg(long, num_args = 3, allow_negative_numbers = true, value_names = ["X", "Y", "Z"])]
+    #[arg(long, num_args = 3, allow_negative_numbers = true, value_names = ["X", "Y", "Z"], value_parser = crate::args::finite)]
     eye: Option<Vec<f64>>,
-    #[arg(long, num_args = 3, allow_negative_numbers = true, value_names = ["X", "Y", "Z"])]
+    #[arg(long, num_args = 3, allow_negative_numbers = true, value_names = ["X", "Y", "Z"], value_parser = crate::args::finite)]
     target: Option<Vec<f64>>,
-    #[arg(long, default_value_t = 960)]
+    #[arg(long, default_value_t = 960, value_parser = crate::args::pixels)]
     width: usize,
-    #[arg(long, default_value_t = 720)]
+    #[arg(long, default_value_t = 720, value_parser = crate::args::pixels)]
     height: usize,
 }
 
@@ -169,9 +169,9 @@ fn run_command(world: &mut SimWorld, line: &str) -> Result<()> {
             .with_context(|| format!("missing argument {i}"))?;
         let v: f64 = w
             .parse()
-            .with_context(|| format!("`{w}` is not a number"))?;
+            .with_context(|| format!("`{}` is not a number", tabula_geom::input::clip(w, 40)))?;
         if !v.is_finite() {
-            bail!("`{w}` is not finite");
+            bail!("`{}` is not finite", tabula_geom::input::clip(w, 40));
         }
         Ok(v)
     };

@@ -5,6 +5,7 @@ use clap::Args;
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 use tabula_geom::Vec3;
+use tabula_geom::input::{Format, Validate, check_toml_numbers, read_text};
 use tabula_sim::verdict::{PlaceVerdict, run_judged};
 use tabula_sim::{PhysicsParams, Scene, SimWorld};
 use tabula_tasks::pick_place::{PickPlaceParams, PickPlaceRequest, pick_place};
@@ -69,7 +70,7 @@ impl TaskRunArgs {
             summary(out);
         }
         if !success {
-            std::process::exit(2);
+            std::process::exit(crate::exit::NO_SOLUTION);
         }
         Ok(())
     }
@@ -88,10 +89,10 @@ pub struct PickPlaceArgs {
     #[arg(long, default_value = "auto")]
     pub arm: String,
     /// Approximate world position of the object (m).
-    #[arg(long, num_args = 3, allow_negative_numbers = true, value_names = ["X", "Y", "Z"], required = true)]
+    #[arg(long, num_args = 3, allow_negative_numbers = true, value_names = ["X", "Y", "Z"], required = true, value_parser = crate::args::finite)]
     pub pick: Vec<f64>,
     /// Where the object goes (m): its footprint centre; the surface is found under Z.
-    #[arg(long, num_args = 3, allow_negative_numbers = true, value_names = ["X", "Y", "Z"], required = true)]
+    #[arg(long, num_args = 3, allow_negative_numbers = true, value_names = ["X", "Y", "Z"], required = true, value_parser = crate::args::finite)]
     pub place: Vec<f64>,
 }
 
@@ -115,13 +116,30 @@ pub fn scene_robot(world: &SimWorld, wanted: Option<&str>) -> Result<String> {
     }
 }
 
+/// `--arm NAME` must name one of the robot's arms (or be `auto`): a typo is an error
+/// of the input, not a failed task.
+pub fn check_arm(world: &SimWorld, robot: &str, arm: &str) -> Result<()> {
+    if arm != "auto" {
+        world.robot(robot)?.description.arm(arm)?;
+    }
+    Ok(())
+}
+
 /// A module's `Params` from a TOML file, or its defaults (SPEC's values) without one.
-pub fn load_params<T: serde::de::DeserializeOwned + Default>(path: Option<&Path>) -> Result<T> {
+/// Every number is checked (finite, bounded) before deserializing, and the values'
+/// ranges after (INPUT_POLICY.md).
+pub fn load_params<T: serde::de::DeserializeOwned + Default + Validate>(
+    path: Option<&Path>,
+) -> Result<T> {
     Ok(match path {
         Some(p) => {
-            let text = std::fs::read_to_string(p)
-                .with_context(|| format!("cannot read {}", p.display()))?;
-            toml::from_str(&text).with_context(|| format!("{}", p.display()))?
+            let text = read_text(p, Format::Params)?;
+            check_toml_numbers(&text).map_err(|e| anyhow::anyhow!("{}: {e}", p.display()))?;
+            let params: T = toml::from_str(&text).with_context(|| format!("{}", p.display()))?;
+            params
+                .validate()
+                .map_err(|e| anyhow::anyhow!("{}: {e}", p.display()))?;
+            params
         }
         None => T::default(),
     })
@@ -151,18 +169,15 @@ pub fn run_pick_place(a: &PickPlaceArgs) -> Result<PickPlaceJson> {
     let pick = vec3(&a.pick, "pick")?;
     let place = vec3(&a.place, "place")?;
     let params: PickPlaceParams = load_params(a.run.params.as_deref())?;
+    let world = a.run.world()?;
+    let robot = scene_robot(&world, a.run.robot.as_deref())?;
+    check_arm(&world, &robot, &a.arm)?;
     let request = PickPlaceRequest {
         arm: (a.arm != "auto").then(|| a.arm.clone()),
         pick,
         place,
     };
-    let (out, world) = pick_place_in(
-        a.run.world()?,
-        a.run.robot.as_deref(),
-        &request,
-        &params,
-        a.run.seed,
-    )?;
+    let (out, world) = pick_place_in(world, a.run.robot.as_deref(), &request, &params, a.run.seed)?;
     a.run.save(&world, &out)?;
     Ok(out)
 }
@@ -243,7 +258,7 @@ pub fn run(a: PickPlaceArgs) -> Result<()> {
         );
     }
     if !out.success {
-        std::process::exit(2);
+        std::process::exit(crate::exit::NO_SOLUTION);
     }
     Ok(())
 }

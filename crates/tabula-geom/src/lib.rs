@@ -14,6 +14,8 @@ pub use parry3d_f64::glamx::{DVec2 as Vec2, DVec3 as Vec3};
 
 mod angles;
 mod cloud;
+pub mod guard;
+pub mod input;
 pub mod mesh;
 pub mod pcd;
 pub mod ply;
@@ -21,4 +23,4 @@ pub mod polygon;
 pub use angles::*;
 pub use cloud::{CloudFile, PcdEncoding, PointCloud, voxel_key};
 pub use pcd::{PcdError, read_pcd, read_pcd_file};
-pub use ply::{PlyEncoding, PlyError, read_ply, write_ply};
+pub use ply::{PlyEncoding, PlyError, read_ply, read_ply_mesh, write_ply};

@@ -17,7 +17,8 @@ pub fn load_mesh(path: &Path, scale: [f64; 3]) -> Result<(Vec<Vec3>, Vec<[u32; 3
         path: path.display().to_string(),
         message: m,
     };
-    let bytes = std::fs::read(path).map_err(|e| fail(e.to_string()))?;
+    let bytes = crate::input::read_bytes(path, crate::input::Format::Mesh)
+        .map_err(|e| fail(e.to_string()))?;
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
@@ -42,6 +43,19 @@ pub fn parse_mesh(
         let v: Vec<f64> = w.take(3).filter_map(|x| x.parse().ok()).collect();
         (v.len() == 3).then(|| Vec3::new(v[0], v[1], v[2]))
     };
+    let quote = |line: &str| crate::input::clip(line, 60);
+    // A polygon as a triangle fan, its corners checked against the vertex count.
+    let fan = |triangles: &mut Vec<[u32; 3]>, idx: &[u32], n: usize| -> Result<(), MeshError> {
+        if let Some(bad) = idx.iter().find(|&&i| i as usize >= n) {
+            return Err(fail(format!(
+                "face refers to vertex {bad}, which does not exist ({n} vertices)"
+            )));
+        }
+        for k in 1..idx.len().saturating_sub(1) {
+            triangles.push([idx[0], idx[k], idx[k + 1]]);
+        }
+        Ok(())
+    };
     match ext {
         "obj" => {
             let text = String::from_utf8_lossy(bytes);
@@ -49,7 +63,8 @@ pub fn parse_mesh(
                 let mut w = line.split_whitespace();
                 match w.next() {
                     Some("v") => points.push(
-                        parse3(&mut w).ok_or_else(|| fail(format!("bad vertex line `{line}`")))?,
+                        parse3(&mut w)
+                            .ok_or_else(|| fail(format!("bad vertex line `{}`", quote(line))))?,
                     ),
                     Some("f") => {
                         // `f a b c …`, each `a` possibly `a/t/n`, negative = from the end.
@@ -58,46 +73,36 @@ pub fn parse_mesh(
                             let first = item.split('/').next().unwrap_or("");
                             let i: i64 = first
                                 .parse()
-                                .map_err(|_| fail(format!("bad face line `{line}`")))?;
+                                .map_err(|_| fail(format!("bad face line `{}`", quote(line))))?;
                             let n = points.len() as i64;
-                            let i = if i < 0 { n + i } else { i - 1 };
+                            let i = if i < 0 {
+                                n.saturating_add(i)
+                            } else {
+                                i.saturating_sub(1)
+                            };
                             if i < 0 || i >= n {
                                 return Err(fail(format!(
-                                    "face refers to vertex {first}, which does not exist"
+                                    "face refers to vertex {}, which does not exist",
+                                    quote(first)
                                 )));
                             }
                             idx.push(i as u32);
                         }
-                        for k in 1..idx.len().saturating_sub(1) {
-                            triangles.push([idx[0], idx[k], idx[k + 1]]);
-                        }
+                        fan(&mut triangles, &idx, points.len())?;
                     }
                     _ => {}
                 }
             }
         }
         "stl" => {
-            let text = String::from_utf8_lossy(bytes);
-            if bytes.starts_with(b"solid") && text.contains("facet") {
-                for line in text.lines() {
-                    let mut w = line.split_whitespace();
-                    if w.next() == Some("vertex") {
-                        points.push(
-                            parse3(&mut w)
-                                .ok_or_else(|| fail(format!("bad vertex line `{line}`")))?,
-                        );
-                    }
-                }
-            } else {
-                if bytes.len() < 84 {
-                    return Err(fail("binary STL shorter than its header".into()));
-                }
-                let n = u32::from_le_bytes([bytes[80], bytes[81], bytes[82], bytes[83]]) as usize;
-                if bytes.len() < 84 + n.saturating_mul(50) {
-                    return Err(fail(format!(
-                        "binary STL declares {n} triangles but is too short"
-                    )));
-                }
+            // Binary when the size matches the triangle count exactly: exporters write
+            // "solid …" into binary headers too, so the first word proves nothing.
+            let binary_size = bytes
+                .get(80..84)
+                .map(|c| 84 + 50 * u32::from_le_bytes([c[0], c[1], c[2], c[3]]) as u64);
+            if binary_size == Some(bytes.len() as u64) {
+                let n = (bytes.len() - 84) / 50;
+                points.reserve(3 * n);
                 for t in 0..n {
                     let base = 84 + t * 50 + 12;
                     for k in 0..3 {
@@ -109,19 +114,75 @@ pub fn parse_mesh(
                         points.push(Vec3::new(f(0), f(1), f(2)));
                     }
                 }
+            } else if bytes.starts_with(b"solid") {
+                let text = String::from_utf8_lossy(bytes);
+                let mut in_loop: Option<usize> = None;
+                for line in text.lines() {
+                    let mut w = line.split_whitespace();
+                    match w.next() {
+                        Some("outer") => in_loop = Some(points.len()),
+                        Some("vertex") => {
+                            points.push(parse3(&mut w).ok_or_else(|| {
+                                fail(format!("bad vertex line `{}`", quote(line)))
+                            })?)
+                        }
+                        Some("endloop") => {
+                            let corners = points.len() - in_loop.take().unwrap_or(0);
+                            if corners != 3 {
+                                return Err(fail(format!(
+                                    "a facet has {corners} vertices; STL facets have 3"
+                                )));
+                            }
+                        }
+                        _ => {}
+                    }
+                }
+                if points.len() % 3 != 0 {
+                    return Err(fail("ASCII STL ends inside a facet".into()));
+                }
+            } else if bytes.len() < 84 {
+                return Err(fail("binary STL shorter than its 84-byte header".into()));
+            } else {
+                return Err(fail(format!(
+                    "binary STL declares {} triangles ({} bytes) but is {} bytes",
+                    (binary_size.unwrap_or(84) - 84) / 50,
+                    binary_size.unwrap_or(84),
+                    bytes.len()
+                )));
             }
             triangles = (0..points.len() as u32 / 3)
                 .map(|t| [3 * t, 3 * t + 1, 3 * t + 2])
                 .collect();
         }
+        "ply" => {
+            let (vertices, faces) =
+                crate::ply::read_ply_mesh(bytes).map_err(|e| fail(e.to_string()))?;
+            points = vertices;
+            for face in &faces {
+                fan(&mut triangles, face, points.len())?;
+            }
+        }
         other => {
             return Err(fail(format!(
-                "unsupported mesh format `{other}` (use .obj or .stl)"
+                "unsupported mesh format `{}` (use .obj, .stl or .ply)",
+                crate::input::clip(other, 20)
             )));
         }
     }
     if points.iter().any(|p| !p.is_finite()) {
         return Err(fail("non-finite vertex".into()));
+    }
+    if let Some(p) = points
+        .iter()
+        .find(|p| p.abs().max_element() > crate::input::MAX_MAGNITUDE)
+    {
+        return Err(fail(format!(
+            "vertex ({}, {}, {}) is beyond ±{:e} m",
+            p.x,
+            p.y,
+            p.z,
+            crate::input::MAX_MAGNITUDE
+        )));
     }
     if points.len() < 4 {
         return Err(fail("fewer than 4 vertices".into()));
@@ -160,6 +221,16 @@ pub fn mesh_shape(
         .map_err(|_| "degenerate (flat or collinear) vertices: no convex hull".to_string())?;
     let hull = SharedShape::convex_mesh(hull_points, &hull_triangles)
         .ok_or_else(|| "degenerate (flat or collinear) vertices: no convex hull".to_string())?;
+    // A flat mesh gives a "hull" of no volume, which the physics would keep floating
+    // where it was put: a body needs a thickness of at least a millionth of its size.
+    let (lo, hi) = points.iter().fold(
+        (Vec3::splat(f64::INFINITY), Vec3::splat(f64::NEG_INFINITY)),
+        |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+    );
+    let size = (hi - lo).max_element();
+    if hull.mass_properties(1.0).mass() <= 1e-6 * size.powi(3) {
+        return Err("flat (coplanar) vertices: the mesh encloses no volume".into());
+    }
     if !decompose || triangles.is_empty() {
         return Ok(hull);
     }
@@ -169,11 +240,8 @@ pub fn mesh_shape(
     }
     // V-HACD is third-party code on arbitrary input: a panic there is a mesh error.
     let (pts, tris) = (points.to_vec(), triangles.to_vec());
-    let hook = std::panic::take_hook();
-    std::panic::set_hook(Box::new(|_| {}));
-    let out = std::panic::catch_unwind(move || SharedShape::convex_decomposition(&pts, &tris));
-    std::panic::set_hook(hook);
-    out.map_err(|_| "convex decomposition failed".to_string())
+    crate::guard::catch_quietly(move || SharedShape::convex_decomposition(&pts, &tris))
+        .map_err(|_| "convex decomposition failed".to_string())
 }
 
 #[cfg(test)]

@@ -24,11 +24,7 @@ pub const MAX_PCD_POINTS: usize = 100_000_000;
 /// Header words are quoted back in errors at most this long, so a hostile line is not
 /// echoed whole.
 fn clip(s: &str) -> String {
-    const MAX: usize = 60;
-    match s.char_indices().nth(MAX) {
-        Some((i, _)) => format!("{}…", &s[..i]),
-        None => s.to_string(),
-    }
+    crate::input::clip(s, 60)
 }
 
 #[derive(Debug)]

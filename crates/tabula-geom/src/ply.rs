@@ -108,15 +108,34 @@ enum Format {
 
 /// Reads a PLY file's vertices into a cloud (organized when the header says so).
 pub fn read_ply(bytes: &[u8]) -> Result<PointCloud, PlyError> {
-    // The header is ASCII lines up to `end_header`.
-    let end = find(bytes, b"end_header").ok_or(PlyError("no end_header".into()))?;
-    let mut body_start = end + b"end_header".len();
-    if bytes.get(body_start) == Some(&b'\r') {
-        body_start += 1;
+    read_ply_parts(bytes, false).map(|(cloud, _)| cloud)
+}
+
+/// Reads a PLY mesh: its vertices and its faces (`vertex_indices` or `vertex_index`
+/// lists of the `face` element), each face a polygon of vertex indices.
+pub fn read_ply_mesh(bytes: &[u8]) -> Result<(Vec<Vec3>, Vec<Vec<u32>>), PlyError> {
+    read_ply_parts(bytes, true).map(|(cloud, faces)| (cloud.points, faces))
+}
+
+/// Where the header ends: after the first line that is exactly `end_header` (a
+/// comment may contain the word).
+fn header_end(bytes: &[u8]) -> Option<(usize, usize)> {
+    let mut start = 0;
+    while start < bytes.len() {
+        let len = bytes[start..].iter().position(|&b| b == b'\n');
+        let line_end = len.map_or(bytes.len(), |l| start + l);
+        let line = &bytes[start..line_end];
+        let line = line.strip_suffix(b"\r").unwrap_or(line);
+        if line.trim_ascii() == b"end_header" {
+            return Some((start, (line_end + 1).min(bytes.len())));
+        }
+        start = line_end + 1;
     }
-    if bytes.get(body_start) == Some(&b'\n') {
-        body_start += 1;
-    }
+    None
+}
+
+fn read_ply_parts(bytes: &[u8], want_faces: bool) -> Result<(PointCloud, Vec<Vec<u32>>), PlyError> {
+    let (end, body_start) = header_end(bytes).ok_or(PlyError("no end_header line".into()))?;
     let header =
         std::str::from_utf8(&bytes[..end]).map_err(|_| PlyError("header is not text".into()))?;
     let mut lines = header.lines().map(str::trim).filter(|l| !l.is_empty());
@@ -129,6 +148,12 @@ pub fn read_ply(bytes: &[u8]) -> Result<PointCloud, PlyError> {
     for line in lines {
         let words: Vec<&str> = line.split_whitespace().collect();
         match words.as_slice() {
+            ["format", _, version] if *version != "1.0" => {
+                return err(format!(
+                    "PLY version `{}` (only 1.0 exists)",
+                    clip(version, 20)
+                ));
+            }
             ["format", f, _version] => {
                 format = Some(match *f {
                     "ascii" => Format::Ascii,
@@ -145,12 +170,12 @@ pub fn read_ply(bytes: &[u8]) -> Result<PointCloud, PlyError> {
                 name: name.to_string(),
                 count: count
                     .parse()
-                    .map_err(|_| PlyError(format!("bad element count `{count}`")))?,
+                    .map_err(|_| PlyError(format!("bad element count `{}`", clip(count, 40))))?,
                 props: Vec::new(),
             }),
             ["property", "list", c, t, _name] => {
                 let (Some(c), Some(t)) = (Scalar::parse(c), Scalar::parse(t)) else {
-                    return err(format!("bad list types in `{line}`"));
+                    return err(format!("bad list types in `{}`", clip(line, 80)));
                 };
                 elements
                     .last_mut()
@@ -159,14 +184,15 @@ pub fn read_ply(bytes: &[u8]) -> Result<PointCloud, PlyError> {
                     .push(Property::List(c, t));
             }
             ["property", t, name] => {
-                let t = Scalar::parse(t).ok_or(PlyError(format!("unknown type in `{line}`")))?;
+                let t = Scalar::parse(t)
+                    .ok_or(PlyError(format!("unknown type in `{}`", clip(line, 80))))?;
                 elements
                     .last_mut()
                     .ok_or(PlyError("property before any element".into()))?
                     .props
                     .push(Property::Scalar(name.to_string(), t));
             }
-            _ => return err(format!("unexpected header line `{line}`")),
+            _ => return err(format!("unexpected header line `{}`", clip(line, 80))),
         }
     }
     let format = format.ok_or(PlyError("missing format line".into()))?;
@@ -182,8 +208,26 @@ pub fn read_ply(bytes: &[u8]) -> Result<PointCloud, PlyError> {
         Format::Binary { .. } => None,
     };
     let mut offset = 0usize;
+    let mut faces: Vec<Vec<u32>> = Vec::new();
     for e in &elements {
+        if e.props.is_empty() {
+            // No property: nothing stored, whatever the count says.
+            continue;
+        }
+        // Every element with a property takes at least one byte in any format.
+        if e.count > body.len() {
+            return err(format!(
+                "{} `{}` elements cannot fit in {} bytes",
+                e.count,
+                clip(&e.name, 40),
+                body.len()
+            ));
+        }
         let is_vertex = e.name == "vertex";
+        let is_face = want_faces && e.name == "face";
+        if is_face {
+            faces.reserve(e.count);
+        }
         let xyz: [Option<usize>; 3] = ["x", "y", "z"].map(|axis| {
             e.props
                 .iter()
@@ -194,18 +238,11 @@ pub fn read_ply(bytes: &[u8]) -> Result<PointCloud, PlyError> {
                 return err("vertex element lacks x, y or z");
             }
             found_vertex = true;
-            // Each vertex takes at least one byte per property in any format.
-            if e.count > body.len() {
-                return err(format!(
-                    "{} vertices cannot fit in {} bytes",
-                    e.count,
-                    body.len()
-                ));
-            }
             points.reserve(e.count);
         }
         for _ in 0..e.count {
             let mut v = [f64::NAN; 3];
+            let mut face: Vec<u32> = Vec::new();
             for (k, prop) in e.props.iter().enumerate() {
                 match (prop, &mut ascii_tokens, format) {
                     (Property::Scalar(_, t), Some(tokens), _) => {
@@ -221,13 +258,18 @@ pub fn read_ply(bytes: &[u8]) -> Result<PointCloud, PlyError> {
                         let tok = tokens
                             .next()
                             .ok_or(PlyError("ascii body ends early".into()))?;
-                        let n: usize = tok
-                            .parse()
-                            .map_err(|_| PlyError(format!("bad list length `{tok}`")))?;
+                        let n: usize = tok.parse().map_err(|_| {
+                            PlyError(format!("bad list length `{}`", clip(tok, 40)))
+                        })?;
                         for _ in 0..n {
-                            tokens
+                            let item = tokens
                                 .next()
                                 .ok_or(PlyError("ascii body ends early".into()))?;
+                            if is_face {
+                                face.push(item.parse().map_err(|_| {
+                                    PlyError(format!("bad vertex index `{}`", clip(item, 40)))
+                                })?);
+                            }
                         }
                     }
                     (Property::Scalar(_, t), None, Format::Binary { little }) => {
@@ -254,6 +296,16 @@ pub fn read_ply(bytes: &[u8]) -> Result<PointCloud, PlyError> {
                         if offset.checked_add(skip).is_none_or(|end| end > body.len()) {
                             return err("binary body ends early");
                         }
+                        if is_face {
+                            for i in 0..n as usize {
+                                let at = offset + i * t.size();
+                                let index = t.read(&body[at..at + t.size()], little);
+                                if !(index >= 0.0 && index <= u32::MAX as f64) {
+                                    return err("bad vertex index");
+                                }
+                                face.push(index as u32);
+                            }
+                        }
                         offset += skip;
                     }
                     (_, None, Format::Ascii) => unreachable!("ascii bodies have a tokenizer"),
@@ -262,17 +314,25 @@ pub fn read_ply(bytes: &[u8]) -> Result<PointCloud, PlyError> {
             if is_vertex {
                 points.push(Vec3::new(v[0], v[1], v[2]));
             }
+            if is_face {
+                faces.push(face);
+            }
         }
     }
     if !found_vertex {
         return err("no vertex element");
     }
-    match (cols, rows) {
+    let cloud = match (cols, rows) {
         (Some(w), Some(h)) if w.checked_mul(h) == Some(points.len()) && h > 1 => {
-            PointCloud::organized(w, h, points).ok_or(PlyError("bad organized size".into()))
+            PointCloud::organized(w, h, points).ok_or(PlyError("bad organized size".into()))?
         }
-        _ => Ok(PointCloud::unorganized(points)),
-    }
+        _ => PointCloud::unorganized(points),
+    };
+    Ok((cloud, faces))
+}
+
+fn clip(s: &str, max: usize) -> String {
+    crate::input::clip(s, max)
 }
 
 fn parse_number(tok: &str, t: Scalar) -> Result<f64, PlyError> {
@@ -285,10 +345,6 @@ fn parse_number(tok: &str, t: Scalar) -> Result<f64, PlyError> {
             .map(|v| v as f64)
             .map_err(|_| PlyError(format!("bad integer `{tok}`"))),
     }
-}
-
-fn find(hay: &[u8], needle: &[u8]) -> Option<usize> {
-    hay.windows(needle.len()).position(|w| w == needle)
 }
 
 /// Writes a cloud as PLY (float x y z; NaN where a pixel has no point).

@@ -11,6 +11,7 @@ use crate::rrt::{
 use crate::world::{CollisionWorld, WorldError, WorldParams};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
+use tabula_geom::input::{Validate, check_count, check_in, check_positive, nested};
 use tabula_geom::parry::shape::SharedShape;
 use tabula_geom::{Pose, Vec3};
 use tabula_robot::description::{ArmGroup, Gripper};
@@ -440,4 +441,23 @@ fn arm_and_chain(
 /// benchmarks compare it.
 pub fn thread_cpu() -> f64 {
     tabula_robot::ik::bench::thread_cpu_seconds()
+}
+
+impl Validate for MoveGroupParams {
+    fn check(&self, at: &str) -> Result<(), String> {
+        self.planner.check(&nested(at, "planner"))?;
+        self.world.check(&nested(at, "world"))?;
+        check_positive(at, "max_acceleration", self.max_acceleration)?;
+        check_in(at, "velocity_scaling", self.velocity_scaling, 1e-3, 1.0)?;
+        check_in(at, "sample_dt", self.sample_dt, 1e-4, 1.0)?;
+        check_positive(at, "cartesian_step", self.cartesian_step)?;
+        check_positive(at, "cartesian_max_jump", self.cartesian_max_jump)?;
+        check_count(at, "pose_goal_solutions", self.pose_goal_solutions, 1)?;
+        check_positive(at, "cartesian_tolerance", self.cartesian_tolerance)?;
+        check_positive(
+            at,
+            "cartesian_angle_tolerance",
+            self.cartesian_angle_tolerance,
+        )
+    }
 }

@@ -5,6 +5,7 @@ use crate::world::CollisionWorld;
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::time::{Duration, Instant};
+use tabula_geom::input::{Validate, check_in, check_positive};
 
 /// Planner parameters; defaults follow the seed's use of RRT-Connect (SPEC §6: 1 s limit).
 #[derive(Debug, Clone, serde::Deserialize)]
@@ -453,4 +454,12 @@ pub fn time_parameterize(path: &[Vec<f64>], vmax: &[f64], amax: &[f64], dt: f64)
         t_start += duration;
     }
     Trajectory { times, positions }
+}
+
+impl Validate for PlannerParams {
+    fn check(&self, at: &str) -> Result<(), String> {
+        check_in(at, "timeout_s", self.timeout_s, 1e-6, 1e6)?;
+        check_positive(at, "range", self.range)?;
+        check_positive(at, "resolution", self.resolution)
+    }
 }

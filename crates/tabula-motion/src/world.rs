@@ -6,6 +6,7 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use std::cell::Cell;
 use std::collections::HashSet;
+use tabula_geom::input::{Validate, check_in, check_non_negative, check_positive};
 use tabula_geom::parry::bounding_volume::{Aabb, BoundingVolume};
 use tabula_geom::parry::partitioning::{Bvh, BvhBuildStrategy};
 use tabula_geom::parry::query;
@@ -597,9 +598,10 @@ impl CollisionWorld {
             .map_err(|e| WorldError::Robot(e.to_string()))?;
         let shape = if decompose && !triangles.is_empty() {
             let (p, t) = (points.clone(), triangles.clone());
-            std::panic::catch_unwind(move || SharedShape::convex_decomposition(&p, &t)).map_err(
-                |_| WorldError::Robot(format!("{}: convex decomposition failed", path.display())),
-            )?
+            tabula_geom::guard::catch_quietly(move || SharedShape::convex_decomposition(&p, &t))
+                .map_err(|_| {
+                    WorldError::Robot(format!("{}: convex decomposition failed", path.display()))
+                })?
         } else {
             SharedShape::convex_hull(&points).ok_or_else(|| {
                 WorldError::Robot(format!(
@@ -1125,5 +1127,17 @@ impl CollisionWorld {
     /// `world_from_root` of the robot.
     pub fn world_from_root(&self) -> Pose {
         self.world_from_root
+    }
+}
+
+impl Validate for WorldParams {
+    fn check(&self, at: &str) -> Result<(), String> {
+        check_non_negative(at, "padding", self.padding)?;
+        check_in(at, "always_fraction", self.always_fraction, 0.0, 1.0)?;
+        check_positive(at, "max_step_displacement", self.max_step_displacement)?;
+        for (link, pad) in &self.link_padding {
+            check_non_negative(at, &format!("link_padding.{link}"), *pad)?;
+        }
+        Ok(())
     }
 }

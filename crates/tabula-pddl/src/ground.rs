@@ -20,6 +20,13 @@ pub enum GroundError {
         combinations: u128,
         limit: u128,
     },
+    #[error(
+        "grounding visits more than {0} bindings (parameters and quantified variables); \
+         the problem is too large to ground"
+    )]
+    TooMuchWork(u64),
+    #[error("grounding ran past the time limit")]
+    Timeout,
     #[error("a condition of `{0}` expands to more than 100000 disjuncts")]
     DnfTooLarge(String),
     #[error("action `{action}`: cost `({function})` has no value in the problem's :init")]
@@ -61,6 +68,9 @@ pub struct GroundOptions {
     /// Predicates whose atoms stay in the task even if no action changes them, so that a
     /// replanning caller can switch them on and off (e.g. `ik_unfeasible_grasp`).
     pub mutable_predicates: Vec<String>,
+    /// Grounding stops with [`GroundError::Timeout`] past this instant (a planner's
+    /// time limit covers grounding too).
+    pub deadline: Option<std::time::Instant>,
 }
 
 /// The propositional task.
@@ -290,6 +300,12 @@ struct Grounder<'a> {
     /// domain: one integer hash per atom instead of hashing its name.
     predicate_of_name: FxHashMap<(usize, usize), u32>,
     key: Vec<u32>,
+    /// Bindings visited so far (action parameters and quantified variables alike),
+    /// against [`WORK_LIMIT`] and the deadline; once either is passed every loop
+    /// returns at once and `stopped` says why.
+    work: u64,
+    deadline: Option<std::time::Instant>,
+    stopped: Option<GroundError>,
 }
 
 impl<'a> Grounder<'a> {
@@ -566,12 +582,28 @@ impl<'a> Grounder<'a> {
         binding: &mut Binding<'a>,
         f: &mut dyn FnMut(&mut Self, &mut Binding<'a>),
     ) {
+        if self.stopped.is_some() {
+            return;
+        }
         if i == vars.len() {
+            self.work += 1;
+            if self.work > WORK_LIMIT {
+                self.stopped = Some(GroundError::TooMuchWork(WORK_LIMIT));
+                return;
+            }
+            if self.work % 4096 == 0 && self.deadline.is_some_and(|d| std::time::Instant::now() > d)
+            {
+                self.stopped = Some(GroundError::Timeout);
+                return;
+            }
             f(self, binding);
             return;
         }
         let objects = self.objects(&vars[i].type_name);
         for &o in objects.iter() {
+            if self.stopped.is_some() {
+                return;
+            }
             binding.push((vars[i].name.as_str(), o));
             self.for_each_binding(vars, i + 1, binding, f);
             binding.pop();
@@ -702,6 +734,10 @@ fn predicates_in_effects(e: &Effect, any: &mut HashSet<String>, added: &mut Hash
 /// Largest number of parameter combinations one action schema may expand to.
 pub const GROUNDING_LIMIT: u128 = 20_000_000;
 
+/// Most bindings grounding visits in all, quantifiers included: counted where the
+/// parameter limit alone misses `forall`/`exists` over many variables.
+pub const WORK_LIMIT: u64 = 200_000_000;
+
 impl GroundTask {
     /// Grounds `problem` of `domain`.
     pub fn new(
@@ -779,6 +815,9 @@ impl GroundTask {
             objects_by_type: FxHashMap::default(),
             predicate_of_name: FxHashMap::default(),
             key: Vec::new(),
+            work: 0,
+            deadline: options.deadline,
+            stopped: None,
         };
         let unit_cost = !(domain.uses_action_costs() && problem.minimize_total_cost);
         let mut raw: Vec<Raw> = Vec::new();
@@ -856,11 +895,14 @@ impl GroundTask {
                     });
                 }
             });
-            if let Some(e) = failure {
+            if let Some(e) = g.stopped.take().or(failure) {
                 return Err(e);
             }
         }
         let goal_formula = g.condition(&problem.goal, &mut Vec::new(), true);
+        if let Some(e) = g.stopped.take() {
+            return Err(e);
+        }
         let goal_clauses =
             dnf(&goal_formula).ok_or_else(|| GroundError::DnfTooLarge("the goal".into()))?;
         let mutable_atoms: Vec<bool> = g

@@ -21,7 +21,7 @@ mod task;
 pub mod validate;
 
 pub use ast::*;
-pub use ground::{GroundOptions, GroundTask};
+pub use ground::{GroundError, GroundOptions, GroundTask};
 pub use parse::{parse_domain, parse_problem};
 pub use planner::{NoPlan, Plan, Planner, SearchMode};
 pub use validate::{PlanError, PlanStep, parse_plan, validate};

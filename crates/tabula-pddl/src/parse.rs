@@ -187,7 +187,40 @@ pub fn parse_domain(text: &str) -> R<Domain> {
                     if d.types.iter().any(|(n, _)| *n == t.name) {
                         return err(loc, ErrorKind::Duplicate(t.name));
                     }
+                    if t.name == t.type_name {
+                        return err(
+                            loc,
+                            ErrorKind::Syntax(format!(
+                                "type `{}` is declared a subtype of itself",
+                                t.name
+                            )),
+                        );
+                    }
                     d.types.push((t.name, Some(t.type_name)));
+                }
+                // Every chain of parents must reach `object`: a cycle (a - b, b - a)
+                // makes every subtype question unanswerable.
+                for (name, _) in &d.types {
+                    let mut cur = name.as_str();
+                    for _ in 0..=d.types.len() {
+                        match d
+                            .types
+                            .iter()
+                            .find(|(n, _)| n == cur)
+                            .and_then(|(_, p)| p.as_deref())
+                        {
+                            Some(parent) => cur = parent,
+                            None => break,
+                        }
+                    }
+                    if d.types.iter().any(|(n, p)| n == cur && p.is_some()) {
+                        return err(
+                            s.loc(),
+                            ErrorKind::Syntax(format!(
+                                "the :types form a cycle through `{name}`: every type must descend from `object`"
+                            )),
+                        );
+                    }
                 }
             }
             ":constants" => {

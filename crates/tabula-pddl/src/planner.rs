@@ -75,6 +75,7 @@ impl Planner {
             problem,
             GroundOptions {
                 mutable_predicates: mutable,
+                ..GroundOptions::default()
             },
         )
     }

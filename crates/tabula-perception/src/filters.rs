@@ -9,6 +9,7 @@
 use crate::kd::KdTree;
 use rayon::prelude::*;
 use rustc_hash::FxHashMap;
+use tabula_geom::input::{Validate, check_count, check_non_negative, check_positive};
 use tabula_geom::{PointCloud, Vec3};
 
 /// A filter that cannot run on its input.
@@ -168,11 +169,13 @@ fn organized_mean_distances(cloud: &PointCloud, k: usize, viewpoint: Option<Vec3
                 continue;
             }
             let other = yy as usize * w;
-            let x0 = (-dx).max(0) as usize;
-            let x1 = (w as isize - dx.max(0)) as usize;
+            // A frame narrower than the offset has no pair at this offset.
+            let x0 = (-dx).max(0);
+            let x1 = w as isize - dx.max(0);
             if x1 <= x0 {
                 continue;
             }
+            let (x0, x1) = (x0 as usize, x1 as usize);
             let n = x1 - x0;
             let (ax, ay, az) = (
                 &sx[row + x0..][..n],
@@ -602,6 +605,21 @@ pub fn local_planes_at(
                 .map_or(none, |(n, c)| (orient(i, n), c))
         })
         .collect()
+}
+
+impl Validate for OutlierParams {
+    fn check(&self, at: &str) -> Result<(), String> {
+        check_count(at, "mean_k", self.mean_k, 1)?;
+        check_non_negative(at, "std_mul", self.std_mul)
+    }
+}
+
+impl Validate for NormalParams {
+    fn check(&self, at: &str) -> Result<(), String> {
+        check_count(at, "window", self.window, 1)?;
+        check_count(at, "k", self.k, 3)?;
+        check_positive(at, "depth_edge_factor", self.depth_edge_factor)
+    }
 }
 
 #[cfg(test)]

@@ -6,6 +6,7 @@
 //! nearest to that point?" in one scan.
 
 use crate::surfaces::{Surface, plane_basis};
+use tabula_geom::input::{Validate, check_count, check_positive};
 use tabula_geom::polygon::{
     convex_hull_2d, distance_to_boundary, inside_convex, inside_polygon, polygon_area,
 };
@@ -502,6 +503,13 @@ fn envelope(f: &[f64], out: &mut [f64], v: &mut [usize], z: &mut [f64]) {
         }
         let p = v[k];
         *o = (q as f64 - p as f64).powi(2) + f[p];
+    }
+}
+
+impl Validate for FreeSpaceParams {
+    fn check(&self, at: &str) -> Result<(), String> {
+        check_positive(at, "resolution", self.resolution)?;
+        check_count(at, "yaw_samples", self.yaw_samples, 1)
     }
 }
 

@@ -5,6 +5,7 @@ use crate::filters::{scatter, smallest_eigenvector};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use tabula_geom::Vec3;
+use tabula_geom::input::{Validate, check_count, check_in, check_positive};
 
 /// A plane `normal · p + d = 0` with a unit normal.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -204,6 +205,21 @@ pub fn ransac_plane_with_normals(
         .filter(|&i| agrees(&plane, i))
         .collect();
     Some((plane, inliers))
+}
+
+impl Validate for RansacParams {
+    fn check(&self, at: &str) -> Result<(), String> {
+        check_positive(at, "threshold", self.threshold)?;
+        check_in(at, "confidence", self.confidence, 1e-6, 1.0 - 1e-12)?;
+        check_count(at, "max_iterations", self.max_iterations, 1)?;
+        check_in(
+            at,
+            "max_normal_angle",
+            self.max_normal_angle,
+            0.0,
+            std::f64::consts::PI,
+        )
+    }
 }
 
 #[cfg(test)]

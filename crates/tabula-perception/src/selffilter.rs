@@ -4,6 +4,7 @@
 //! filters a held object or a gripper's protective sphere.
 
 use rayon::prelude::*;
+use tabula_geom::input::{Validate, check_non_negative};
 use tabula_geom::{Pose, Vec3};
 
 /// Parameters.
@@ -146,6 +147,12 @@ pub fn self_filter(points: &[Vec3], solids: &[PlacedSolid], p: &SelfFilterParams
                     })
         })
         .collect()
+}
+
+impl Validate for SelfFilterParams {
+    fn check(&self, at: &str) -> Result<(), String> {
+        check_non_negative(at, "padding", self.padding)
+    }
 }
 
 #[cfg(test)]

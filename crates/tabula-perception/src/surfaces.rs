@@ -6,6 +6,9 @@
 
 use crate::filters::{NormalParams, local_planes_at};
 use crate::plane::{Plane, RansacParams, ransac_plane, ransac_round};
+use tabula_geom::input::{
+    Validate, check_count, check_in, check_non_negative, check_positive, nested,
+};
 use tabula_geom::polygon::{convex_hull_2d, polygon_area};
 use tabula_geom::{PointCloud, Vec2, Vec3};
 
@@ -637,4 +640,38 @@ pub(crate) fn split(
     }
     out.sort_by_key(|s| std::cmp::Reverse(s.inliers.len()));
     out
+}
+
+impl Validate for SurfaceParams {
+    fn check(&self, at: &str) -> Result<(), String> {
+        self.ransac.check(&nested(at, "ransac"))?;
+        check_in(
+            at,
+            "max_tilt",
+            self.max_tilt,
+            0.0,
+            std::f64::consts::PI / 2.0,
+        )?;
+        check_in(at, "min_plane_fraction", self.min_plane_fraction, 0.0, 1.0)?;
+        check_in(at, "stop_fraction", self.stop_fraction, 0.0, 1.0)?;
+        check_count(at, "min_plane_points", self.min_plane_points, 3)?;
+        let [lo, hi] = self.height_range;
+        check_in(at, "height_range[0]", lo, -1e6, 1e6)?;
+        check_in(at, "height_range[1]", hi, lo, 1e6)?;
+        check_non_negative(at, "min_area", self.min_area)?;
+        check_non_negative(at, "min_inscribed_radius", self.min_inscribed_radius)?;
+        check_positive(at, "max_slice_ratio", self.max_slice_ratio)?;
+        check_in(
+            at,
+            "flat_normal_angle",
+            self.flat_normal_angle,
+            0.0,
+            std::f64::consts::PI,
+        )?;
+        check_in(at, "min_flat_fraction", self.min_flat_fraction, 0.0, 1.0)?;
+        check_positive(at, "refine_threshold", self.refine_threshold)?;
+        check_positive(at, "cell", self.cell)?;
+        check_count(at, "max_planes", self.max_planes, 1)?;
+        check_count(at, "stride", self.stride, 1)
+    }
 }

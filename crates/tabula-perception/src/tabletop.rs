@@ -10,6 +10,9 @@ use crate::plane::Plane;
 use crate::segment::{Locals, segment_organized, segment_unorganized};
 use crate::surfaces::{Surface, SurfaceParams, find_surfaces, plane_basis, surface_on};
 use std::time::Instant;
+use tabula_geom::input::{
+    Validate, check_count, check_in, check_non_negative, check_positive, nested,
+};
 use tabula_geom::polygon::{
     Rectangle, convex_hull_2d, distance_to_boundary, inside_convex, min_area_rectangle,
     polygon_area,
@@ -65,6 +68,10 @@ pub struct TabletopParams {
     pub max_object_extent: f64,
     /// Pieces this near (m) an object cut by the frame's edge are cut too.
     pub partial_gap: f64,
+    /// Points of an unorganized cloud closer than this (m) to one already seen are
+    /// the same sample (merged scans, drivers that write invalid pixels as one point):
+    /// they carry no geometry and make every radius search quadratic. Not in the seed.
+    pub duplicate_leaf: f64,
 }
 
 impl Default for TabletopParams {
@@ -87,6 +94,7 @@ impl Default for TabletopParams {
             rest_tolerance: 0.015,
             max_object_extent: 1.5,
             partial_gap: 0.03,
+            duplicate_leaf: 0.0005,
         }
     }
 }
@@ -217,12 +225,30 @@ pub fn extract_framed(
     extract_from(cloud, framing.eye, support, p)
 }
 
+/// `cloud` with every point after the first in each `leaf`-sized voxel made NaN (so
+/// indices into it still hold), or `None` when it is organized or has no duplicate.
+fn without_duplicates(cloud: &PointCloud, leaf: f64) -> Option<PointCloud> {
+    if cloud.is_organized() || !(leaf > 0.0) {
+        return None;
+    }
+    let mut seen = rustc_hash::FxHashSet::default();
+    let mut out: Option<PointCloud> = None;
+    for (i, q) in cloud.points.iter().enumerate() {
+        if q.is_finite() && !seen.insert(tabula_geom::voxel_key(*q, leaf)) {
+            out.get_or_insert_with(|| cloud.clone()).points[i] = Vec3::NAN;
+        }
+    }
+    out
+}
+
 fn extract_from(
     cloud: &PointCloud,
     viewpoint: Vec3,
     known: Option<Plane>,
     p: &TabletopParams,
 ) -> Result<Tabletop, TabletopError> {
+    let unique = without_duplicates(cloud, p.duplicate_leaf);
+    let cloud = unique.as_ref().unwrap_or(cloud);
     let pts = &cloud.points;
     if !pts.iter().any(|q| q.is_finite()) {
         return Err(TabletopError::Empty);
@@ -760,6 +786,34 @@ fn principal_axes(m: [f64; 6]) -> [Vec3; 3] {
 /// Transforms a camera-frame cloud into the world frame, keeping its grid.
 pub fn to_world(world_from_camera: &Pose, camera: &PointCloud) -> PointCloud {
     camera.transformed(world_from_camera)
+}
+
+impl Validate for TabletopParams {
+    fn check(&self, at: &str) -> Result<(), String> {
+        self.outliers.check(&nested(at, "outliers"))?;
+        self.surfaces.check(&nested(at, "surfaces"))?;
+        self.normals.check(&nested(at, "normals"))?;
+        check_non_negative(at, "min_height", self.min_height)?;
+        check_positive(at, "cluster_tolerance", self.cluster_tolerance)?;
+        check_non_negative(at, "cluster_range_gain", self.cluster_range_gain)?;
+        check_in(
+            at,
+            "concavity_tolerance",
+            self.concavity_tolerance,
+            0.0,
+            std::f64::consts::PI,
+        )?;
+        check_count(at, "concavity_step", self.concavity_step, 1)?;
+        check_non_negative(at, "step_tolerance", self.step_tolerance)?;
+        check_count(at, "min_object_points", self.min_object_points, 1)?;
+        check_non_negative(at, "min_object_height", self.min_object_height)?;
+        check_non_negative(at, "top_band", self.top_band)?;
+        check_non_negative(at, "support_reach", self.support_reach)?;
+        check_non_negative(at, "rest_tolerance", self.rest_tolerance)?;
+        check_positive(at, "max_object_extent", self.max_object_extent)?;
+        check_non_negative(at, "partial_gap", self.partial_gap)?;
+        check_non_negative(at, "duplicate_leaf", self.duplicate_leaf)
+    }
 }
 
 #[cfg(test)]

@@ -5,11 +5,8 @@ use std::path::PathBuf;
 /// Everything that can go wrong loading a robot or building a chain.
 #[derive(Debug, thiserror::Error)]
 pub enum RobotError {
-    #[error("cannot read URDF {path}: {source}")]
-    Io {
-        path: PathBuf,
-        source: std::io::Error,
-    },
+    #[error(transparent)]
+    Input(#[from] tabula_geom::input::InputError),
     #[error("malformed URDF{}: {message}", path.as_ref().map(|p| format!(" {}", p.display())).unwrap_or_default())]
     Parse {
         path: Option<PathBuf>,
@@ -39,6 +36,20 @@ pub enum RobotError {
         field: &'static str,
         value: f64,
     },
+    #[error("`{joint}`: {field} is {value}, beyond the ±1e6 any robot part can have")]
+    OutOfRange {
+        joint: String,
+        field: &'static str,
+        value: f64,
+    },
+    #[error("`{owner}`: mesh `{filename}` {problem}")]
+    BadMesh {
+        owner: String,
+        filename: String,
+        problem: String,
+    },
+    #[error("the XML is nested {0} elements deep; a URDF needs a handful (limit 256)")]
+    TooDeep(usize),
     #[error("joint `{joint}`: lower limit {lower} is above upper limit {upper}")]
     InvertedLimits {
         joint: String,

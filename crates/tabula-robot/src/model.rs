@@ -191,10 +191,7 @@ impl RobotModel {
     /// Loads a URDF file; `package://pkg/...` mesh paths resolve relative to the file.
     pub fn from_urdf_file(path: impl AsRef<Path>) -> Result<Self, RobotError> {
         let path = path.as_ref();
-        let text = std::fs::read_to_string(path).map_err(|source| RobotError::Io {
-            path: path.to_path_buf(),
-            source,
-        })?;
+        let text = tabula_geom::input::read_text(path, tabula_geom::input::Format::Robot)?;
         Self::parse(&text, path.parent(), Some(path))
     }
 
@@ -208,9 +205,13 @@ impl RobotModel {
             path: file.map(Path::to_path_buf),
             message,
         };
+        let depth = xml_depth(text, 256);
+        if depth > 256 {
+            return Err(RobotError::TooDeep(depth));
+        }
         // urdf-rs panics on a few malformed inputs (found by the proptest over mutated
         // files); a panic is a parse error to our caller, never a crash.
-        let parsed = std::panic::catch_unwind(|| urdf_rs::read_from_string(text))
+        let parsed = tabula_geom::guard::catch_quietly(|| urdf_rs::read_from_string(text))
             .map_err(|_| parse_err("the XML could not be read as URDF".into()))?
             .map_err(|e| parse_err(e.to_string()))?;
         Self::from_urdf_robot(&parsed, base_dir)
@@ -252,10 +253,9 @@ impl RobotModel {
                         .collect(),
                 )?,
                 visual: shapes(l.visual.iter().map(|v| (&v.origin, &v.geometry)).collect())?,
-                mass: if l.inertial.mass.value.is_finite() {
-                    l.inertial.mass.value.max(0.0)
-                } else {
-                    0.0
+                mass: {
+                    checked_pose(&l.name, &l.inertial.origin)?;
+                    checked_value(&l.name, "inertial mass", l.inertial.mass.value)?.max(0.0)
                 },
             });
         }
@@ -310,13 +310,8 @@ impl RobotModel {
             let (lower, upper) = match kind {
                 JointKind::Continuous => (f64::NEG_INFINITY, f64::INFINITY),
                 JointKind::Revolute | JointKind::Prismatic => {
-                    let (lo, hi) = (j.limit.lower, j.limit.upper);
-                    if lo.is_nan() {
-                        return Err(non_finite("lower limit", lo));
-                    }
-                    if hi.is_nan() {
-                        return Err(non_finite("upper limit", hi));
-                    }
+                    let lo = checked_value(&j.name, "lower limit", j.limit.lower)?;
+                    let hi = checked_value(&j.name, "upper limit", j.limit.upper)?;
                     if lo > hi {
                         return Err(RobotError::InvertedLimits {
                             joint: j.name.clone(),
@@ -522,14 +517,66 @@ impl RobotModel {
     }
 }
 
+/// `value` when finite and within the policy's ±1e6 (INPUT_POLICY.md).
+fn checked_value(owner: &str, field: &'static str, value: f64) -> Result<f64, RobotError> {
+    if !value.is_finite() {
+        return Err(RobotError::NonFinite {
+            joint: owner.to_string(),
+            field,
+            value,
+        });
+    }
+    if value.abs() > tabula_geom::input::MAX_MAGNITUDE {
+        return Err(RobotError::OutOfRange {
+            joint: owner.to_string(),
+            field,
+            value,
+        });
+    }
+    Ok(value)
+}
+
+/// The deepest element nesting of XML text, counted before the XML reader (which
+/// recurses) sees it: tags opened minus closed, skipping comments, declarations,
+/// processing instructions and self-closing tags. Stops counting past `limit`.
+fn xml_depth(text: &str, limit: usize) -> usize {
+    let bytes = text.as_bytes();
+    let (mut depth, mut deepest, mut i) = (0usize, 0usize, 0usize);
+    while let Some(off) = bytes[i..].iter().position(|&b| b == b'<') {
+        let start = i + off;
+        let rest = &text[start..];
+        let skip_to = |end: &str| {
+            rest.find(end)
+                .map_or(bytes.len(), |e| start + e + end.len())
+        };
+        if rest.starts_with("<!--") {
+            i = skip_to("-->");
+            continue;
+        }
+        if rest.starts_with("<![CDATA[") {
+            i = skip_to("]]>");
+            continue;
+        }
+        let close = rest.find('>').map_or(bytes.len(), |e| start + e);
+        let tag = &text[start..close.min(bytes.len())];
+        if tag.starts_with("</") {
+            depth = depth.saturating_sub(1);
+        } else if !(tag.starts_with("<?") || tag.starts_with("<!") || tag.ends_with('/')) {
+            depth += 1;
+            deepest = deepest.max(depth);
+            if deepest > limit {
+                return deepest;
+            }
+        }
+        i = (close + 1).min(bytes.len());
+    }
+    deepest
+}
+
 fn checked_pose(owner: &str, p: &urdf_rs::Pose) -> Result<Pose, RobotError> {
     for (field, v) in [("origin xyz", &p.xyz.0), ("origin rpy", &p.rpy.0)] {
-        if let Some(bad) = v.iter().find(|x| !x.is_finite()) {
-            return Err(RobotError::NonFinite {
-                joint: owner.to_string(),
-                field,
-                value: *bad,
-            });
+        for x in v {
+            checked_value(owner, field, *x)?;
         }
     }
     Ok(pose_from_xyz_rpy(p.xyz.0, p.rpy.0))
@@ -541,7 +588,8 @@ fn convert_geometry(
     base_dir: Option<&Path>,
 ) -> Result<Geometry, RobotError> {
     let check = |field: &'static str, v: f64| {
-        if v.is_finite() && v >= 0.0 {
+        let v = checked_value(owner, field, v)?;
+        if v >= 0.0 {
             Ok(v)
         } else {
             Err(RobotError::NonFinite {
@@ -573,16 +621,33 @@ fn convert_geometry(
         urdf_rs::Geometry::Mesh { filename, scale } => {
             let s = scale.as_ref().map(|s| s.0).unwrap_or([1.0; 3]);
             for v in s {
-                if !v.is_finite() {
-                    return Err(RobotError::NonFinite {
-                        joint: owner.to_string(),
-                        field: "mesh scale",
-                        value: v,
-                    });
-                }
+                checked_value(owner, "mesh scale", v)?;
+            }
+            let bad_mesh = |problem: &str| RobotError::BadMesh {
+                owner: owner.to_string(),
+                filename: tabula_geom::input::clip(filename, 200),
+                problem: problem.to_string(),
+            };
+            // `package://pkg/../..` must stay inside the package (and so inside the
+            // robot's folder tree), as ROS's resolver keeps it.
+            if let Some(rest) = filename.strip_prefix("package://")
+                && Path::new(rest)
+                    .components()
+                    .any(|c| matches!(c, std::path::Component::ParentDir))
+            {
+                return Err(bad_mesh("climbs out of its package with `..`"));
+            }
+            let path = resolve_mesh_path(filename, base_dir);
+            // A file-loaded URDF's meshes are checked where they are named, not when a
+            // collision world first needs them.
+            if base_dir.is_some() && !path.is_file() {
+                return Err(bad_mesh(&format!(
+                    "resolves to {}, which is missing or not a regular file",
+                    path.display()
+                )));
             }
             Geometry::Mesh {
-                path: resolve_mesh_path(filename, base_dir),
+                path,
                 scale: Vec3::from_array(s),
             }
         }

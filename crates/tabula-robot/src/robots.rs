@@ -3,6 +3,7 @@
 use crate::description::RobotDescription;
 use crate::{RobotError, RobotModel};
 use std::path::Path;
+use tabula_geom::input::Format;
 
 /// Golem-III (seed 001): torso lift and rotation, two arms per SPEC §2.1, pan/tilt head.
 pub const GOLEM3_URDF: &str = include_str!("../../../robots/golem3.urdf");
@@ -66,10 +67,7 @@ pub fn load(name_or_path: &str) -> Result<NamedRobot, RobotError> {
             let model = RobotModel::from_urdf_file(path)?;
             let beside = Path::new(path).with_extension("toml");
             let description = if beside.is_file() {
-                let text = std::fs::read_to_string(&beside).map_err(|source| RobotError::Io {
-                    path: beside.clone(),
-                    source,
-                })?;
+                let text = tabula_geom::input::read_text(&beside, Format::Robot)?;
                 RobotDescription::from_toml(&text, &model)
                     .map_err(|e| RobotError::Description(format!("{}: {e}", beside.display())))?
             } else {

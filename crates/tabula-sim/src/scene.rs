@@ -6,6 +6,7 @@
 
 use serde::{Deserialize, Serialize};
 use std::path::Path;
+use tabula_geom::input::{Format, read_text};
 use toml::Spanned;
 
 /// A pose in the world: position (m) and URDF roll-pitch-yaw (rad).
@@ -239,9 +240,25 @@ pub struct Scene {
     pub base_dir: Option<std::path::PathBuf>,
 }
 
+/// The range of sizes (m) a body may have: below a tenth of a millimetre or above
+/// 100 m the contact solver's tolerances (millimetres) and a 1/240 s step no longer
+/// describe a rigid body on a table.
+pub const MIN_SIZE: f64 = 1e-4;
+pub const MAX_SIZE: f64 = 100.0;
+/// The farthest a body may be from the origin along any axis (m): beyond a
+/// kilometre a tabletop scene has lost a unit or a sign, and contact tolerances of a
+/// millimetre lose their meaning in the coordinates' precision long before 1e300.
+pub const MAX_COORDINATE: f64 = 1000.0;
+/// Masses (kg) and densities (kg/m³) the solver handles beside a robot arm of ~10 kg:
+/// mass ratios beyond ~1e6 make stacked contacts explode or sink.
+pub const MIN_MASS: f64 = 1e-4;
+pub const MAX_MASS: f64 = 1e4;
+pub const MIN_DENSITY: f64 = 1.0;
+pub const MAX_DENSITY: f64 = 1e5;
+
 /// A scene file that cannot be used.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
-#[error("{file}:{line}: {message}")]
+#[error("{}{message}", if file.is_empty() { String::new() } else { format!("{file}:{line}: ") })]
 pub struct SceneError {
     pub file: String,
     pub line: usize,
@@ -266,11 +283,11 @@ impl Scene {
 
     /// Reads and checks a scene file.
     pub fn load(path: &Path) -> Result<Self, SceneError> {
-        let text = std::fs::read_to_string(path).map_err(|e| SceneError {
-            file: path.display().to_string(),
+        let text = read_text(path, Format::Scene).map_err(|e| SceneError {
+            file: String::new(),
             line: 0,
             key: String::new(),
-            message: format!("cannot read: {e}"),
+            message: e.to_string(),
         })?;
         let mut scene = Self::parse(&text, &path.display().to_string())?;
         scene.base_dir = path.parent().map(Path::to_path_buf);
@@ -279,6 +296,12 @@ impl Scene {
 
     /// Parses and checks scene text; `file` names it in errors.
     pub fn parse(text: &str, file: &str) -> Result<Self, SceneError> {
+        tabula_geom::input::check_toml_numbers(text).map_err(|message| SceneError {
+            file: file.to_string(),
+            line: 0,
+            key: String::new(),
+            message,
+        })?;
         let scene: Scene = toml::from_str(text).map_err(|e| {
             let line = e.span().map_or(0, |s| line_of(text, s.start));
             SceneError {
@@ -323,14 +346,35 @@ impl Scene {
                 ));
             }
         }
-        let finite_pose = |p: &PoseSpec| p.xyz.iter().chain(&p.rpy).all(|v| v.is_finite());
+        let finite_pose = |p: &PoseSpec| {
+            p.xyz
+                .iter()
+                .all(|v| v.is_finite() && v.abs() <= MAX_COORDINATE)
+                && p.rpy.iter().all(|v| v.is_finite())
+        };
+        if let Some(floor) = &self.floor
+            && floor
+                .size
+                .iter()
+                .any(|d| !(MIN_SIZE..=10.0 * MAX_COORDINATE).contains(d))
+        {
+            return Err(SceneError {
+                file: file.to_string(),
+                line: 0,
+                key: "floor.size".into(),
+                message: format!(
+                    "floor sizes must be between {MIN_SIZE} and {} m",
+                    10.0 * MAX_COORDINATE
+                ),
+            });
+        }
         for o in &self.objects {
             let key = |k: &str| format!("object.{}.{k}", o.name.get_ref());
             if !finite_pose(&o.pose) {
                 return Err(err(
                     &o.name,
                     key("pose"),
-                    "pose values must be finite".into(),
+                    "pose values must be finite, positions within ±1000 m".into(),
                 ));
             }
             let dims: Vec<f64> = match &o.shape {
@@ -342,26 +386,31 @@ impl Scene {
                 ShapeSpec::Sphere { radius } => vec![*radius],
                 ShapeSpec::Mesh { scale, .. } => scale.to_vec(),
             };
-            if dims.iter().any(|d| !d.is_finite() || *d <= 0.0) {
+            if dims.iter().any(|d| !(MIN_SIZE..=MAX_SIZE).contains(d)) {
                 return Err(err(
                     &o.name,
                     key("shape"),
-                    "sizes must be positive finite numbers".into(),
+                    format!(
+                        "sizes (and mesh scales) must be between {MIN_SIZE} and {MAX_SIZE}: \
+                         the physics cannot simulate a body outside that range"
+                    ),
                 ));
             }
             match (o.mass, o.density) {
-                (Some(m), _) if !(m.is_finite() && m > 0.0) => {
+                (Some(m), _) if !(MIN_MASS..=MAX_MASS).contains(&m) => {
                     return Err(err(
                         &o.name,
                         key("mass"),
-                        format!("mass must be positive, got {m}"),
+                        format!("mass must be between {MIN_MASS} and {MAX_MASS} kg, got {m}"),
                     ));
                 }
-                (_, Some(d)) if !(d.is_finite() && d > 0.0) => {
+                (_, Some(d)) if !(MIN_DENSITY..=MAX_DENSITY).contains(&d) => {
                     return Err(err(
                         &o.name,
                         key("density"),
-                        format!("density must be positive, got {d}"),
+                        format!(
+                            "density must be between {MIN_DENSITY} and {MAX_DENSITY} kg/m³, got {d}"
+                        ),
                     ));
                 }
                 _ => {}
@@ -380,16 +429,16 @@ impl Scene {
                 return Err(err(
                     &f.name,
                     key("pose"),
-                    "pose values must be finite".into(),
+                    "pose values must be finite, positions within ±1000 m".into(),
                 ));
             }
             if let Some(s) = f.size
-                && s.iter().any(|d| !d.is_finite() || *d <= 0.0)
+                && s.iter().any(|d| !(MIN_SIZE..=MAX_SIZE).contains(d))
             {
                 return Err(err(
                     &f.name,
                     key("size"),
-                    "sizes must be positive finite numbers".into(),
+                    format!("sizes must be between {MIN_SIZE} and {MAX_SIZE} m"),
                 ));
             }
             if let Some(a) = f.angle_deg
@@ -420,7 +469,10 @@ impl Scene {
                     "give either look_at = {eye, target} or robot + link".into(),
                 ));
             }
-            if c.width == 0 || c.height == 0 || c.width * c.height > 16_000_000 {
+            if c.width == 0
+                || c.height == 0
+                || c.width.checked_mul(c.height).is_none_or(|n| n > 16_000_000)
+            {
                 return Err(err(
                     &c.name,
                     key("width"),

@@ -46,7 +46,7 @@ pub enum SimError {
     Robot(String),
     #[error("mesh `{path}`: {message}")]
     Mesh { path: String, message: String },
-    #[error("pose values must be finite")]
+    #[error("pose values must be finite and within ±1000 m of the origin")]
     NonFinite,
     #[error("`{robot}` stopped: its link `{link}` would drive into `{by}`")]
     Blocked {
@@ -801,7 +801,10 @@ impl SimWorld {
                 .collect::<Vec<_>>()
                 .join(", "),
         })?;
-        if xyz.iter().any(|v| !v.is_finite()) {
+        if xyz
+            .iter()
+            .any(|v| !v.is_finite() || v.abs() > crate::scene::MAX_COORDINATE)
+        {
             return Err(SimError::NonFinite);
         }
         let text = format!("name = \"{}\"", name.replace('"', ""));
@@ -823,7 +826,9 @@ impl SimWorld {
 
     /// Moves an object (teleport, velocities zeroed).
     pub fn move_to(&mut self, name: &str, world_from_object: Pose) -> Result<(), SimError> {
-        if !(world_from_object.translation.is_finite() && world_from_object.rotation.is_finite()) {
+        if !(world_from_object.translation.is_finite() && world_from_object.rotation.is_finite())
+            || world_from_object.translation.abs().max_element() > crate::scene::MAX_COORDINATE
+        {
             return Err(SimError::NonFinite);
         }
         let i = self

@@ -13,6 +13,7 @@ use crate::observe::robot_solids;
 use crate::pick_place::tool_rotation;
 use serde::Serialize;
 use std::time::Duration;
+use tabula_geom::input::{Validate, check_count, nested};
 use tabula_geom::parry::bounding_volume::{Aabb, BoundingVolume};
 use tabula_geom::parry::query;
 use tabula_geom::parry::shape::SharedShape;
@@ -2168,6 +2169,15 @@ fn execute_push(
     let rise = group.cartesian(&q, &up)?;
     run(driver, &rise, "rise")?;
     go_home(driver, robot, group, home)
+}
+
+impl Validate for ClearParams {
+    fn check(&self, at: &str) -> Result<(), String> {
+        self.tabletop.check(&nested(at, "tabletop"))?;
+        self.motion.check(&nested(at, "motion"))?;
+        check_count(at, "decimate", self.decimate, 1)?;
+        ClearParams::validate(self).map_err(|e| e.to_string())
+    }
 }
 
 #[cfg(test)]

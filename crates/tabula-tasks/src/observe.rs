@@ -3,6 +3,7 @@
 //! becomes the collision world.
 
 use rustc_hash::{FxHashMap, FxHashSet};
+use tabula_geom::input::{Validate, check_count, check_non_negative, check_positive, nested};
 use tabula_geom::parry::shape::SharedShape;
 use tabula_geom::polygon::{Rectangle, min_area_rectangle};
 use tabula_geom::{Pose, Vec2, Vec3};
@@ -386,4 +387,29 @@ pub fn voxel_keys(points: &[Vec3], voxel: f64) -> FxHashSet<[i64; 3]> {
         .filter(|q| q.is_finite())
         .map(|q| tabula_geom::voxel_key(*q, voxel))
         .collect()
+}
+
+impl Validate for ObserveParams {
+    fn check(&self, at: &str) -> Result<(), String> {
+        self.self_filter.check(&nested(at, "self_filter"))?;
+        for (name, v) in [
+            ("search_radius", self.search_radius),
+            ("support_bin", self.support_bin),
+            ("cluster_gap", self.cluster_gap),
+            ("voxel", self.voxel),
+            ("leaf", self.leaf),
+            ("max_range", self.max_range),
+            ("thickness", self.thickness),
+        ] {
+            check_positive(at, name, v)?;
+        }
+        for (name, v) in [
+            ("below", self.below),
+            ("above", self.above),
+            ("object_clearance", self.object_clearance),
+        ] {
+            check_non_negative(at, name, v)?;
+        }
+        check_count(at, "min_object_points", self.min_object_points, 1)
+    }
 }

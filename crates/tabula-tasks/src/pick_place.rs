@@ -14,6 +14,7 @@ use crate::observe::{
     voxel_keys, world_points,
 };
 use std::time::Instant;
+use tabula_geom::input::{Validate, check_count, check_non_negative, check_positive, nested};
 use tabula_geom::parry::shape::SharedShape;
 use tabula_geom::{Mat3, Pose, Quat, Vec2, Vec3};
 use tabula_motion::group::thread_cpu;
@@ -1172,4 +1173,28 @@ fn plan_sequence(
         });
     }
     Err(last)
+}
+
+impl Validate for PickPlaceParams {
+    fn check(&self, at: &str) -> Result<(), String> {
+        self.observe.check(&nested(at, "observe"))?;
+        self.motion.check(&nested(at, "motion"))?;
+        for (name, v) in [
+            ("pregrasp_distance", self.pregrasp_distance),
+            ("lift", self.lift),
+            ("retreat", self.retreat),
+            ("release_height", self.release_height),
+            ("place_approach", self.place_approach),
+            ("place_retreat", self.place_retreat),
+            ("finger_clearance", self.finger_clearance),
+            ("min_grasp_height", self.min_grasp_height),
+            ("yaw_range", self.yaw_range),
+            ("sweep_radius", self.sweep_radius),
+            ("place_margin", self.place_margin),
+        ] {
+            check_non_negative(at, name, v)?;
+        }
+        check_positive(at, "yaw_step", self.yaw_step)?;
+        check_count(at, "max_planned_grasps", self.max_planned_grasps, 1)
+    }
 }

@@ -15,6 +15,9 @@ use crate::observe::{ObserveParams, clusters, robot_solids, world_points};
 use crate::pick_place::Phase;
 use crate::stable::{StableParams, StablePose, of_cloud};
 use std::time::Instant;
+use tabula_geom::input::{
+    Validate, check_count, check_in, check_non_negative, check_positive, nested,
+};
 use tabula_geom::parry::shape::SharedShape;
 use tabula_geom::polygon::{convex_hull_2d, inside_convex};
 use tabula_geom::{PointCloud, Pose, Quat, Vec2, Vec3};
@@ -1792,4 +1795,62 @@ fn path_blocked(from: Vec2, to: Vec2, half: f64, scene: &[Vec3]) -> bool {
         };
         (from + seg * t).distance(p) < radius
     })
+}
+
+impl Validate for PlaceParams {
+    fn check(&self, at: &str) -> Result<(), String> {
+        self.observe.check(&nested(at, "observe"))?;
+        self.motion.check(&nested(at, "motion"))?;
+        self.stable.check(&nested(at, "stable"))?;
+        self.surfaces.check(&nested(at, "surfaces"))?;
+        self.free_space.check(&nested(at, "free_space"))?;
+        for (name, v) in [
+            ("scan_distance", self.scan_distance),
+            ("crop_radius", self.crop_radius),
+            ("scan_leaf", self.scan_leaf),
+            ("search_leaf", self.search_leaf),
+            ("search_range", self.search_range),
+            ("reach", self.reach),
+            ("approach_desired", self.approach_desired),
+            ("retreat_desired", self.retreat_desired),
+        ] {
+            check_positive(at, name, v)?;
+        }
+        for (name, v) in [
+            ("scan_drop", self.scan_drop),
+            ("grip_reach", self.grip_reach),
+            ("protective_radius", self.protective_radius),
+            ("gripper_clearance", self.gripper_clearance),
+            ("sweep_distance", self.sweep_distance),
+            ("sweep_height", self.sweep_height),
+            ("standoff", self.standoff),
+            ("approach_run", self.approach_run),
+            ("release_height", self.release_height),
+            ("place_margin", self.place_margin),
+            ("approach_min", self.approach_min),
+            ("retreat_min", self.retreat_min),
+        ] {
+            check_non_negative(at, name, v)?;
+        }
+        check_in(at, "min_topple_deg", self.min_topple_deg, 0.0, 90.0)?;
+        check_in(
+            at,
+            "approach_min",
+            self.approach_min,
+            0.0,
+            self.approach_desired,
+        )?;
+        check_in(
+            at,
+            "retreat_min",
+            self.retreat_min,
+            0.0,
+            self.retreat_desired,
+        )?;
+        check_count(at, "scan_twists", self.scan_twists, 1)?;
+        check_count(at, "poses_tried", self.poses_tried, 1)?;
+        check_count(at, "search_decimate", self.search_decimate, 1)?;
+        check_count(at, "roll_samples", self.roll_samples, 1)?;
+        check_count(at, "max_planned", self.max_planned, 1)
+    }
 }

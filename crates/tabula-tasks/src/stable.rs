@@ -18,6 +18,7 @@
 
 use rustc_hash::FxHashMap;
 use std::collections::VecDeque;
+use tabula_geom::input::{Validate, check_in, check_non_negative};
 use tabula_geom::polygon::{
     convex_hull_2d, distance_to_boundary, inside_convex, polygon_area, segment_distance,
 };
@@ -312,6 +313,44 @@ struct Hull {
     centre: Vec3,
 }
 
+/// Most points handed to the hull: parry's quickhull goes quadratic on many
+/// coplanar or cocircular points (a 100,000-corner polygon took minutes).
+const MAX_HULL_INPUT: usize = 5_000;
+
+/// `None` when `points` are few enough; else the point farthest from the box's centre
+/// in each cell of a grid coarse enough to leave at most [`MAX_HULL_INPUT`] — the
+/// outermost points, so the hull shrinks by less than a cell (≤ 1/500 of the size).
+fn thin_for_hull(points: &[Vec3]) -> Option<Vec<Vec3>> {
+    if points.len() <= MAX_HULL_INPUT {
+        return None;
+    }
+    let (lo, hi) = points.iter().fold(
+        (Vec3::splat(f64::INFINITY), Vec3::splat(f64::NEG_INFINITY)),
+        |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+    );
+    let centre = (lo + hi) / 2.0;
+    let mut leaf = (hi - lo).length() / 2000.0;
+    loop {
+        let mut cells: std::collections::HashMap<[i64; 3], Vec3> = Default::default();
+        for p in points {
+            let cell = cells.entry(tabula_geom::voxel_key(*p, leaf)).or_insert(*p);
+            if p.distance_squared(centre) > cell.distance_squared(centre) {
+                *cell = *p;
+            }
+        }
+        if cells.len() <= MAX_HULL_INPUT {
+            let mut kept: Vec<Vec3> = cells.into_values().collect();
+            kept.sort_by(|a, b| {
+                a.to_array()
+                    .partial_cmp(&b.to_array())
+                    .unwrap_or(std::cmp::Ordering::Equal)
+            });
+            return Some(kept);
+        }
+        leaf *= 2.0;
+    }
+}
+
 impl Hull {
     fn new(points: &[Vec3]) -> Result<Self, StableError> {
         let mut distinct: Vec<[u64; 3]> = points
@@ -323,8 +362,11 @@ impl Hull {
         if distinct.len() < 4 {
             return Err(StableError::TooFewPoints(distinct.len()));
         }
-        let (vertices, mut triangles) = tabula_geom::parry::transformation::try_convex_hull(points)
-            .map_err(|_| StableError::Degenerate)?;
+        let thinned = thin_for_hull(points);
+        let (vertices, mut triangles) = tabula_geom::parry::transformation::try_convex_hull(
+            thinned.as_deref().unwrap_or(points),
+        )
+        .map_err(|_| StableError::Degenerate)?;
         if triangles.len() < 4 {
             return Err(StableError::Degenerate);
         }
@@ -742,6 +784,28 @@ fn solid_angle(a: Vec3, b: Vec3, c: Vec3) -> f64 {
     let num = a.dot(b.cross(c)).abs();
     let den = la * lb * lc + a.dot(b) * lc + a.dot(c) * lb + b.dot(c) * la;
     2.0 * num.atan2(den)
+}
+
+impl Validate for StableParams {
+    fn check(&self, at: &str) -> Result<(), String> {
+        check_in(
+            at,
+            "relaxation_angle",
+            self.relaxation_angle,
+            0.0,
+            std::f64::consts::PI / 2.0,
+        )?;
+        check_in(
+            at,
+            "coplanar_angle",
+            self.coplanar_angle,
+            0.0,
+            std::f64::consts::PI / 2.0,
+        )?;
+        check_non_negative(at, "contact_tolerance", self.contact_tolerance)?;
+        check_non_negative(at, "cloud_contact_tolerance", self.cloud_contact_tolerance)?;
+        check_in(at, "min_topple_deg", self.min_topple_deg, 0.0, 90.0)
+    }
 }
 
 #[cfg(test)]

@@ -16,6 +16,7 @@ use nalgebra::{SMatrix, SVector};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use std::time::{Duration, Instant};
+use tabula_geom::input::{Validate, check_count, check_in, check_non_negative, check_positive};
 use tabula_geom::{Pose, Vec3, rotation_vector, wrap_angle};
 
 /// Parameters of [`NumericIk`]; loadable from TOML (missing keys keep their default).
@@ -322,5 +323,20 @@ impl IkSolver for NumericIk {
 
     fn solve(&self, target: &Pose, mode: IkMode, seed: &[f64]) -> Result<Vec<IkSolution>, IkError> {
         self.solve_with_stats(target, mode, seed).map(|(s, _)| s)
+    }
+}
+
+impl Validate for NumericIkParams {
+    fn check(&self, at: &str) -> Result<(), String> {
+        if let Some(t) = self.timeout_s {
+            check_in(at, "timeout_s", t, 1e-6, 1e6)?;
+        }
+        check_count(at, "max_attempts", self.max_attempts, 1)?;
+        check_count(at, "max_iterations", self.max_iterations, 1)?;
+        check_positive(at, "position_tolerance", self.position_tolerance)?;
+        check_positive(at, "rotation_tolerance", self.rotation_tolerance)?;
+        check_count(at, "max_solutions", self.max_solutions, 1)?;
+        check_non_negative(at, "damping", self.damping)?;
+        check_non_negative(at, "min_separation", self.min_separation)
     }
 }

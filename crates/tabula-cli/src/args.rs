@@ -1,0 +1,84 @@
+//! The input policy's command-line side (INPUT_POLICY.md): every number a user types
+//! is parsed here, so a NaN, an infinity or a count that would exhaust memory is a
+//! usage error naming the flag, before any work starts.
+
+/// A finite number (coordinates, joint values, margins).
+pub fn finite(s: &str) -> Result<f64, String> {
+    let v: f64 = s
+        .trim()
+        .parse()
+        .map_err(|_| format!("`{}` is not a number", tabula_geom::input::clip(s, 40)))?;
+    tabula_geom::input::finite("the value", v)
+}
+
+/// The longest time limit accepted: beyond 11.6 days a limit means "none", and larger
+/// values overflow deadlines.
+pub const MAX_SECONDS: f64 = 1e6;
+
+/// A time limit in seconds: finite, positive, at most [`MAX_SECONDS`].
+pub fn seconds(s: &str) -> Result<f64, String> {
+    let v = finite(s)?;
+    if v > 0.0 && v <= MAX_SECONDS {
+        Ok(v)
+    } else {
+        Err(format!(
+            "a time limit must be in (0, {MAX_SECONDS}] s, got {v}"
+        ))
+    }
+}
+
+/// A count of runs, poses, scenes or repetitions: 1 to 1,000,000 (each unit of work is
+/// at least microseconds, so the cap is days of work; beyond it a typo, never a wish).
+pub fn count(s: &str) -> Result<usize, String> {
+    bounded(s, 1, 1_000_000)
+}
+
+/// [`count`] for the seeds-and-runs counters kept as `u64`.
+pub fn count_u64(s: &str) -> Result<u64, String> {
+    count(s).map(|v| v as u64)
+}
+
+/// A count of objects in a generated problem or scene: 1 to 10,000 (grounding grows
+/// with the square of it; 10,000 is already minutes).
+pub fn objects(s: &str) -> Result<usize, String> {
+    bounded(s, 1, 10_000)
+}
+
+/// An image side in pixels: 1 to 16,384.
+pub fn pixels(s: &str) -> Result<usize, String> {
+    bounded(s, 1, 16_384)
+}
+
+fn bounded(s: &str, lo: usize, hi: usize) -> Result<usize, String> {
+    let v: u64 = s.trim().parse().map_err(|_| {
+        format!(
+            "`{}` is not a whole number from {lo} to {hi}",
+            tabula_geom::input::clip(s, 40)
+        )
+    })?;
+    usize::try_from(v)
+        .ok()
+        .filter(|v| (lo..=hi).contains(v))
+        .ok_or_else(|| format!("{v} is out of range: from {lo} to {hi}"))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn non_finite_and_out_of_range_values_are_refused() {
+        for bad in ["nan", "inf", "-inf", "1e999", "x", ""] {
+            assert!(finite(bad).is_err(), "{bad}");
+        }
+        assert_eq!(finite(" -0.5 "), Ok(-0.5));
+        for bad in ["0", "-1", "1e300", "nan", "inf"] {
+            assert!(seconds(bad).is_err(), "{bad}");
+        }
+        for bad in ["0", "-1", "18446744073709551615", "1e3", "1000001"] {
+            assert!(count(bad).is_err(), "{bad}");
+        }
+        assert_eq!(count("1000000"), Ok(1_000_000));
+        assert!(pixels("4294967295").is_err());
+    }
+}

@@ -1,0 +1,36 @@
+#!/usr/bin/env bash
+# Runs every fuzz target for SECONDS each (default 600), one after another, seeded
+# with the repository's own files and the hostile corpus; prints one line per target.
+# Needs a nightly toolchain and cargo-fuzz (`cargo install cargo-fuzz`).
+#   scripts/fuzz_all.sh [SECONDS] [TARGET…]
+set -euo pipefail
+cd "$(dirname "$0")/../fuzz"
+secs=${1:-600}
+shift || true
+targets=("$@")
+[ ${#targets[@]} -eq 0 ] && targets=(cloud mesh urdf scene params pddl)
+H=../crates/tabula-cli/tests/hostile
+seed() { mkdir -p "corpus/$1"; shift; for f in "$@"; do [ -f "$f" ] && cp "$f" "corpus/${dir}/"; done; true; }
+for t in "${targets[@]}"; do
+  dir=$t
+  case $t in
+    cloud) seed cloud $H/cloud/* ;;
+    mesh) seed mesh $H/mesh/* ;;
+    urdf) seed urdf ../robots/*.urdf ../robots/*.toml $H/urdf/* ;;
+    scene) seed scene ../scenes/*.toml $H/scene/* ;;
+    params) seed params $H/params/* ;;
+    pddl) seed pddl ../pddl/*.pddl $H/pddl/* ;;
+  esac
+  cargo +nightly fuzz build -O "$t" >/dev/null 2>&1
+  log=artifacts/$t.log
+  mkdir -p artifacts
+  start=$(date +%s)
+  if cargo +nightly fuzz run -O "$t" -- -max_total_time="$secs" -rss_limit_mb=2048 \
+      -timeout=20 -max_len=65536 >"$log" 2>&1; then
+    status=ok
+  else
+    status="CRASH (see fuzz/$log and fuzz/artifacts/$t/)"
+  fi
+  runs=$(grep -o 'Done [0-9]* runs' "$log" | tail -1 || true)
+  echo "$t: $status, $(( $(date +%s) - start )) s, ${runs:-no summary}"
+done
