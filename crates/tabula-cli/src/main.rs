@@ -111,13 +111,20 @@ fn main() {
     }));
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,
-        Err(e) => {
+        Err(e) if !e.use_stderr() => {
+            // --help and --version.
             let _ = e.print();
-            std::process::exit(if e.use_stderr() {
-                exit::USAGE
-            } else {
-                exit::OK
-            });
+            std::process::exit(exit::OK);
+        }
+        Err(e) => {
+            // One line, as every error: clap's first line names the flag and the value.
+            let text = e.render().to_string();
+            let first = text
+                .lines()
+                .find(|l| !l.trim().is_empty())
+                .unwrap_or("error");
+            eprintln!("{first} (see --help)");
+            std::process::exit(exit::USAGE);
         }
     };
     let result = match cli.command {

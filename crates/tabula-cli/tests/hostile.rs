@@ -58,6 +58,8 @@ fn run(args: &[String], dir: &Path) -> Outcome {
         });
     }
     let start = Instant::now();
+    // Reaped below by wait4, which also reports the child's peak memory.
+    #[allow(clippy::zombie_processes)]
     let child = cmd.spawn().expect("the binary starts");
     let pid = child.id() as libc::pid_t;
     let mut status = 0;
@@ -129,8 +131,11 @@ fn judge(case: &Case, o: &Outcome) -> Option<String> {
             return Some(format!("not one error line: {} lines", lines.len()));
         }
     }
-    if matches!(case.expect, Expect::Usage) && !o.stderr.starts_with("error: ") {
-        return Some("a usage error without `error: `".into());
+    if matches!(case.expect, Expect::Usage) {
+        let lines = o.stderr.lines().filter(|l| !l.trim().is_empty()).count();
+        if lines != 1 || !o.stderr.starts_with("error: ") {
+            return Some(format!("not one usage error line: {lines} lines"));
+        }
     }
     if let Some(needle) = &case.needle {
         let all = format!("{}\n{}", o.stdout, o.stderr).to_lowercase();

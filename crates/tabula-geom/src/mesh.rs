@@ -248,6 +248,54 @@ pub fn mesh_shape(
 mod tests {
     use super::*;
 
+    fn binary_stl(header: &[u8], count: u32, triangles: usize) -> Vec<u8> {
+        let mut b = header.to_vec();
+        b.resize(80, b' ');
+        b.extend_from_slice(&count.to_le_bytes());
+        for t in 0..triangles {
+            b.extend_from_slice(&[0; 12]);
+            for k in 0..9 {
+                let v = [
+                    [0.0f32, 0.0, 0.0],
+                    [1.0, 0.0, 0.0],
+                    [0.0, 1.0, (t % 2) as f32],
+                ][k / 3][k % 3]
+                    + (t / 2) as f32;
+                b.extend_from_slice(&v.to_le_bytes());
+            }
+            b.extend_from_slice(&[0, 0]);
+        }
+        b
+    }
+
+    #[test]
+    fn a_binary_stl_whose_header_says_solid_facet_is_binary() {
+        let stl = binary_stl(b"solid facet vertex endloop", 2, 2);
+        let (v, t) = parse_mesh(&stl, "stl", [1.0; 3]).unwrap();
+        assert_eq!((v.len(), t.len()), (6, 2));
+        assert!(parse_mesh(&binary_stl(b"x", 3, 2), "stl", [1.0; 3]).is_err());
+    }
+
+    #[test]
+    fn an_ascii_facet_needs_three_vertices_and_coordinates_are_bounded() {
+        let four = "solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\n\
+                    vertex 0 0 1\nendloop\nendfacet\nendsolid t\n";
+        assert!(
+            parse_mesh(four.as_bytes(), "stl", [1.0; 3])
+                .unwrap_err()
+                .message
+                .contains("4 vertices")
+        );
+        let far = "v 0 0 0\nv 1e300 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\n";
+        assert!(parse_mesh(far.as_bytes(), "obj", [1.0; 3]).is_err());
+    }
+
+    #[test]
+    fn a_flat_mesh_has_no_collision_shape() {
+        let flat = [Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::new(1.0, 1.0, 0.0)];
+        assert!(mesh_shape(&flat, &[[0, 1, 2], [1, 3, 2]], false).is_err());
+    }
+
     #[test]
     fn obj_and_stl_read_and_bad_files_are_errors() {
         let (v, t) = parse_mesh(

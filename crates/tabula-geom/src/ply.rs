@@ -385,6 +385,36 @@ pub fn write_ply(
 mod tests {
     use super::*;
 
+    #[test]
+    fn a_comment_naming_end_header_does_not_end_the_header() {
+        let ply = b"ply\nformat ascii 1.0\ncomment see end_header below\nelement vertex 1\n\
+                    property float x\nproperty float y\nproperty float z\nend_header\n1 2 3\n";
+        let cloud = read_ply(ply).unwrap();
+        assert_eq!(cloud.points, vec![Vec3::new(1.0, 2.0, 3.0)]);
+    }
+
+    #[test]
+    fn element_counts_are_bounded_by_the_body_and_propertyless_ones_skipped() {
+        let huge = b"ply\nformat binary_little_endian 1.0\nelement junk 18446744073709551615\n\
+                     element vertex 99999999\nproperty float x\nproperty float y\nproperty float z\n\
+                     end_header\n\0\0\0\0";
+        assert!(
+            read_ply(huge)
+                .unwrap_err()
+                .to_string()
+                .contains("cannot fit")
+        );
+    }
+
+    #[test]
+    fn faces_are_read_as_polygons() {
+        let ply = b"ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n\
+                    property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n\
+                    0 0 0\n1 0 0\n1 1 0\n0 1 0\n4 0 1 2 3\n";
+        let (v, f) = read_ply_mesh(ply).unwrap();
+        assert_eq!((v.len(), f), (4, vec![vec![0, 1, 2, 3]]));
+    }
+
     fn sample() -> PointCloud {
         PointCloud::organized(
             2,

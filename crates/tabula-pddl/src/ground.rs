@@ -591,7 +591,8 @@ impl<'a> Grounder<'a> {
                 self.stopped = Some(GroundError::TooMuchWork(WORK_LIMIT));
                 return;
             }
-            if self.work % 4096 == 0 && self.deadline.is_some_and(|d| std::time::Instant::now() > d)
+            if self.work.is_multiple_of(4096)
+                && self.deadline.is_some_and(|d| std::time::Instant::now() > d)
             {
                 self.stopped = Some(GroundError::Timeout);
                 return;
@@ -736,7 +737,7 @@ pub const GROUNDING_LIMIT: u128 = 20_000_000;
 
 /// Most bindings grounding visits in all, quantifiers included: counted where the
 /// parameter limit alone misses `forall`/`exists` over many variables.
-pub const WORK_LIMIT: u64 = 200_000_000;
+pub const WORK_LIMIT: u64 = 50_000_000;
 
 impl GroundTask {
     /// Grounds `problem` of `domain`.

@@ -187,3 +187,23 @@ proptest! {
         }
     }
 }
+
+#[test]
+fn type_cycles_are_errors() {
+    for types in [
+        "(:types a - b b - a)",
+        "(:types a - a)",
+        "(:types a - b b - c c - a)",
+    ] {
+        let text = format!(
+            "(define (domain t) (:requirements :typing) {types} (:predicates (p ?x - a)) \
+             (:action go :parameters (?x - a) :precondition (p ?x) :effect (not (p ?x))))"
+        );
+        let e = parse_domain(&text).unwrap_err().to_string();
+        assert!(e.contains("cycle") || e.contains("itself"), "{types}: {e}");
+    }
+    assert!(
+        parse_domain("(define (domain t) (:types a - b b - object) (:predicates (p ?x - a)))")
+            .is_ok()
+    );
+}

@@ -325,3 +325,30 @@ fn the_corrected_domain_has_the_same_optima_and_never_touches_removed_objects() 
         }
     }
 }
+
+/// Quantified variables count toward grounding's work, and grounding honours a
+/// deadline: `exists` over 5 variables and 66 objects (1.25e9 bindings) is refused.
+#[test]
+fn quantifier_grounding_is_bounded() {
+    let domain = parse_domain(
+        "(define (domain q) (:requirements :adl) (:predicates (p ?a ?b ?c ?d ?e) (done)) \
+         (:action go :parameters () :precondition (exists (?a ?b ?c ?d ?e) (p ?a ?b ?c ?d ?e)) \
+         :effect (done)))",
+    )
+    .unwrap();
+    let objects: String = (0..66).map(|i| format!(" o{i}")).collect();
+    let problem = parse_problem(
+        &format!("(define (problem q1) (:domain q) (:objects{objects}) (:init) (:goal (done)))"),
+        &domain,
+    )
+    .unwrap();
+    let deadline = std::time::Instant::now() + Duration::from_millis(200);
+    let options = GroundOptions {
+        deadline: Some(deadline),
+        ..GroundOptions::default()
+    };
+    let e = Planner::new(domain.clone(), problem.clone(), options).unwrap_err();
+    assert_eq!(e, GroundError::Timeout);
+    let e = Planner::new(domain, problem, GroundOptions::default()).unwrap_err();
+    assert!(matches!(e, GroundError::TooMuchWork(_)), "{e}");
+}

@@ -228,7 +228,7 @@ pub fn extract_framed(
 /// `cloud` with every point after the first in each `leaf`-sized voxel made NaN (so
 /// indices into it still hold), or `None` when it is organized or has no duplicate.
 fn without_duplicates(cloud: &PointCloud, leaf: f64) -> Option<PointCloud> {
-    if cloud.is_organized() || !(leaf > 0.0) {
+    if cloud.is_organized() || leaf.is_nan() || leaf <= 0.0 {
         return None;
     }
     let mut seen = rustc_hash::FxHashSet::default();

@@ -107,7 +107,7 @@ fn revolute_without_limits_is_unbounded() {
 fn missing_file_unknown_link_and_disconnected_chain() {
     let e = RobotModel::from_urdf_file("/definitely/not/here.urdf").unwrap_err();
     assert!(
-        matches!(e, RobotError::Io { .. }) && e.to_string().contains("/definitely/not/here.urdf")
+        matches!(e, RobotError::Input(_)) && e.to_string().contains("/definitely/not/here.urdf")
     );
     let m = load(GOOD).unwrap();
     let e = Chain::new(&m, "base", "hand").unwrap_err();

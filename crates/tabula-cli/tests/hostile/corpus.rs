@@ -175,16 +175,7 @@ fn pcd_text(header: &[&str], body: &[u8]) -> Vec<u8> {
     v
 }
 
-fn header(
-    fields: &str,
-    size: &str,
-    ty: &str,
-    count: &str,
-    w: &str,
-    h: &str,
-    pts: &str,
-    data: &str,
-) -> Vec<String> {
+fn header([fields, size, ty, count, w, h, pts, data]: [&str; 8]) -> Vec<String> {
     vec![
         "# .PCD v0.7".into(),
         "VERSION 0.7".into(),
@@ -235,7 +226,7 @@ fn pcd(c: &mut Corpus) {
     let n = pts.len().to_string();
     let viewpoint = "VIEWPOINT 0.5 0 1.6 1 0 0 0";
     let good_header = |data: &str| {
-        let mut h = header("x y z", "4 4 4", "F F F", "1 1 1", &n, "1", &n, data);
+        let mut h = header(["x y z", "4 4 4", "F F F", "1 1 1", &n, "1", &n, data]);
         h[8] = viewpoint.into();
         h
     };
@@ -325,7 +316,7 @@ fn pcd(c: &mut Corpus) {
         "overflow",
         Error,
         pcd_text(
-            &hdr(&header(
+            &hdr(&header([
                 "x y z",
                 "4 4 4",
                 "F F F",
@@ -334,7 +325,7 @@ fn pcd(c: &mut Corpus) {
                 "4294967296",
                 "0",
                 "binary",
-            )),
+            ])),
             b"",
         ),
     );
@@ -345,7 +336,7 @@ fn pcd(c: &mut Corpus) {
         "overflow",
         Error,
         pcd_text(
-            &hdr(&header(
+            &hdr(&header([
                 "x y z",
                 "4 4 4",
                 "F F F",
@@ -354,7 +345,7 @@ fn pcd(c: &mut Corpus) {
                 "1",
                 "1537228672809129302",
                 "binary",
-            )),
+            ])),
             &[0u8; 64],
         ),
     );
@@ -425,7 +416,7 @@ fn pcd(c: &mut Corpus) {
     for p in &pts {
         let _ = writeln!(padded, "{} {} {}\nnan nan nan", p[0], p[1], p[2]);
     }
-    let mut h = header(
+    let mut h = header([
         "x y z",
         "4 4 4",
         "F F F",
@@ -434,7 +425,7 @@ fn pcd(c: &mut Corpus) {
         "1",
         &(2 * pts.len()).to_string(),
         "ascii",
-    );
+    ]);
     h[8] = viewpoint.into();
     perceive(
         c,
@@ -447,7 +438,7 @@ fn pcd(c: &mut Corpus) {
     // Organized frames narrower than the normal-estimation window.
     for w in [1usize, 2, 3] {
         let rows = pts.len() / w;
-        let mut h = header(
+        let mut h = header([
             "x y z",
             "4 4 4",
             "F F F",
@@ -456,7 +447,7 @@ fn pcd(c: &mut Corpus) {
             &rows.to_string(),
             &(w * rows).to_string(),
             "binary",
-        );
+        ]);
         h[8] = viewpoint.into();
         perceive(
             c,
@@ -468,9 +459,9 @@ fn pcd(c: &mut Corpus) {
     }
     // 200,000 identical points: outlier removal and clustering must not go quadratic.
     let same = vec![[0.5f32, 0.0, 0.72]; 200_000];
-    let mut h = header(
+    let mut h = header([
         "x y z", "4 4 4", "F F F", "1 1 1", "200000", "1", "200000", "binary",
-    );
+    ]);
     h[8] = viewpoint.into();
     perceive(
         c,
@@ -481,7 +472,7 @@ fn pcd(c: &mut Corpus) {
     );
     // One point, two points, a line of points, all coplanar tiny.
     for (name, k) in [("one-point", 1usize), ("two-points", 2), ("ten-points", 10)] {
-        let mut h = header(
+        let mut h = header([
             "x y z",
             "4 4 4",
             "F F F",
@@ -490,7 +481,7 @@ fn pcd(c: &mut Corpus) {
             "1",
             &k.to_string(),
             "binary",
-        );
+        ]);
         h[8] = viewpoint.into();
         perceive(
             c,
@@ -528,7 +519,7 @@ fn pcd(c: &mut Corpus) {
         .flatten()
         .flat_map(|v| (*v as f64).to_le_bytes())
         .collect();
-    let mut h = header("x y z", "8 8 8", "F F F", "1 1 1", &n, "1", &n, "binary");
+    let mut h = header(["x y z", "8 8 8", "F F F", "1 1 1", &n, "1", &n, "binary"]);
     h[8] = viewpoint.into();
     perceive(c, "doubles", "odd-legal", Ok, pcd_text(&hdr(&h), &doubles));
     c.needs("table:");
@@ -593,9 +584,9 @@ fn pcd(c: &mut Corpus) {
     let flat: Vec<[f32; 3]> = (0..400)
         .map(|i| [(i % 20) as f32 * 0.01, (i / 20) as f32 * 0.01, 0.0])
         .collect();
-    let h = header(
+    let h = header([
         "x y z", "4 4 4", "F F F", "1 1 1", "400", "1", "400", "binary",
-    );
+    ]);
     let f = c.file(
         "cloud/flat-scan.pcd",
         pcd_text(&hdr(&h), &binary_body(&flat)),
@@ -1168,7 +1159,7 @@ fn urdf(c: &mut Corpus) {
         ("mesh-escapes", wam.replacen("</robot>", "<link name=\"m\"><collision><geometry><mesh filename=\"package://x/../../../../etc/passwd\"/></geometry></collision></link><joint name=\"jm\" type=\"fixed\"><parent link=\"wam_tool\"/><child link=\"m\"/></joint></robot>", 1), "garbage"),
         ("mesh-dev-zero-unused", wam.replacen("</robot>", "<link name=\"m\"><collision><geometry><mesh filename=\"/dev/zero\"/></geometry></collision></link><joint name=\"jm\" type=\"fixed\"><parent link=\"wam_tool\"/><child link=\"m\"/></joint></robot>", 1), "special-file"),
         ("box-negative", wam.replacen("</robot>", "<link name=\"m\"><collision><geometry><box size=\"-1 1 1\"/></geometry></collision></link><joint name=\"jm\" type=\"fixed\"><parent link=\"wam_tool\"/><child link=\"m\"/></joint></robot>", 1), "garbage"),
-        ("entity-expansion", format!("<?xml version=\"1.0\"?><!DOCTYPE r [<!ENTITY a \"aaaaaaaaaa\"><!ENTITY b \"&a;&a;&a;&a;&a;&a;&a;&a;&a;&a;\"><!ENTITY c \"&b;&b;&b;&b;&b;&b;&b;&b;&b;&b;\"><!ENTITY d \"&c;&c;&c;&c;&c;&c;&c;&c;&c;&c;\"><!ENTITY e \"&d;&d;&d;&d;&d;&d;&d;&d;&d;&d;\"><!ENTITY f \"&e;&e;&e;&e;&e;&e;&e;&e;&e;&e;\"><!ENTITY g \"&f;&f;&f;&f;&f;&f;&f;&f;&f;&f;\"><!ENTITY h \"&g;&g;&g;&g;&g;&g;&g;&g;&g;&g;\">]><robot name=\"&h;\"><link name=\"a\"/></robot>"), "unbounded"),
+        ("entity-expansion", ("<?xml version=\"1.0\"?><!DOCTYPE r [<!ENTITY a \"aaaaaaaaaa\"><!ENTITY b \"&a;&a;&a;&a;&a;&a;&a;&a;&a;&a;\"><!ENTITY c \"&b;&b;&b;&b;&b;&b;&b;&b;&b;&b;\"><!ENTITY d \"&c;&c;&c;&c;&c;&c;&c;&c;&c;&c;\"><!ENTITY e \"&d;&d;&d;&d;&d;&d;&d;&d;&d;&d;\"><!ENTITY f \"&e;&e;&e;&e;&e;&e;&e;&e;&e;&e;\"><!ENTITY g \"&f;&f;&f;&f;&f;&f;&f;&f;&f;&f;\"><!ENTITY h \"&g;&g;&g;&g;&g;&g;&g;&g;&g;&g;\">]><robot name=\"&h;\"><link name=\"a\"/></robot>").to_string(), "unbounded"),
     ] {
         info(c, name, class, Error, text);
     }
