@@ -201,6 +201,18 @@ impl PointCloud {
 
 /// The integer cell of a cubic grid of edge `size` that holds `p` (floor division):
 /// the one voxel key of occupancy maps, clusters and masks.
+/// The axis-aligned box (lowest corner, highest corner) of `points`; inverted
+/// (+∞, −∞) when there are none.
+pub fn bounds<'a>(points: impl IntoIterator<Item = &'a crate::Vec3>) -> (crate::Vec3, crate::Vec3) {
+    points.into_iter().fold(
+        (
+            crate::Vec3::splat(f64::INFINITY),
+            crate::Vec3::splat(f64::NEG_INFINITY),
+        ),
+        |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+    )
+}
+
 pub fn voxel_key(p: crate::Vec3, size: f64) -> [i64; 3] {
     [
         (p.x / size).floor() as i64,

@@ -223,10 +223,7 @@ pub fn mesh_shape(
         .ok_or_else(|| "degenerate (flat or collinear) vertices: no convex hull".to_string())?;
     // A flat mesh gives a "hull" of no volume, which the physics would keep floating
     // where it was put: a body needs a thickness of at least a millionth of its size.
-    let (lo, hi) = points.iter().fold(
-        (Vec3::splat(f64::INFINITY), Vec3::splat(f64::NEG_INFINITY)),
-        |(lo, hi), p| (lo.min(*p), hi.max(*p)),
-    );
+    let (lo, hi) = crate::bounds(points);
     let size = (hi - lo).max_element();
     if hull.mass_properties(1.0).mass() <= 1e-6 * size.powi(3) {
         return Err("flat (coplanar) vertices: the mesh encloses no volume".into());

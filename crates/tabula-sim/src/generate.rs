@@ -993,7 +993,7 @@ pub fn place_task(
         }
         // Scaled so that a horizontal side fits the PR2's 9 cm opening: it can be
         // taken from above or the side, as it was picked up from a table.
-        let (lo, hi) = bounds(&o.vertices);
+        let (lo, hi) = tabula_geom::bounds(&o.vertices);
         let fit = 0.075 / (hi.x - lo.x).min(hi.y - lo.y).max(1e-3);
         let scale = rng.random_range(0.85..1.15f64).min(fit);
         let scaled = ObjectMesh::from_parts(
@@ -1015,7 +1015,7 @@ pub fn place_task(
     };
     // ---- The grip: fingers closing along an object axis narrow enough, the approach
     // at any angle about it, the palm against the object's back.
-    let (lo, hi) = bounds(&mesh.vertices);
+    let (lo, hi) = tabula_geom::bounds(&mesh.vertices);
     let extent = hi - lo;
     let axes: Vec<Vec3> = [Vec3::X, Vec3::Y, Vec3::Z]
         .into_iter()
@@ -1260,12 +1260,3 @@ fn ray_hits(mesh: &crate::objects::ObjectMesh, o: tabula_geom::Vec3, d: tabula_g
     })
 }
 
-fn bounds(v: &[tabula_geom::Vec3]) -> (tabula_geom::Vec3, tabula_geom::Vec3) {
-    v.iter().fold(
-        (
-            tabula_geom::Vec3::splat(f64::INFINITY),
-            tabula_geom::Vec3::splat(f64::NEG_INFINITY),
-        ),
-        |(a, b), p| (a.min(*p), b.max(*p)),
-    )
-}

@@ -436,10 +436,7 @@ fn run(
     });
     let object_keys = voxel_keys(&object.points, obs.cluster_gap);
     // A box around the object first: most points are nowhere near it.
-    let (lo, hi) = object.points.iter().fold(
-        (Vec3::splat(f64::INFINITY), Vec3::splat(f64::NEG_INFINITY)),
-        |(a, b), p| (a.min(*p), b.max(*p)),
-    );
+    let (lo, hi) = tabula_geom::bounds(&object.points);
     let (lo, hi) = (
         lo - Vec3::splat(2.0 * obs.cluster_gap),
         hi + Vec3::splat(2.0 * obs.cluster_gap),

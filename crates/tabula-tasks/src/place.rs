@@ -586,10 +586,7 @@ impl Run<'_> {
         let model = self.decide(|r| {
             tabula_perception::filters::voxel_grid(&model, r.params.scan_leaf).unwrap_or(model)
         });
-        let (lo, hi) = model.iter().fold(
-            (Vec3::splat(f64::INFINITY), Vec3::splat(f64::NEG_INFINITY)),
-            |(a, b), q| (a.min(*q), b.max(*q)),
-        );
+        let (lo, hi) = tabula_geom::bounds(&model);
         self.report.model = Some(ModelReport {
             views: used,
             views_tried: p.scan_views.len(),

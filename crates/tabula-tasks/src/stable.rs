@@ -324,10 +324,7 @@ fn thin_for_hull(points: &[Vec3]) -> Option<Vec<Vec3>> {
     if points.len() <= MAX_HULL_INPUT {
         return None;
     }
-    let (lo, hi) = points.iter().fold(
-        (Vec3::splat(f64::INFINITY), Vec3::splat(f64::NEG_INFINITY)),
-        |(lo, hi), p| (lo.min(*p), hi.max(*p)),
-    );
+    let (lo, hi) = tabula_geom::bounds(points);
     let centre = (lo + hi) / 2.0;
     let mut leaf = (hi - lo).length() / 2000.0;
     loop {
