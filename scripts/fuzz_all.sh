@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Runs every fuzz target for SECONDS each (default 600), one after another, seeded
-# with the repository's own files and the hostile corpus; prints one line per target.
+# with the repository's own files and the hostile corpus (run `cargo test --release -p
+# tabula-cli --test hostile` first to write it); prints one line per target.
 # Needs a nightly toolchain and cargo-fuzz (`cargo install cargo-fuzz`).
 #   scripts/fuzz_all.sh [SECONDS] [TARGET…]
 set -euo pipefail
@@ -9,7 +10,7 @@ secs=${1:-600}
 shift || true
 targets=("$@")
 [ ${#targets[@]} -eq 0 ] && targets=(cloud mesh urdf scene params pddl)
-H=../crates/tabula-cli/tests/hostile
+H=../target/hostile-corpus  # written by the hostile-corpus test (cargo test --test hostile)
 seed() { mkdir -p "corpus/$1"; shift; for f in "$@"; do [ -f "$f" ] && cp "$f" "corpus/${dir}/"; done; true; }
 for t in "${targets[@]}"; do
   dir=$t

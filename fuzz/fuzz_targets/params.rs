@@ -1,23 +1,25 @@
 //! Any text as a parameter file of every module: the policy's number check, then
-//! deserializing, then each module's own validation — an error or parameters, never a
-//! panic. Run: `cargo +nightly fuzz run params`.
+//! deserializing, then each module's range checks (`Validate`) — an error or parameters,
+//! never a panic. Run: `cargo +nightly fuzz run params`.
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
+use tabula_geom::input::Validate;
 
-fn load<T: serde::de::DeserializeOwned>(text: &str) -> Option<T> {
-    tabula_geom::input::check_toml_numbers(text).ok()?;
-    toml::from_str(text).ok()
+fn load<T: serde::de::DeserializeOwned + Validate>(text: &str) {
+    if tabula_geom::input::check_toml_numbers(text).is_ok()
+        && let Ok(params) = toml::from_str::<T>(text)
+    {
+        let _ = params.validate();
+    }
 }
 
 fuzz_target!(|data: &[u8]| {
     let text = String::from_utf8_lossy(data);
-    let _ = load::<tabula_perception::TabletopParams>(&text);
-    let _ = load::<tabula_tasks::place::PlaceParams>(&text);
-    let _ = load::<tabula_tasks::pick_place::PickPlaceParams>(&text);
-    let _ = load::<tabula_tasks::stable::StableParams>(&text);
-    if let Some(p) = load::<tabula_tasks::clear::ClearParams>(&text) {
-        let _ = p.validate();
-    }
-    let _ = load::<tabula_robot::ik::NumericIkParams>(&text);
+    load::<tabula_perception::TabletopParams>(&text);
+    load::<tabula_tasks::place::PlaceParams>(&text);
+    load::<tabula_tasks::pick_place::PickPlaceParams>(&text);
+    load::<tabula_tasks::stable::StableParams>(&text);
+    load::<tabula_tasks::clear::ClearParams>(&text);
+    load::<tabula_robot::ik::NumericIkParams>(&text);
 });

@@ -30,13 +30,16 @@ pub fn catch_quietly<R>(f: impl FnOnce() -> R + UnwindSafe) -> Result<R, String>
     QUIET.with(|q| q.set(q.get() + 1));
     let out = catch_unwind(f);
     QUIET.with(|q| q.set(q.get() - 1));
-    out.map_err(|payload| {
-        payload
-            .downcast_ref::<&str>()
-            .map(|s| s.to_string())
-            .or_else(|| payload.downcast_ref::<String>().cloned())
-            .unwrap_or_else(|| "panic".into())
-    })
+    out.map_err(|payload| panic_message(payload.as_ref()))
+}
+
+/// The text a panic was raised with (`panic!("…")`), or "panic" when it carried none.
+pub fn panic_message(payload: &(dyn std::any::Any + Send)) -> String {
+    payload
+        .downcast_ref::<&str>()
+        .map(|s| s.to_string())
+        .or_else(|| payload.downcast_ref::<String>().cloned())
+        .unwrap_or_else(|| "panic".into())
 }
 
 #[cfg(test)]

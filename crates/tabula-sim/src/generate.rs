@@ -1259,4 +1259,3 @@ fn ray_hits(mesh: &crate::objects::ObjectMesh, o: tabula_geom::Vec3, d: tabula_g
         u >= 0.0 && v >= 0.0 && u + v <= 1.0 && e2.dot(q) / det > 0.0
     })
 }
-
