@@ -112,13 +112,16 @@ fn main() {
             std::process::exit(exit::OK);
         }
         Err(e) => {
-            // One line, as every error: clap's first line names the flag and the value.
+            // One line, as every error: clap's first paragraph names the flag and the
+            // value (or lists the missing arguments on the lines below it).
             let text = e.render().to_string();
-            let first = text
+            let first: Vec<&str> = text
                 .lines()
-                .find(|l| !l.trim().is_empty())
-                .unwrap_or("error");
-            eprintln!("{first} (see --help)");
+                .map(str::trim)
+                .skip_while(|l| l.is_empty())
+                .take_while(|l| !l.is_empty())
+                .collect();
+            eprintln!("{} (see --help)", first.join(" "));
             std::process::exit(exit::USAGE);
         }
     };

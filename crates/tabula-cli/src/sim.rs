@@ -263,10 +263,9 @@ pub fn run(cmd: SimCommand) -> Result<()> {
             let t0 = Instant::now();
             let frame = capture(&world, &camera, a.seed);
             let ms = t0.elapsed().as_secs_f64() * 1e3;
-            let mut out = std::io::BufWriter::new(
-                std::fs::File::create(&a.out)
-                    .with_context(|| format!("cannot write {}", a.out.display()))?,
-            );
+            let cannot_write = || format!("cannot write {}", a.out.display());
+            let mut out =
+                std::io::BufWriter::new(std::fs::File::create(&a.out).with_context(cannot_write)?);
             let ply = a
                 .out
                 .extension()
@@ -280,7 +279,8 @@ pub fn run(cmd: SimCommand) -> Result<()> {
                 } else {
                     tabula_geom::PlyEncoding::Ascii
                 };
-                tabula_geom::write_ply(&frame.cloud, &mut out, encoding)?;
+                tabula_geom::write_ply(&frame.cloud, &mut out, encoding)
+                    .with_context(cannot_write)?;
             } else {
                 let encoding = if a.binary {
                     PcdEncoding::Binary
@@ -291,11 +291,17 @@ pub fn run(cmd: SimCommand) -> Result<()> {
                     frame
                         .cloud
                         .transformed(&frame.world_from_camera)
-                        .write_pcd_with(&mut out, encoding, &frame.world_from_camera, None)?;
+                        .write_pcd_with(&mut out, encoding, &frame.world_from_camera, None)
+                        .with_context(cannot_write)?;
                 } else {
-                    frame.cloud.write_pcd(&mut out, encoding)?;
+                    frame
+                        .cloud
+                        .write_pcd(&mut out, encoding)
+                        .with_context(cannot_write)?;
                 }
             }
+            // Dropping a BufWriter swallows the last write's error (a full disk).
+            std::io::Write::flush(&mut out).with_context(cannot_write)?;
             if let Some(path) = &a.labels {
                 let v = serde_json::json!({"width": frame.width, "height": frame.height, "names": frame.label_names, "labels": frame.labels});
                 std::fs::write(path, v.to_string())

@@ -1752,6 +1752,18 @@ fn scenes(c: &mut Corpus) {
             Error,
         ),
         (
+            "capture-out-disk-full",
+            vec!["sim", "capture", "--scene", f, "--out", "/dev/full"],
+            "special-file",
+            Error,
+        ),
+        (
+            "stable-poses-nothing",
+            vec!["stable-poses"],
+            "malformed",
+            Usage,
+        ),
+        (
             "bench-frames-huge",
             vec![
                 "sim",
