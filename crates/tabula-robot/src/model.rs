@@ -573,26 +573,6 @@ fn xml_depth(text: &str, limit: usize) -> usize {
     deepest
 }
 
-#[cfg(test)]
-mod depth_tests {
-    use super::*;
-
-    #[test]
-    fn nesting_is_counted_without_recursion() {
-        assert_eq!(xml_depth("<a><b/><c><d></d></c><!-- <e><f> --></a>", 10), 3);
-        assert_eq!(
-            xml_depth("<?xml version=\"1.0\"?><r><![CDATA[<x><y>]]></r>", 10),
-            1
-        );
-        let deep = format!("{}{}", "<l>".repeat(100_000), "</l>".repeat(100_000));
-        assert!(xml_depth(&deep, 256) > 256);
-        assert!(matches!(
-            RobotModel::from_urdf_str(&format!("<robot name=\"r\">{deep}</robot>"), None),
-            Err(RobotError::TooDeep(_))
-        ));
-    }
-}
-
 fn checked_pose(owner: &str, p: &urdf_rs::Pose) -> Result<Pose, RobotError> {
     for (field, v) in [("origin xyz", &p.xyz.0), ("origin rpy", &p.rpy.0)] {
         for x in v {
@@ -700,5 +680,25 @@ pub fn resolve_mesh_path(filename: &str, base_dir: Option<&Path>) -> PathBuf {
     match base_dir {
         Some(dir) if Path::new(filename).is_relative() => dir.join(filename),
         _ => PathBuf::from(filename),
+    }
+}
+
+#[cfg(test)]
+mod depth_tests {
+    use super::*;
+
+    #[test]
+    fn nesting_is_counted_without_recursion() {
+        assert_eq!(xml_depth("<a><b/><c><d></d></c><!-- <e><f> --></a>", 10), 3);
+        assert_eq!(
+            xml_depth("<?xml version=\"1.0\"?><r><![CDATA[<x><y>]]></r>", 10),
+            1
+        );
+        let deep = format!("{}{}", "<l>".repeat(100_000), "</l>".repeat(100_000));
+        assert!(xml_depth(&deep, 256) > 256);
+        assert!(matches!(
+            RobotModel::from_urdf_str(&format!("<robot name=\"r\">{deep}</robot>"), None),
+            Err(RobotError::TooDeep(_))
+        ));
     }
 }
