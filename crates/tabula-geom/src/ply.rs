@@ -214,8 +214,22 @@ fn read_ply_parts(bytes: &[u8], want_faces: bool) -> Result<(PointCloud, Vec<Vec
             // No property: nothing stored, whatever the count says.
             continue;
         }
-        // Every element with a property takes at least one byte in any format.
-        if e.count > body.len() {
+        // The fewest bytes an element takes: its binary row (a list at least its count),
+        // or in ASCII a digit and a separator per property. Nothing is reserved for
+        // more elements than the body can hold.
+        let least: usize = e
+            .props
+            .iter()
+            .map(|p| match (p, format) {
+                (_, Format::Ascii) => 2,
+                (Property::Scalar(_, t), Format::Binary { .. }) => t.size(),
+                (Property::List(c, _), Format::Binary { .. }) => c.size(),
+            })
+            .sum();
+        if e.count
+            .checked_mul(least)
+            .is_none_or(|n| n > body.len() + 1)
+        {
             return err(format!(
                 "{} `{}` elements cannot fit in {} bytes",
                 e.count,
