@@ -1,9 +1,9 @@
 //! `tabula ik …`: solve, benchmark and inspect kinematic chains.
 
-use anyhow::{Context, Result, bail};
+use anyhow::{Result, bail};
 use clap::{Args, Subcommand, ValueEnum};
 use std::path::PathBuf;
-use tabula_geom::input::{Format, Validate, read_text};
+use tabula_geom::input::Validate;
 use tabula_geom::{Pose, Vec3, pose_from_xyz_rpy, rpy_from_quat};
 use tabula_robot::Chain;
 use tabula_robot::ik::{
@@ -104,21 +104,10 @@ struct Config {
     golem3_ik: Golem3Params,
 }
 
-fn load_config(path: &Option<PathBuf>) -> Result<Config> {
-    match path {
-        None => Ok(Config::default()),
-        Some(p) => {
-            let text = read_text(p, Format::Params)?;
-            tabula_geom::input::check_toml_numbers(&text)
-                .map_err(|e| anyhow::anyhow!("{}: {e}", p.display()))?;
-            let config: Config = toml::from_str(&text)
-                .with_context(|| format!("bad parameter file {}", p.display()))?;
-            config
-                .numeric_ik
-                .check("numeric_ik")
-                .map_err(|e| anyhow::anyhow!("{}: {e}", p.display()))?;
-            Ok(config)
-        }
+impl Validate for Config {
+    fn check(&self, at: &str) -> Result<(), String> {
+        self.numeric_ik
+            .check(&tabula_geom::input::nested(at, "numeric_ik"))
     }
 }
 
@@ -132,7 +121,7 @@ pub struct Setup {
 }
 
 pub fn setup(args: &RobotArgs, kind: SolverKind) -> Result<Setup> {
-    let config = load_config(&args.config)?;
+    let config: Config = crate::tasks::load_params(args.config.as_deref())?;
     let robot = robots::load(&args.robot)?;
     let base = args
         .base

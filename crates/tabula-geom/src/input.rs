@@ -161,7 +161,7 @@ pub const MAX_COUNT: i64 = 10_000_000;
 /// `0..=MAX_COUNT` (integers; seeds, the one exception, are any `u64`), with the key
 /// named on failure — checked before deserializing, so no `Params` struct ever holds
 /// a NaN, an infinity or a count that never ends.
-pub fn check_toml_numbers(text: &str) -> Result<toml::Table, String> {
+pub fn check_toml_numbers(text: &str) -> Result<(), String> {
     fn walk(key: &str, v: &toml::Value) -> Result<(), String> {
         match v {
             toml::Value::Float(x) if !x.is_finite() || x.abs() > MAX_MAGNITUDE => Err(format!(
@@ -192,8 +192,7 @@ pub fn check_toml_numbers(text: &str) -> Result<toml::Table, String> {
     let table: toml::Table = text
         .parse()
         .map_err(|e: toml::de::Error| clip(e.message(), 300))?;
-    walk("", &toml::Value::Table(table.clone()))?;
-    Ok(table)
+    table.iter().try_for_each(|(k, v)| walk(k, v))
 }
 
 /// Range checks of a `Params` struct (INPUT_POLICY.md): a size that divides, a step

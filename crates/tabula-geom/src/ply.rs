@@ -6,6 +6,7 @@
 //! `num_rows` lines. Every malformed header or short body is a [`PlyError`]; sizes are
 //! checked against the file before anything is allocated.
 
+use crate::input::clip;
 use crate::{PointCloud, Vec3};
 use std::io::Write;
 
@@ -343,10 +344,6 @@ fn read_ply_parts(bytes: &[u8], want_faces: bool) -> Result<(PointCloud, Vec<Vec
         _ => PointCloud::unorganized(points),
     };
     Ok((cloud, faces))
-}
-
-fn clip(s: &str, max: usize) -> String {
-    crate::input::clip(s, max)
 }
 
 fn parse_number(tok: &str, t: Scalar) -> Result<f64, PlyError> {
