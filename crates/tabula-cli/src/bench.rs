@@ -181,12 +181,13 @@ fn pick_place(variants: u64, json: bool) -> Result<()> {
                 pick: tabula_geom::Vec3::from_array(task.pick),
                 place: tabula_geom::Vec3::from_array(task.place),
             };
-            let (out, _) = crate::tasks::pick_place_in(
+            let (out, _, _) = crate::tasks::pick_place_in(
                 world,
                 None,
                 &request,
                 &PickPlaceParams::default(),
                 seed,
+                false,
             )?;
             Ok(PickPlaceRow {
                 seed,

@@ -1,5 +1,6 @@
 //! `tabula clear`: seed 002's table clearing run in the simulator, judged by its physics.
 
+use crate::report::{Recorded, Recording, Report, Section};
 use crate::tasks::{TaskRunArgs, load_params, scene_robot};
 use anyhow::{Result, anyhow};
 use clap::Args;
@@ -40,18 +41,21 @@ pub fn clear_in(
     params: &ClearParams,
     max_actions: Option<usize>,
     seed: u64,
-) -> Result<(ClearJson, SimWorld)> {
+    record: bool,
+) -> Result<(ClearJson, SimWorld, Option<Recorded>)> {
     let robot_name = scene_robot(&world, robot)?;
     let robot = {
         let r = world.robot(&robot_name)?;
         NamedRobot::new(r.model.clone(), r.description.clone(), &robot_name)
     };
+    let mut recording = Recording::new(record);
     let (outcome, verdict, world) = run_clear_judged(
         world,
         &robot_name,
         ("table", "bin"),
         seed,
         |driver, setup, hook| {
+            recording.start(driver);
             let request = ClearRequest {
                 arm: None,
                 drop_point: setup.drop_point,
@@ -64,6 +68,7 @@ pub fn clear_in(
             })
         },
     )?;
+    let recorded = recording.finish(&world);
     let (report, error) = match outcome {
         Ok(r) => (r, None),
         Err(e) => (ClearReport::default(), Some(e)),
@@ -78,38 +83,113 @@ pub fn clear_in(
             verdict,
         },
         world,
+        recorded,
     ))
 }
 
 pub fn run(a: ClearArgs) -> Result<()> {
     let params: ClearParams = load_params(a.run.params.as_deref())?;
     params.validate()?;
-    let (out, world) = clear_in(
+    let (out, world, recorded) = clear_in(
         a.run.world()?,
         a.run.robot.as_deref(),
         &params,
         a.max_actions,
         a.run.seed,
+        a.run.recording(),
     )?;
-    a.run.finish(&world, &out, out.success, print_summary)
+    a.run.finish(&world, &out, out.success, print_summary, |report, out| {
+        report.title = "tabula clear".into();
+        let section = report_section(report, out, recorded.as_ref())?;
+        report.sections.push(section);
+        Ok(())
+    })
+}
+
+/// The report's part for a clearing run: the metrics, the decision time per frame and
+/// its parts, the action log, the replay and pictures of every grasp and release.
+pub fn report_section(
+    report: &mut Report,
+    out: &ClearJson,
+    recorded: Option<&Recorded>,
+) -> Result<Section> {
+    let r = &out.report;
+    let v = &out.verdict;
+    let mut s = Section::new("Clearing a cluttered table (seed 002)");
+    let lines = summary_lines(out);
+    s.text(lines[0].clone());
+    s.number("objects on the table", v.objects)
+        .number("in the bin", v.in_bin)
+        .number("left on the table", v.left_on_table)
+        .number("actions", r.actions)
+        .number("grasps (failed)", format!("{} ({})", r.grasps, r.failed_grasps))
+        .number("pushes", r.pushes)
+        .number(
+            "objects per action",
+            format!("{:.2}", v.in_bin as f64 / r.actions.max(1) as f64),
+        )
+        .number("frames without a plan", r.no_plan_frames)
+        .number("IK backtracks", r.ik_backtracks)
+        .number("push loops", r.push_loops)
+        .number("collisions with other objects", out.collisions)
+        .number(
+            "decision CPU median / p95 / max (ms)",
+            format!(
+                "{:.1} / {:.1} / {:.1}",
+                r.decision_ms.median, r.decision_ms.p95, r.decision_ms.max
+            ),
+        );
+    s.log = lines[1..].to_vec();
+    if !r.frames.is_empty() {
+        let steps: Vec<Vec<f64>> = r
+            .frames
+            .iter()
+            .map(|f| vec![f.perception_ms, f.predicates_ms, f.planning_ms, f.ik_ms])
+            .collect();
+        let svg = crate::plots::stacked(
+            "Decision latency per frame (CPU)",
+            "frame",
+            "ms",
+            &["perception", "predicates", "planning", "IK"],
+            &steps,
+        )?;
+        let fig = report.svg(
+            "decision",
+            "Decision latency per frame: frame in → first action chosen",
+            &svg,
+        )?;
+        s.figures.push(fig);
+    }
+    if let Some(rec) = recorded {
+        report.recorded(&mut s, "clear", rec)?;
+    }
+    Ok(s)
 }
 
 fn print_summary(out: &ClearJson) {
+    for line in summary_lines(out) {
+        println!("{line}");
+    }
+}
+
+/// What `clear` prints: the outcome, the action log, the counts and the timing.
+fn summary_lines(out: &ClearJson) -> Vec<String> {
     let r = &out.report;
     let v = &out.verdict;
-    println!(
+    let mut lines = Vec::new();
+    lines.push(format!(
         "clear: {} — {} of {} objects in the bin, {} left on the table ({})",
         if out.success { "success" } else { "INCOMPLETE" },
         v.in_bin,
         v.objects,
         v.left_on_table,
         if r.stop.is_empty() { "-" } else { &r.stop }
-    );
+    ));
     if let Some(e) = &out.error_message {
-        println!("  error: {e}");
+        lines.push(format!("  error: {e}"));
     }
     for a in &r.log {
-        println!(
+        lines.push(format!(
             "  frame {:>2}: {:<10} o{:<3} at ({:.3}, {:.3}){}  {}",
             a.frame,
             a.action,
@@ -123,9 +203,9 @@ fn print_summary(out: &ClearJson) {
             } else {
                 format!("failed: {}", a.error.as_deref().unwrap_or("-"))
             }
-        );
+        ));
     }
-    println!(
+    lines.push(format!(
         "  actions {} (grasps {}, failed {}, pushes {}), {:.2} objects per action; no-plan frames {}, IK backtracks {}, push loops {}",
         r.actions,
         r.grasps,
@@ -135,8 +215,8 @@ fn print_summary(out: &ClearJson) {
         r.no_plan_frames,
         r.ik_backtracks,
         r.push_loops
-    );
-    println!(
+    ));
+    lines.push(format!(
         "  decision (CPU, frame in → first action): median {:.1} ms, p95 {:.1}, max {:.1} — perception {:.1}, predicates {:.1}, planning {:.1}, IK {:.1} (medians)",
         r.decision_ms.median,
         r.decision_ms.p95,
@@ -145,12 +225,13 @@ fn print_summary(out: &ClearJson) {
         r.predicates_ms,
         r.planning_ms,
         r.ik_ms
-    );
-    println!(
+    ));
+    lines.push(format!(
         "  collisions with other objects: {}; moved by accident: {}",
         out.collisions,
         v.disturbed.len()
-    );
+    ));
+    lines
 }
 
 #[derive(Serialize)]
@@ -205,7 +286,7 @@ pub fn bench(
             let text = clearing_scene(which, s);
             let scene = tabula_sim::Scene::parse(&text, "generated")?;
             let world = SimWorld::from_scene(&scene, Default::default())?;
-            let (out, _) = clear_in(world, None, &params, None, s)?;
+            let (out, _, _) = clear_in(world, None, &params, None, s, false)?;
             let r = &out.report;
             let v = &out.verdict;
             if let Some(dir) = save_failures

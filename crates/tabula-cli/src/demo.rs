@@ -1,6 +1,8 @@
 //! `tabula demo`: the main job, one section per capability that has landed.
 
+use crate::report::{Report, Section};
 use anyhow::Result;
+use std::path::Path;
 use std::time::Instant;
 use tabula_geom::{Pose, Vec3, pose_from_xyz_rpy};
 use tabula_robot::Chain;
@@ -9,24 +11,101 @@ use tabula_robot::ik::{
 };
 use tabula_robot::robots;
 
-pub fn run() -> Result<()> {
+/// Prints a line and keeps it for the report's capabilities section.
+macro_rules! say {
+    ($log:expr, $($t:tt)*) => {{
+        let line = format!($($t)*);
+        println!("{line}");
+        $log.push(line);
+    }};
+}
+
+/// Runs the three jobs end to end in the simulator (placing, clearing, pick and place),
+/// then the capabilities they stand on, and writes the report into `report_dir`.
+pub fn run(report_dir: &Path) -> Result<()> {
     println!("tabula demo\n===========\n");
-    kinematics()?;
-    planning()?;
-    let frame = simulator()?;
-    perception(&frame)?;
-    motion()?;
-    pick_place()?;
-    clearing()?;
-    placing()?;
+    let t0 = Instant::now();
+    let mut report = Report::create(report_dir, "tabula demo — the three jobs in the simulator")?;
+    let progress = crate::progress::steps(8, "demo");
+    let mut jobs = Vec::new();
+    let mut summary = Vec::new();
+    progress.set_message("placing an unknown object");
+    let (section, json, line) = placing(&mut report)?;
+    jobs.push(section);
+    summary.push(("placing", json, line));
+    progress.inc(1);
+    progress.set_message("clearing a cluttered table");
+    let (section, json, line) = clearing(&mut report)?;
+    jobs.push(section);
+    summary.push(("clearing", json, line));
+    progress.inc(1);
+    progress.set_message("pick and place");
+    let (section, json, line) = pick_place(&mut report)?;
+    jobs.push(section);
+    summary.push(("pick_place", json, line));
+    progress.inc(1);
+    let mut log = Vec::new();
+    progress.set_message("kinematics");
+    kinematics(&mut log)?;
+    progress.inc(1);
+    progress.set_message("task planning");
+    planning(&mut log)?;
+    progress.inc(1);
+    progress.set_message("simulator");
+    let frame = simulator(&mut log)?;
+    progress.inc(1);
+    progress.set_message("perception");
+    let perceived = perception(&frame, &mut log, &mut report)?;
+    progress.inc(1);
+    progress.set_message("motion planning");
+    motion(&mut log)?;
+    progress.finish_and_clear();
+
+    let mut overview = Section::new("Summary");
+    overview.text(
+        "Three jobs, end to end in tabula's simulator, each judged by its physics: the PR2 \
+         places an object it holds and has no model of (seed 000), the WAM clears a cluttered \
+         table into a bin by grasps and pushes (seed 002), Golem-III moves a can from a shelf \
+         to a table (seed 001). Each section has a 3D replay (drag to turn, wheel to zoom, \
+         the slider scrubs), pictures of every grasp and release from the scene's camera and \
+         from an overview, and plots.",
+    );
+    for (name, _, line) in &summary {
+        overview.number(name.replace('_', " "), line);
+    }
+    overview.number("wall time (s)", format!("{:.1}", t0.elapsed().as_secs_f64()));
+    let mut capabilities = Section::new("What the jobs stand on");
+    capabilities.text(
+        "Kinematics, task planning, the simulator, perception and motion planning on their \
+         own (benchmarks against KDL/IKFast, Fast Downward, Gazebo, PCL and MoveIt are in \
+         BENCHMARKS.md).",
+    );
+    capabilities.log = log;
+    report.sections.push(overview);
+    report.sections.extend(jobs);
+    report.sections.push(perceived);
+    report.sections.push(capabilities);
+    let json = serde_json::json!({
+        "jobs": summary.iter().map(|(n, j, _)| (n.to_string(), j.clone())).collect::<serde_json::Map<_, _>>(),
+        "wall_s": t0.elapsed().as_secs_f64(),
+    });
+    let page = report.finish(&json)?;
+    println!("\nSummary");
+    for (name, _, line) in &summary {
+        println!("  {:<11} {line}", name.replace('_', " "));
+    }
+    println!(
+        "\nreport (pictures, plots, 3D replays): {}",
+        page.display()
+    );
     Ok(())
 }
 
 /// Seed 000's system (SPEC §1): the PR2 scans the cup it holds, finds how it rests,
 /// finds the table and a free spot on it, drives up, puts it down; physics judges it.
-fn placing() -> Result<()> {
+fn placing(report: &mut Report) -> Result<(Section, serde_json::Value, String)> {
     use tabula_tasks::place::{PlaceParams, PlaceRequest};
-    println!("8. Placing an unknown object (seed 000): the PR2 and the cup in its hand\n");
+    println!("1. Placing an unknown object (seed 000): the PR2 and the cup in its hand\n");
     let scene = tabula_sim::Scene::parse(
         include_str!("../../../scenes/pr2_holding.toml"),
         "scenes/pr2_holding.toml",
@@ -36,7 +115,9 @@ fn placing() -> Result<()> {
     let request = PlaceRequest {
         arm: Some("right".into()),
     };
-    let (out, _) = crate::place::place_in(world, None, &request, &PlaceParams::default(), 1)?;
+    let params = PlaceParams::default();
+    let (out, _, recorded) = crate::place::place_in(world, None, &request, &params, 1, true)?;
+    let wall = t0.elapsed().as_secs_f64();
     let r = &out.report;
     if let Some(m) = &r.model {
         println!(
@@ -66,38 +147,38 @@ fn placing() -> Result<()> {
             s.height, g[0], g[1]
         );
     }
-    println!(
-        "  {}: on {}, {:.1}° from the planned pose, {:.1} s in all; decision {:.0} ms CPU (scan processing {:.0} ms apart)",
+    let line = format!(
+        "{}: on {}, {:.1}° from the planned pose; decision {:.0} ms CPU, {wall:.1} s in all",
         if out.success { "placed" } else { "FAILED" },
         out.verdict.surface.as_deref().unwrap_or("nothing"),
         out.orientation_error_deg,
-        t0.elapsed().as_secs_f64(),
         out.decision_ms,
-        r.scan_cpu_ms
     );
-    println!("\n  run it: cargo run --release -- place --scene scenes/pr2_holding.toml");
-    println!(
-        "  benchmarks: cargo run --release -- bench place --suite simple|complex; bench stable-poses\n"
-    );
-    Ok(())
+    println!("  {line}");
+    println!("\n  run it: cargo run --release -- place --scene scenes/pr2_holding.toml --report DIR\n");
+    let mut section = crate::place::report_section(report, &out, &params, recorded.as_ref())?;
+    section.text("Run it: cargo run --release -- place --scene scenes/pr2_holding.toml --report DIR");
+    Ok((section, serde_json::to_value(&out)?, line))
 }
 
 /// Seed 002's system (SPEC §3): the WAM clears the seed's cluttered table into the bin,
 /// replanning after every action, and physics counts what ended in the bin.
-fn clearing() -> Result<()> {
+fn clearing(report: &mut Report) -> Result<(Section, serde_json::Value, String)> {
     use tabula_sim::generate::{ClearSuite, clearing_scene};
-    println!("7. Clearing a cluttered table (seed 002): the WAM, grasps and pushes into the bin\n");
+    println!("2. Clearing a cluttered table (seed 002): the WAM, grasps and pushes into the bin\n");
     let scene =
         tabula_sim::Scene::parse(&clearing_scene(ClearSuite::Seed, 1), "scenes/clutter.toml")?;
     let world = tabula_sim::SimWorld::from_scene(&scene, Default::default())?;
     let t0 = Instant::now();
-    let (out, _) = crate::clear::clear_in(
+    let (out, _, recorded) = crate::clear::clear_in(
         world,
         None,
         &tabula_tasks::clear::ClearParams::default(),
         None,
         1,
+        true,
     )?;
+    let wall = t0.elapsed().as_secs_f64();
     let r = &out.report;
     let v = &out.verdict;
     for a in &r.log {
@@ -110,31 +191,27 @@ fn clearing() -> Result<()> {
             if a.ok { "ok" } else { "failed" }
         );
     }
-    println!(
-        "  {} of {} objects in the bin in {} actions ({} grasps, {} pushes), {:.1} s in all; arm touched another object {} times",
-        v.in_bin,
-        v.objects,
-        r.actions,
-        r.grasps,
-        r.pushes,
-        t0.elapsed().as_secs_f64(),
-        out.collisions
+    let line = format!(
+        "{} of {} objects in the bin in {} actions ({} grasps, {} pushes), {} collisions; decision median {:.1} ms CPU, {wall:.1} s in all",
+        v.in_bin, v.objects, r.actions, r.grasps, r.pushes, out.collisions, r.decision_ms.median
     );
+    println!("  {line}");
     println!(
-        "  decision per frame (CPU, frame in → action chosen): median {:.1} ms (perception {:.1}, predicates {:.1}, planning {:.1}, IK {:.1}); the seed needed ≈ 4.5 s\n",
-        r.decision_ms.median, r.perception_ms, r.predicates_ms, r.planning_ms, r.ik_ms
+        "  decision per frame (CPU, frame in → action chosen): perception {:.1}, predicates {:.1}, planning {:.1}, IK {:.1} ms (medians); the seed needed ≈ 4.5 s",
+        r.perception_ms, r.predicates_ms, r.planning_ms, r.ik_ms
     );
-    println!("  run it: cargo run --release -- clear --scene scenes/clutter.toml");
-    println!("  benchmarks: cargo run --release -- bench clear --suite random|packed|pile|seed\n");
-    Ok(())
+    println!("\n  run it: cargo run --release -- clear --scene scenes/clutter.toml --report DIR\n");
+    let mut section = crate::clear::report_section(report, &out, recorded.as_ref())?;
+    section.text("Run it: cargo run --release -- clear --scene scenes/clutter.toml --report DIR");
+    Ok((section, serde_json::to_value(&out)?, line))
 }
 
 /// Seed 001's integral test (SPEC §2.5): Golem-III looks at a can on a shelf board,
 /// plans every motion, carries it to the table, and physics judges the result.
-fn pick_place() -> Result<()> {
+fn pick_place(report: &mut Report) -> Result<(Section, serde_json::Value, String)> {
     use tabula_tasks::pick_place::{PickPlaceParams, PickPlaceRequest};
     println!(
-        "6. Pick and place by coordinates (seed 001's integral test): Golem-III, shelf → table\n"
+        "3. Pick and place by coordinates (seed 001's integral test): Golem-III, shelf → table\n"
     );
     let scene = tabula_sim::Scene::parse(GOLEM_SHELVES, "scenes/golem_shelves.toml")?;
     let world = tabula_sim::SimWorld::from_scene(&scene, Default::default())?;
@@ -144,18 +221,10 @@ fn pick_place() -> Result<()> {
         place: Vec3::new(0.82, -0.2, 1.01),
     };
     let t0 = Instant::now();
-    let (out, _) =
-        crate::tasks::pick_place_in(world, None, &request, &PickPlaceParams::default(), 1)?;
+    let (out, _, recorded) =
+        crate::tasks::pick_place_in(world, None, &request, &PickPlaceParams::default(), 1, true)?;
+    let wall = t0.elapsed().as_secs_f64();
     let r = &out.report;
-    println!(
-        "  {} with the {} arm ({} grasp); decision {:.0} ms CPU (perceive → grasp → every plan), {:.1} s in all",
-        if out.success { "placed" } else { "FAILED" },
-        r.arm.as_deref().unwrap_or("-"),
-        r.grasp
-            .map_or("-".into(), |g| format!("{g:?}").to_lowercase()),
-        r.decision_cpu_ms,
-        t0.elapsed().as_secs_f64()
-    );
     if let Some(o) = &r.object {
         println!(
             "  seen: {:.0} × {:.0} × {:.0} mm at ({:.3}, {:.3}, {:.3}), {} points",
@@ -169,20 +238,25 @@ fn pick_place() -> Result<()> {
         );
     }
     let v = &out.verdict;
-    println!(
-        "  physics: {:.1} cm from the target, tilted {:.1}°, {}, {} furniture contacts{}\n",
+    let line = format!(
+        "{} with the {} arm ({} grasp): {:.1} cm from the target, tilted {:.1}°; decision {:.0} ms CPU, {wall:.1} s in all{}",
+        if out.success { "placed" } else { "FAILED" },
+        r.arm.as_deref().unwrap_or("-"),
+        r.grasp
+            .map_or("-".into(), |g| format!("{g:?}").to_lowercase()),
         v.target_error * 100.0,
         v.tilt.to_degrees(),
-        if v.resting { "resting" } else { "moving" },
-        v.furniture_contacts.len(),
+        r.decision_cpu_ms,
         out.error_message
             .as_ref()
             .map_or(String::new(), |e| format!("; {e}"))
     );
-    println!(
-        "  run it: cargo run --release -- pick-place --scene scenes/golem_shelves.toml --pick 0.556 -0.663 1.07 --place 0.82 -0.2 1.01\n"
-    );
-    Ok(())
+    println!("  {line}");
+    let command = "cargo run --release -- pick-place --scene scenes/golem_shelves.toml --pick 0.556 -0.663 1.07 --place 0.82 -0.2 1.01 --report DIR";
+    println!("\n  run it: {command}\n");
+    let mut section = crate::tasks::pick_place_section(report, &out, recorded.as_ref())?;
+    section.text(format!("Run it: {command}"));
+    Ok((section, serde_json::to_value(&out)?, line))
 }
 
 const GOLEM_SHELVES: &str = include_str!("../../../scenes/golem_shelves.toml");
@@ -190,14 +264,18 @@ const GOLEM_SHELVES: &str = include_str!("../../../scenes/golem_shelves.toml");
 /// Seed 002's perception on the simulator's frame: the table, the objects on it, and
 /// where a new box would fit; then the issue's nine-object frame scored against the
 /// simulator's labels.
-fn perception(frame: &tabula_sim::DepthFrame) -> Result<()> {
+fn perception(
+    frame: &tabula_sim::DepthFrame,
+    log: &mut Vec<String>,
+    report: &mut Report,
+) -> Result<Section> {
     use tabula_geom::Vec2;
     use tabula_perception::eval::{score, table_top_truth};
     use tabula_perception::freespace::{FreeSpaceMap, FreeSpaceParams};
     use tabula_perception::{TabletopParams, extract, to_world};
     use tabula_sim::generate::{TABLE_TOP, TabletopLayout, tabletop_frame};
-    println!(
-        "4. Perception (PCL's role): the table, its objects and its free space in that frame\n"
+    say!(log, 
+        "7. Perception (PCL's role): the table, its objects and its free space in that frame\n"
     );
     let t0 = Instant::now();
     let cloud = to_world(&frame.world_from_camera, &frame.cloud);
@@ -207,7 +285,7 @@ fn perception(frame: &tabula_sim::DepthFrame) -> Result<()> {
         &TabletopParams::default(),
     )?;
     let ms = t0.elapsed().as_secs_f64() * 1e3;
-    println!(
+    say!(log, 
         "  table at {:.3} m ({} points, {:.2} m² seen), {} objects, {ms:.1} ms",
         t.table.centroid.z,
         t.table.inliers.len(),
@@ -217,7 +295,7 @@ fn perception(frame: &tabula_sim::DepthFrame) -> Result<()> {
     for o in &t.objects {
         let c = o.obb.center;
         let s = o.obb.half_extents * 2000.0;
-        println!(
+        say!(log, 
             "    centre ({:.3}, {:.3}), {:.0} × {:.0} × {:.0} mm box, {} points{}",
             c.x,
             c.y,
@@ -238,15 +316,27 @@ fn perception(frame: &tabula_sim::DepthFrame) -> Result<()> {
         Vec2::new(0.05, 0.04),
         Vec2::new(-0.05, 0.04),
     ];
-    match map.find_place(&footprint, 0.03, t.table.centroid) {
-        Some(p) => println!(
+    let spot = map.find_place(&footprint, 0.03, t.table.centroid);
+    let mut section = Section::new("Perception on the simulator's frame");
+    section.text(format!(
+        "Seed 002's tabletop pipeline on the overhead Kinect-like frame of the cluttered table: \
+         the table ({:.2} m² seen), {} objects with their footprints and minimal-area boxes, the \
+         free space, and where a 10 × 8 cm box fits with 3 cm to spare (blue).",
+        t.table.area,
+        t.objects.len()
+    ));
+    let (svg, _) = crate::perceive::top_view(&t, &map, spot.map(|p| (p, &[0.1, 0.08][..])))?;
+    let fig = report.svg("top-view", "Top view of the table: free (green), objects (red), unseen (grey), boxes, the free spot (blue)", &svg)?;
+    section.figures.push(fig);
+    match spot {
+        Some(p) => say!(log, 
             "  free: {:.2} m²; a 10 × 8 cm box with 3 cm to spare fits at ({:.3}, {:.3}), turned {:.0}°",
             map.free_area(),
             p.position.x,
             p.position.y,
             p.yaw.to_degrees()
         ),
-        None => println!(
+        None => say!(log, 
             "  free: {:.2} m²; a 10 × 8 cm box fits nowhere",
             map.free_area()
         ),
@@ -272,19 +362,23 @@ fn perception(frame: &tabula_sim::DepthFrame) -> Result<()> {
         0.8,
         200,
     );
-    println!(
+    say!(log, 
         "  nine-object frame (two touching pairs, a stack, 0.5 % outliers): {} of {} objects with IoU > 0.8, \
          table precision {:.3} recall {:.3}, {ms:.1} ms (PCL: 1.2 s)\n",
         s.recovered, s.objects, s.table_precision, s.table_recall
     );
-    Ok(())
+    section
+        .number("objects recovered (IoU > 0.8) in the nine-object frame", format!("{} of {}", s.recovered, s.objects))
+        .number("table precision / recall", format!("{:.3} / {:.3}", s.table_precision, s.table_recall))
+        .number("pipeline time on that frame (ms, wall)", format!("{ms:.1}"));
+    Ok(section)
 }
 
 /// MoveIt's role: a collision-free reach for the WAM over a cluttered table.
-fn motion() -> Result<()> {
+fn motion(log: &mut Vec<String>) -> Result<()> {
     use tabula_motion::bench::{reach_configuration, robot_world, table_height, tabletop_world};
     use tabula_motion::{PlannerParams, WorldParams, rrt_connect, time_parameterize};
-    println!("5. Motion planning (MoveIt/OMPL's role): WAM reaches over a cluttered table\n");
+    say!(log, "8. Motion planning (MoveIt/OMPL's role): WAM reaches over a cluttered table\n");
     let robot = robots::load("wam")?;
     let chain = Chain::new(&robot.model, &robot.default_base, &robot.default_tip)?;
     let empty = robot_world(&robot, chain, WorldParams::default())?;
@@ -308,7 +402,7 @@ fn motion() -> Result<()> {
             },
         )?;
         let traj = time_parameterize(&path.waypoints, &world.chain.velocity, &[2.0; 7], 0.01);
-        println!(
+        say!(log, 
             "  reach {}: {} waypoints, {:.2} rad, planned in {:.2} ms, {:.2} s to execute at the joints' limits",
             k + 1,
             path.waypoints.len(),
@@ -317,15 +411,15 @@ fn motion() -> Result<()> {
             traj.duration()
         );
     }
-    println!("\n  Benchmarks: `tabula motion bench --robot wam` (see BENCHMARKS.md)\n");
+    say!(log, "\n  Benchmarks: `tabula motion bench --robot wam` (see BENCHMARKS.md)\n");
     Ok(())
 }
 
 /// The built-in simulator: settle seed 002's clutter, capture a frame, render a picture.
-fn simulator() -> Result<tabula_sim::DepthFrame> {
+fn simulator(log: &mut Vec<String>) -> Result<tabula_sim::DepthFrame> {
     use tabula_sim::camera::{Camera, capture};
     use tabula_sim::{PhysicsParams, Scene, SimWorld};
-    println!("3. Simulator (Gazebo's role): seed 002's cluttered table\n");
+    say!(log, "6. Simulator (Gazebo's role): seed 002's cluttered table\n");
     let mut scene = Scene::parse(
         include_str!("../../../scenes/clutter.toml"),
         "scenes/clutter.toml",
@@ -334,7 +428,7 @@ fn simulator() -> Result<tabula_sim::DepthFrame> {
     let mut world = SimWorld::from_scene(&scene, PhysicsParams::default())?;
     let t0 = Instant::now();
     let report = world.settle();
-    println!(
+    say!(log, 
         "  settled {} objects in {} steps ({:.1} ms): all at rest = {}",
         world.object_poses().len(),
         report.steps,
@@ -344,7 +438,7 @@ fn simulator() -> Result<tabula_sim::DepthFrame> {
     let camera = Camera::from_spec(&scene.cameras[0], &world)?;
     let t0 = Instant::now();
     let frame = capture(&world, &camera, 1);
-    println!(
+    say!(log, 
         "  overhead depth frame {}×{}: {} valid points, {:.1} ms",
         frame.width,
         frame.height,
@@ -360,7 +454,7 @@ fn simulator() -> Result<tabula_sim::DepthFrame> {
         &mut std::io::BufWriter::new(std::fs::File::create(&pcd)?),
         tabula_geom::PcdEncoding::Binary,
     )?;
-    println!(
+    say!(log, 
         "  snapshot: {}\n  depth frame: {}\n",
         png.display(),
         pcd.display()
@@ -369,11 +463,11 @@ fn simulator() -> Result<tabula_sim::DepthFrame> {
 }
 
 /// Seed 002's decision step: plan which objects to push or grasp, in process.
-fn planning() -> Result<()> {
+fn planning(log: &mut Vec<String>) -> Result<()> {
     use tabula_pddl::{
         GroundAtom, Planner, SearchMode, generator, parse_domain, parse_problem, validate,
     };
-    println!("2. Task planning (seed 002): clearing a table, optimal PDDL plans in process\n");
+    say!(log, "5. Task planning (seed 002): clearing a table, optimal PDDL plans in process\n");
     let domain = parse_domain(include_str!("../../../pddl/tablewclear-domain.pddl"))?;
     let problem = parse_problem(include_str!("../../../pddl/thesis6-a.pddl"), &domain)?;
     let mut planner = Planner::for_table_clearing(domain.clone(), problem)?;
@@ -381,11 +475,11 @@ fn planning() -> Result<()> {
     let plan = planner.plan(SearchMode::Optimal, None)?;
     let ms = t0.elapsed().as_secs_f64() * 1e3;
     let steps: Vec<String> = plan.steps.iter().map(ToString::to_string).collect();
-    println!(
+    say!(log, 
         "  thesis6-a (6 objects): {} actions, optimal, {ms:.2} ms",
         steps.len()
     );
-    println!("    {}", steps.join(" "));
+    say!(log, "    {}", steps.join(" "));
     // The first action turns out to have no IK solution: mark it and replan (SPEC §3.5).
     let first = &plan.steps[0];
     let infeasible = GroundAtom {
@@ -405,7 +499,7 @@ fn planning() -> Result<()> {
         .map(|a| a.args.join(" "))
         .collect();
     let replanned = planner.plan(SearchMode::Optimal, None)?;
-    println!(
+    say!(log, 
         "  {first} has no IK solution → replanned in {:.2} ms ({} dropped from the goal): {} actions, starting {}",
         t0.elapsed().as_secs_f64() * 1e3,
         if dropped.is_empty() {
@@ -425,18 +519,18 @@ fn planning() -> Result<()> {
     let mut planner = Planner::for_table_clearing(domain.clone(), big)?;
     let dropped = planner.drop_unreachable_goals(None)?;
     let plan = planner.plan(SearchMode::Optimal, None)?;
-    println!(
+    say!(log, 
         "  a generated 40-object table: {} objects can never be removed, optimal plan of {} actions, {:.1} ms with grounding",
         dropped.len(),
         plan.steps.len(),
         t0.elapsed().as_secs_f64() * 1e3
     );
-    println!("\n  Benchmarks: `tabula plan bench` (see BENCHMARKS.md)\n");
+    say!(log, "\n  Benchmarks: `tabula plan bench` (see BENCHMARKS.md)\n");
     Ok(())
 }
 
-fn kinematics() -> Result<()> {
-    println!("1. Kinematics (seed 001): Golem-III closed-form IK, all branches\n");
+fn kinematics(log: &mut Vec<String>) -> Result<()> {
+    say!(log, "4. Kinematics (seed 001): Golem-III closed-form IK, all branches\n");
     let golem = robots::load("golem3")?;
     let ik = Golem3Ik::new(&golem.model, ArmSide::Right, Golem3Params::default())?;
     let chain = ik.chain().clone();
@@ -457,7 +551,7 @@ fn kinematics() -> Result<()> {
     ];
     for (label, target) in &targets {
         let t = target.translation;
-        println!(
+        say!(log, 
             "  target: {label} at ({:.3}, {:.3}, {:.3}) in torso_lift_link",
             t.x, t.y, t.z
         );
@@ -467,15 +561,15 @@ fn kinematics() -> Result<()> {
         match result {
             Ok(sols) => {
                 crate::ik::print_solutions(&chain, &sols);
-                println!("  nearest to the seed {:?}: #1 ({us:.1} µs)\n", seed);
+                say!(log, "  nearest to the seed {:?}: #1 ({us:.1} µs)\n", seed);
             }
-            Err(e) => println!("  {e} ({us:.1} µs)\n"),
+            Err(e) => say!(log, "  {e} ({us:.1} µs)\n"),
         }
     }
     let reach = Vec3::new(0.35, -0.55, 1.0);
     let t0 = Instant::now();
     let sols = ik.solve(&Pose::from_translation(reach), IkMode::PositionOnly, &seed)?;
-    println!(
+    say!(log, 
         "  position only ({:.2}, {:.2}, {:.2}): {:?} in {:.1} µs\n",
         reach.x,
         reach.y,
@@ -488,7 +582,7 @@ fn kinematics() -> Result<()> {
         t0.elapsed().as_secs_f64() * 1e6
     );
 
-    println!("  Numeric IK on the 7-DOF WAM and the PR2 right arm (any URDF chain):");
+    say!(log, "  Numeric IK on the 7-DOF WAM and the PR2 right arm (any URDF chain):");
     for name in ["wam", "pr2"] {
         let robot = robots::load(name)?;
         let chain = Chain::new(&robot.model, &robot.default_base, &robot.default_tip)?;
@@ -502,7 +596,7 @@ fn kinematics() -> Result<()> {
         let target = chain.fk(&q_true)?;
         let t0 = Instant::now();
         let sols = solver.solve(&target, IkMode::Full, &chain.mid_configuration())?;
-        println!(
+        say!(log, 
             "    {name:<4} {} → {}: solved in {:.1} µs, error {:.1e} m / {:.1e} rad",
             chain.base_link,
             chain.tip_link,
@@ -511,7 +605,7 @@ fn kinematics() -> Result<()> {
             sols[0].rotation_error
         );
     }
-    println!(
+    say!(log, 
         "\n  Benchmarks: `tabula ik bench --robot golem3 --solver analytic --poses 10000` (see BENCHMARKS.md)\n"
     );
     Ok(())

@@ -9,6 +9,9 @@ mod motion;
 mod perceive;
 mod place;
 mod plan;
+mod plots;
+mod progress;
+mod report;
 mod sim;
 mod stable;
 mod tasks;
@@ -34,14 +37,22 @@ pub mod exit {
 #[derive(Parser)]
 #[command(name = "tabula", version, about, propagate_version = true)]
 struct Cli {
+    /// Log what the tasks do on stderr: -v phases and decisions, -vv details, -vvv all.
+    #[arg(short, long, action = clap::ArgAction::Count, global = true)]
+    verbose: u8,
     #[command(subcommand)]
     command: Command,
 }
 
 #[derive(Subcommand)]
 enum Command {
-    /// The main job: runs every capability that has landed, with a short report.
-    Demo,
+    /// The main job: the three jobs end to end in the simulator (placing, clearing,
+    /// pick and place), then the capabilities they stand on; writes a report.
+    Demo {
+        /// Where the report goes (index.html with pictures, plots and 3D replays).
+        #[arg(long, default_value = "tabula-demo")]
+        report: std::path::PathBuf,
+    },
     /// Benchmarks that print the tables in BENCHMARKS.md.
     Bench {
         #[command(subcommand)]
@@ -125,8 +136,9 @@ fn main() {
             std::process::exit(exit::USAGE);
         }
     };
+    progress::init_logging(cli.verbose);
     let result = match cli.command {
-        Command::Demo => demo::run(),
+        Command::Demo { report } => demo::run(&report),
         Command::Bench { command } => bench::run(command),
         Command::Clear(args) => clear::run(args),
         Command::Ik { command } => ik::run(command),

@@ -189,18 +189,10 @@ pub fn run(a: PerceiveArgs) -> Result<()> {
         }
         None => None,
     };
-    if let Some(dir) = &a.report {
-        std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
-        let footprint = placement.flatten().zip(a.place.as_ref());
-        write_report(dir, &result, &map, footprint)?;
-        if cloud.is_organized() {
-            write_frame_image(dir, &cloud, file.colors.as_deref(), &result)?;
-        }
-    }
     // A footprint that fits nowhere is "no solution": exit status 2 after the report.
     let no_place = matches!(placement, Some(None));
     let colors = file.colors.as_deref();
-    if a.json {
+    let json = || {
         let mut v = to_json(
             &result,
             &surfaces.surfaces,
@@ -215,6 +207,15 @@ pub fn run(a: PerceiveArgs) -> Result<()> {
             "world_from_cloud": pose_json(&framing.world_from_cloud),
             "sensor": arr(framing.eye),
         });
+        v
+    };
+    if let Some(dir) = &a.report {
+        let footprint = placement.flatten().zip(a.place.as_deref());
+        write_report(dir, &result, &map, footprint, Some((&cloud, colors)), &json())?;
+        eprintln!("report: {}", dir.join("index.html").display());
+    }
+    if a.json {
+        let v = json();
         println!("{}", serde_json::to_string_pretty(&v)?);
         if no_place {
             std::process::exit(crate::exit::NO_SOLUTION);
@@ -404,122 +405,227 @@ fn to_json(
     })
 }
 
-/// Top view of the table: the occupancy grid (free green, objects red, unseen grey),
-/// object outlines and boxes, and the placement if one was asked for.
-fn write_report(
-    dir: &Path,
+/// Top view of the table, drawn with plotters: the occupancy grid (free green, objects
+/// red, unseen grey), the table's outline, object footprints and boxes (numbered in the
+/// SVG), and the placement if one was asked for. Returns the SVG and a PNG of it (the
+/// PNG without text: plotters' bitmap backend would need a font).
+pub fn top_view(
     t: &Tabletop,
     map: &FreeSpaceMap,
-    placement: Option<(Placement, &Vec<f64>)>,
+    placement: Option<(Placement, &[f64])>,
+) -> Result<(String, image::RgbImage)> {
+    const PX_PER_M: f64 = 400.0;
+    let (w_m, h_m) = (
+        map.nx as f64 * map.resolution,
+        map.ny as f64 * map.resolution,
+    );
+    let size = (
+        ((w_m * PX_PER_M) as u32).clamp(120, 1600),
+        ((h_m * PX_PER_M) as u32).clamp(120, 1600),
+    );
+    let mut svg = String::new();
+    draw_top_view(
+        plotters::prelude::SVGBackend::with_string(&mut svg, (size.0 + 70, size.1 + 60)),
+        t,
+        map,
+        placement,
+        true,
+    )?;
+    let mut buf = vec![255u8; (size.0 * size.1 * 3) as usize];
+    draw_top_view(
+        plotters::prelude::BitMapBackend::with_buffer(&mut buf, size),
+        t,
+        map,
+        placement,
+        false,
+    )?;
+    let png = image::RgbImage::from_raw(size.0, size.1, buf)
+        .context("top view: buffer of the wrong size")?;
+    Ok((svg, png))
+}
+
+fn draw_top_view<DB: plotters::prelude::DrawingBackend>(
+    backend: DB,
+    t: &Tabletop,
+    map: &FreeSpaceMap,
+    placement: Option<(Placement, &[f64])>,
+    labels: bool,
 ) -> Result<()> {
-    const SCALE: usize = 4;
-    let (w, h) = (map.nx * SCALE, map.ny * SCALE);
-    let mut img = image::RgbImage::from_pixel(w as u32, h as u32, image::Rgb([255, 255, 255]));
-    let px = |q: Vec2| -> (f64, f64) {
-        let c = (q - map.lo) / map.resolution * SCALE as f64;
-        // Image rows go down; the plane's v axis goes up.
-        (c.x, h as f64 - c.y)
+    use plotters::prelude::*;
+    let err = |e: &dyn std::fmt::Display| anyhow::anyhow!("top view: {e}");
+    let root = backend.into_drawing_area();
+    root.fill(&WHITE).map_err(|e| err(&e))?;
+    let (x0, y0) = (map.lo.x, map.lo.y);
+    let (x1, y1) = (
+        x0 + map.nx as f64 * map.resolution,
+        y0 + map.ny as f64 * map.resolution,
+    );
+    let mut builder = ChartBuilder::on(&root);
+    if labels {
+        builder
+            .margin(8)
+            .x_label_area_size(36)
+            .y_label_area_size(50);
+    }
+    let mut chart = builder
+        .build_cartesian_2d(x0..x1, y0..y1)
+        .map_err(|e| err(&e))?;
+    if labels {
+        chart
+            .configure_mesh()
+            .disable_mesh()
+            .x_desc("u (m, in the table plane)")
+            .y_desc("v (m)")
+            .draw()
+            .map_err(|e| err(&e))?;
+    }
+    // Runs of equal cells along a row become one rectangle.
+    let colour = |c: &Cell| match c {
+        Cell::Outside => None,
+        Cell::Free => Some(RGBColor(200, 235, 200)),
+        Cell::Occupied => Some(RGBColor(225, 120, 110)),
+        Cell::Unknown => Some(RGBColor(190, 190, 190)),
     };
-    for (k, cell) in map.cells.iter().enumerate() {
-        let colour = match cell {
-            Cell::Outside => continue,
-            Cell::Free => [200, 235, 200],
-            Cell::Occupied => [225, 120, 110],
-            Cell::Unknown => [190, 190, 190],
-        };
-        let (i, j) = (k % map.nx, k / map.nx);
-        for dy in 0..SCALE {
-            for dx in 0..SCALE {
-                img.put_pixel(
-                    (i * SCALE + dx) as u32,
-                    (h - 1 - (j * SCALE + dy)) as u32,
-                    image::Rgb(colour),
-                );
+    let r = map.resolution;
+    let mut cells = Vec::new();
+    for j in 0..map.ny {
+        let mut i = 0;
+        while i < map.nx {
+            let c = &map.cells[j * map.nx + i];
+            let mut end = i + 1;
+            while end < map.nx && map.cells[j * map.nx + end] == *c {
+                end += 1;
             }
+            if let Some(col) = colour(c) {
+                cells.push(Rectangle::new(
+                    [
+                        (x0 + i as f64 * r, y0 + j as f64 * r),
+                        (x0 + end as f64 * r, y0 + (j + 1) as f64 * r),
+                    ],
+                    col.filled(),
+                ));
+            }
+            i = end;
         }
     }
-    let line = |img: &mut image::RgbImage, a: Vec2, b: Vec2, colour: [u8; 3]| {
-        let (pa, pb) = (px(a), px(b));
-        let n = ((pb.0 - pa.0).abs().max((pb.1 - pa.1).abs()).ceil() as usize).max(1);
-        for s in 0..=n {
-            let f = s as f64 / n as f64;
-            let (x, y) = (pa.0 + (pb.0 - pa.0) * f, pa.1 + (pb.1 - pa.1) * f);
-            if x >= 0.0 && y >= 0.0 && (x as usize) < w && (y as usize) < h {
-                img.put_pixel(x as u32, y as u32, image::Rgb(colour));
-            }
-        }
-    };
-    let mut svg = format!(
-        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{w}\" height=\"{h}\" viewBox=\"0 0 {w} {h}\">\n<rect width=\"{w}\" height=\"{h}\" fill=\"white\"/>\n"
-    );
-    let poly = |svg: &mut String,
-                img: &mut image::RgbImage,
-                pts: &[Vec3],
-                fill: &str,
-                stroke: [u8; 3]| {
-        let q: Vec<Vec2> = pts.iter().map(|p| map.to_plane(*p)).collect();
-        let coords: Vec<String> = q
+    chart.draw_series(cells).map_err(|e| err(&e))?;
+    let outline = |pts: &[Vec3]| -> Vec<(f64, f64)> {
+        let mut q: Vec<(f64, f64)> = pts
             .iter()
             .map(|p| {
-                let (x, y) = px(*p);
-                format!("{x:.1},{y:.1}")
+                let v = map.to_plane(*p);
+                (v.x, v.y)
             })
             .collect();
-        svg.push_str(&format!(
-            "<polygon points=\"{}\" fill=\"{fill}\" stroke=\"rgb({},{},{})\" stroke-width=\"2\"/>\n",
-            coords.join(" "),
-            stroke[0],
-            stroke[1],
-            stroke[2]
-        ));
-        for i in 0..q.len() {
-            line(img, q[i], q[(i + 1) % q.len()], stroke);
+        if let Some(first) = q.first().copied() {
+            q.push(first);
         }
+        q
     };
-    poly(
-        &mut svg,
-        &mut img,
-        &t.table.hull,
-        "rgb(200,235,200)",
-        [60, 60, 60],
-    );
-    for (n, o) in t.objects.iter().enumerate() {
-        poly(
-            &mut svg,
-            &mut img,
-            &o.footprint,
-            "rgb(225,120,110)",
-            [150, 30, 30],
-        );
+    let mut lines = vec![PathElement::new(
+        outline(&t.table.hull),
+        RGBColor(60, 60, 60).stroke_width(2),
+    )];
+    for o in &t.objects {
+        lines.push(PathElement::new(
+            outline(&o.footprint),
+            RGBColor(150, 30, 30).stroke_width(2),
+        ));
         let b = o.obb;
         let corner = |sx: f64, sy: f64| {
             b.center + b.axes[0] * (sx * b.half_extents.x) + b.axes[1] * (sy * b.half_extents.y)
         };
-        let rect = [
-            corner(-1.0, -1.0),
-            corner(1.0, -1.0),
-            corner(1.0, 1.0),
-            corner(-1.0, 1.0),
-        ];
-        poly(&mut svg, &mut img, &rect, "none", [40, 40, 40]);
-        let (x, y) = px(map.to_plane(o.centroid));
-        svg.push_str(&format!("<text x=\"{x:.1}\" y=\"{y:.1}\" font-size=\"12\" font-family=\"sans-serif\">{}</text>\n", n + 1));
+        lines.push(PathElement::new(
+            outline(&[
+                corner(-1.0, -1.0),
+                corner(1.0, -1.0),
+                corner(1.0, 1.0),
+                corner(-1.0, 1.0),
+            ]),
+            RGBColor(40, 40, 40).stroke_width(1),
+        ));
     }
+    chart.draw_series(lines).map_err(|e| err(&e))?;
     if let Some((p, size)) = placement {
         let f = p.world_from_footprint;
         let (x, y) = (size[0] / 2.0, size[1] / 2.0);
-        let rect = [
+        let rect = outline(&[
             f * Vec3::new(-x, -y, 0.0),
             f * Vec3::new(x, -y, 0.0),
             f * Vec3::new(x, y, 0.0),
             f * Vec3::new(-x, y, 0.0),
-        ];
-        poly(&mut svg, &mut img, &rect, "rgb(120,160,240)", [20, 40, 160]);
+        ]);
+        chart
+            .draw_series([
+                Polygon::new(rect.clone(), RGBColor(120, 160, 240).filled()),
+            ])
+            .map_err(|e| err(&e))?;
+        chart
+            .draw_series([PathElement::new(rect, RGBColor(20, 40, 160).stroke_width(2))])
+            .map_err(|e| err(&e))?;
     }
-    svg.push_str("</svg>\n");
-    std::fs::write(dir.join("top.svg"), svg).context("cannot write top.svg")?;
-    img.save(dir.join("top.png"))
-        .context("cannot write top.png")?;
+    if labels {
+        chart
+            .draw_series(t.objects.iter().enumerate().map(|(n, o)| {
+                let c = map.to_plane(o.centroid);
+                Text::new(format!("{}", n + 1), (c.x, c.y), ("sans-serif", 13))
+            }))
+            .map_err(|e| err(&e))?;
+    }
+    root.present().map_err(|e| err(&e))?;
+    Ok(())
+}
+
+/// `perceive --report DIR`: the top view (top.svg, top.png), the labelled frame
+/// (frame.png) and index.html with the numbers.
+fn write_report(
+    dir: &Path,
+    t: &Tabletop,
+    map: &FreeSpaceMap,
+    placement: Option<(Placement, &[f64])>,
+    frame: Option<(&PointCloud, Option<&[[u8; 3]]>)>,
+    json: &serde_json::Value,
+) -> Result<()> {
+    let mut report = crate::report::Report::create(dir, "tabula perceive")?;
+    let mut s = crate::report::Section::new("The table, its objects and free space");
+    s.number("objects", t.objects.len())
+        .number("objects cut by the frame's edge", t.partial.len())
+        .number("table area seen (m²)", format!("{:.3}", t.table.area))
+        .number("free area (m²)", format!("{:.3}", map.free_area()));
+    if let Some((p, size)) = placement {
+        s.number(
+            "free spot",
+            format!(
+                "{:.2} × {:.2} m footprint at ({:.3}, {:.3}, {:.3}), turned {:.0}°, {:.0} mm clear",
+                size[0],
+                size[1],
+                p.position.x,
+                p.position.y,
+                p.position.z,
+                p.yaw.to_degrees(),
+                p.clearance * 1e3
+            ),
+        );
+    }
+    let (svg, png) = top_view(t, map, placement)?;
+    std::fs::write(dir.join("top.svg"), &svg).context("cannot write top.svg")?;
+    png.save(dir.join("top.png")).context("cannot write top.png")?;
+    s.figures.push(crate::report::Figure {
+        file: "top.svg".into(),
+        caption: "Top view: free (green), objects (red), unseen (grey), boxes, the free spot (blue)"
+            .into(),
+    });
+    if let Some((cloud, colors)) = frame
+        && cloud.is_organized()
+    {
+        write_frame_image(dir, cloud, colors, t)?;
+        s.figures.push(crate::report::Figure {
+            file: "frame.png".into(),
+            caption: "The frame: the support green, each object in its own colour".into(),
+        });
+    }
+    report.sections.push(s);
+    report.finish(json)?;
     Ok(())
 }
 

@@ -1,6 +1,7 @@
 //! `tabula place` and `tabula bench place`: placing an unknown held object stably
 //! (seed 000) in the simulator, judged by its physics.
 
+use crate::report::{Recorded, Recording, Report, Section};
 use crate::tasks::{TaskRunArgs, load_params, scene_robot};
 use anyhow::Result;
 use serde::Serialize;
@@ -52,13 +53,16 @@ pub fn place_in(
     request: &PlaceRequest,
     params: &PlaceParams,
     seed: u64,
-) -> Result<(PlaceJson, SimWorld)> {
+    record: bool,
+) -> Result<(PlaceJson, SimWorld, Option<Recorded>)> {
     let robot_name = scene_robot(&world, robot)?;
     let robot = {
         let r = world.robot(&robot_name)?;
         tabula_robot::robots::NamedRobot::new(r.model.clone(), r.description.clone(), &robot_name)
     };
+    let mut recording = Recording::new(record);
     let (outcome, verdict, world) = run_place_judged(world, &robot_name, seed, |driver| {
+        recording.start(driver);
         let out = place(driver, &robot, request, params);
         let planned = out.report.planned_world_from_tool.and_then(|p| {
             let q = Quat::from_xyzw(p[3], p[4], p[5], p[6]);
@@ -74,6 +78,7 @@ pub fn place_in(
         });
         (out, planned)
     })?;
+    let recorded = recording.finish(&world);
     let error = outcome.error.as_ref().map(|e| TypedError {
         kind: e.kind().into(),
         message: e.to_string(),
@@ -94,6 +99,7 @@ pub fn place_in(
             verdict,
         },
         world,
+        recorded,
     ))
 }
 
@@ -109,8 +115,115 @@ pub fn run(a: PlaceArgs) -> Result<()> {
             Some(a.arm.clone())
         },
     };
-    let (out, world) = place_in(world, Some(&robot), &request, &params, a.run.seed)?;
-    a.run.finish(&world, &out, out.success, print_summary)
+    let (out, world, recorded) = place_in(
+        world,
+        Some(&robot),
+        &request,
+        &params,
+        a.run.seed,
+        a.run.recording(),
+    )?;
+    a.run.finish(&world, &out, out.success, print_summary, |report, out| {
+        report.title = "tabula place".into();
+        let section = report_section(report, out, &params, recorded.as_ref())?;
+        report.sections.push(section);
+        Ok(())
+    })
+}
+
+/// The report's part for a placement: the verdict, the scanned model and its stable
+/// poses, time per phase, the replay and pictures of the release.
+pub fn report_section(
+    report: &mut Report,
+    out: &PlaceJson,
+    params: &PlaceParams,
+    recorded: Option<&Recorded>,
+) -> Result<Section> {
+    let r = &out.report;
+    let v = &out.verdict;
+    let mut s = Section::new("Placing an unknown object (seed 000)");
+    s.text(format!(
+        "{}: `{}` rests on {}, {:.1}° from the planned pose, moved {:.1} mm after release.",
+        if out.success { "Placed" } else { "Failed" },
+        v.object,
+        v.surface.as_deref().unwrap_or("nothing"),
+        v.orientation_error_deg,
+        v.moved_after_release_m * 1e3
+    ));
+    if let Some(e) = &out.error {
+        s.text(format!("Error ({}): {}", e.kind, e.message));
+    }
+    s.number("success", out.success)
+        .number("arm", r.arm.as_deref().unwrap_or("-"))
+        .number("decision CPU (ms)", format!("{:.1}", out.decision_ms))
+        .number("scan processing CPU (ms)", format!("{:.1}", r.scan_cpu_ms))
+        .number("stable poses found", r.poses_found)
+        .number("surfaces found", r.surfaces_found)
+        .number("spots tried", r.candidates_tried)
+        .number(
+            "orientation error (°)",
+            format!("{:.2}", v.orientation_error_deg),
+        )
+        .number("furniture contacts", v.furniture_contacts.len());
+    if let Some(m) = &r.model {
+        s.number(
+            "scanned model",
+            format!(
+                "{} points from {} views, {:.0} × {:.0} × {:.0} mm, hull {:.1} cm³",
+                m.points,
+                m.views,
+                m.size[0] * 1e3,
+                m.size[1] * 1e3,
+                m.size[2] * 1e3,
+                m.hull_volume_m3 * 1e6
+            ),
+        );
+    }
+    s.log = r.rejected.iter().map(|w| format!("rejected: {w}")).collect();
+    if !r.model_points.is_empty()
+        && let Ok(poses) = tabula_tasks::stable::of_cloud(&r.model_points, &params.stable)
+        && !poses.poses.is_empty()
+    {
+        let bars: Vec<(String, f64)> = poses
+            .poses
+            .iter()
+            .take(12)
+            .map(|p| {
+                let chosen = out
+                    .stable_pose
+                    .as_ref()
+                    .is_some_and(|c| c.normal().dot(p.normal()) > 0.999);
+                (
+                    format!(
+                        "({:+.2} {:+.2} {:+.2}) margin {:.0} mm, {:.0}°{}",
+                        p.support_normal[0],
+                        p.support_normal[1],
+                        p.support_normal[2],
+                        p.margin_m * 1e3,
+                        p.topple_deg,
+                        if chosen { " — placed" } else { "" }
+                    ),
+                    100.0 * p.probability,
+                )
+            })
+            .collect();
+        let svg = crate::plots::bars(
+            "Stable poses of the scanned object (support normal in the hand)",
+            "landing probability (%)",
+            &bars,
+        )?;
+        let fig = report.svg(
+            "stable-poses",
+            "Stable poses of the scanned model: probability, stability margin, topple tilt",
+            &svg,
+        )?;
+        s.figures.push(fig);
+    }
+    crate::tasks::phase_plot(report, &mut s, &out.phases)?;
+    if let Some(rec) = recorded {
+        report.recorded(&mut s, "place", rec)?;
+    }
+    Ok(s)
 }
 
 fn print_summary(out: &PlaceJson) {
@@ -272,7 +385,7 @@ pub fn bench(
             let request = PlaceRequest {
                 arm: Some(task.arm.clone()),
             };
-            let (out, _) = place_in(world, None, &request, &params, s)?;
+            let (out, _, _) = place_in(world, None, &request, &params, s, false)?;
             let cause = if out.success {
                 None
             } else if let Some(e) = &out.error {

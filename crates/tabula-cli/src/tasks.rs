@@ -1,5 +1,6 @@
 //! `tabula pick-place`: the task layer run in the simulator, judged by its physics.
 
+use crate::report::{Recorded, Recording, Report, Section};
 use anyhow::{Context, Result, bail};
 use clap::Args;
 use serde::Serialize;
@@ -30,14 +31,26 @@ pub struct TaskRunArgs {
     /// Write the final world as a scene file.
     #[arg(long)]
     pub save_scene: Option<PathBuf>,
-    /// Write a report (run.json) into this folder.
+    /// Write a report into this folder: index.html (numbers, pictures of every grasp
+    /// and release, plots, a 3D replay) and run.json.
     #[arg(long)]
     pub report: Option<PathBuf>,
 }
 
 impl TaskRunArgs {
-    /// Writes the world afterwards (`--save-scene`) and the run's numbers (`--report`).
-    pub fn save(&self, world: &SimWorld, out: &impl Serialize) -> Result<()> {
+    /// Records the run when a report was asked for.
+    pub fn recording(&self) -> bool {
+        self.report.is_some()
+    }
+
+    /// Writes the world afterwards (`--save-scene`) and the report (`--report`: the
+    /// sections `sections` adds, and the run's numbers as run.json).
+    pub fn save<T: Serialize>(
+        &self,
+        world: &SimWorld,
+        out: &T,
+        sections: impl FnOnce(&mut Report, &T) -> Result<()>,
+    ) -> Result<()> {
         if let Some(path) = &self.save_scene {
             let text = world
                 .to_scene()
@@ -47,9 +60,10 @@ impl TaskRunArgs {
                 .with_context(|| format!("cannot write {}", path.display()))?;
         }
         if let Some(dir) = &self.report {
-            std::fs::create_dir_all(dir)
-                .with_context(|| format!("cannot create {}", dir.display()))?;
-            std::fs::write(dir.join("run.json"), serde_json::to_string_pretty(out)?)?;
+            let mut report = Report::create(dir, "tabula")?;
+            sections(&mut report, out)?;
+            let page = report.finish(out)?;
+            eprintln!("report: {}", page.display());
         }
         Ok(())
     }
@@ -62,8 +76,9 @@ impl TaskRunArgs {
         out: &T,
         success: bool,
         summary: impl FnOnce(&T),
+        sections: impl FnOnce(&mut Report, &T) -> Result<()>,
     ) -> Result<()> {
-        self.save(world, out)?;
+        self.save(world, out, sections)?;
         if self.json {
             println!("{}", serde_json::to_string_pretty(out)?);
         } else {
@@ -177,9 +192,81 @@ pub fn run_pick_place(a: &PickPlaceArgs) -> Result<PickPlaceJson> {
         pick,
         place,
     };
-    let (out, world) = pick_place_in(world, a.run.robot.as_deref(), &request, &params, a.run.seed)?;
-    a.run.save(&world, &out)?;
+    let (out, world, recorded) = pick_place_in(
+        world,
+        a.run.robot.as_deref(),
+        &request,
+        &params,
+        a.run.seed,
+        a.run.recording(),
+    )?;
+    a.run.save(&world, &out, |report, out| {
+        report.title = "tabula pick-place".into();
+        let section = pick_place_section(report, out, recorded.as_ref())?;
+        report.sections.push(section);
+        Ok(())
+    })?;
     Ok(out)
+}
+
+/// The report's part for a pick and place: the verdict, the phases, the replay.
+pub fn pick_place_section(
+    report: &mut Report,
+    out: &PickPlaceJson,
+    recorded: Option<&Recorded>,
+) -> Result<Section> {
+    let r = &out.report;
+    let v = &out.verdict;
+    let mut s = Section::new("Pick and place by coordinates (seed 001)");
+    s.text(format!(
+        "{}: arm {}, {} grasp; `{}` ended {:.1} cm from the target, tilted {:.1}°.",
+        if out.success { "Success" } else { "Failed" },
+        r.arm.as_deref().unwrap_or("-"),
+        r.grasp.map_or("-".into(), |g| format!("{g:?}").to_lowercase()),
+        v.object,
+        v.target_error * 100.0,
+        v.tilt.to_degrees()
+    ));
+    if let Some(e) = &out.error_message {
+        s.text(format!("Error: {e}"));
+    }
+    s.number("success", out.success)
+        .number("arm", r.arm.as_deref().unwrap_or("-"))
+        .number("decision CPU (ms)", format!("{:.1}", r.decision_cpu_ms))
+        .number("grasp candidates tried", r.candidates_tried)
+        .number("target error (cm)", format!("{:.2}", v.target_error * 100.0))
+        .number("tilt (°)", format!("{:.2}", v.tilt.to_degrees()))
+        .number("furniture contacts", v.furniture_contacts.len());
+    s.log = r.rejected.iter().map(|w| format!("rejected: {w}")).collect();
+    phase_plot(report, &mut s, &r.phases)?;
+    if let Some(rec) = recorded {
+        report.recorded(&mut s, "pick-place", rec)?;
+    }
+    Ok(s)
+}
+
+/// Time per phase as bars (wall ms; planning CPU beside motions).
+pub fn phase_plot(
+    report: &mut Report,
+    section: &mut Section,
+    phases: &[tabula_tasks::pick_place::Phase],
+) -> Result<()> {
+    if phases.is_empty() {
+        return Ok(());
+    }
+    let bars: Vec<(String, f64)> = phases
+        .iter()
+        .map(|p| {
+            (
+                format!("{}{}", p.name, if p.ok { "" } else { " (failed)" }),
+                p.ms,
+            )
+        })
+        .collect();
+    let svg = crate::plots::bars("Time per phase", "ms (wall, simulated motion included)", &bars)?;
+    let fig = report.svg("phases", "Time per phase", &svg)?;
+    section.figures.push(fig);
+    Ok(())
 }
 
 /// A pick and place in `world`, judged by its physics; returns the world afterwards.
@@ -189,20 +276,26 @@ pub fn pick_place_in(
     request: &PickPlaceRequest,
     params: &PickPlaceParams,
     seed: u64,
-) -> Result<(PickPlaceJson, SimWorld)> {
+    record: bool,
+) -> Result<(PickPlaceJson, SimWorld, Option<Recorded>)> {
     let robot_name = scene_robot(&world, robot)?;
     let robot = {
         let r = world.robot(&robot_name)?;
         tabula_robot::robots::NamedRobot::new(r.model.clone(), r.description.clone(), &robot_name)
     };
+    let mut recording = Recording::new(record);
     let (outcome, mut verdict, world) = run_judged(
         world,
         &robot_name,
         request.pick,
         request.place.truncate(),
         seed,
-        |driver| pick_place(driver, &robot, request, params),
+        |driver| {
+            recording.start(driver);
+            pick_place(driver, &robot, request, params)
+        },
     )?;
+    let recorded = recording.finish(&world);
     verdict.success &= outcome.error.is_none();
     Ok((
         PickPlaceJson {
@@ -214,6 +307,7 @@ pub fn pick_place_in(
             verdict,
         },
         world,
+        recorded,
     ))
 }
 

@@ -18,9 +18,9 @@ pub struct SimDriver {
     /// Seed of the camera noise; each capture uses the next one.
     noise_seed: u64,
     /// Called after every physics step of a command (e.g. to record a replay or watch
-    /// for contacts); gets the world after the step.
+    /// for contacts), in the order they were added; each gets the world after the step.
     #[allow(clippy::type_complexity)]
-    observer: Option<Box<dyn FnMut(&SimWorld) + Send>>,
+    observers: Vec<Box<dyn FnMut(&SimWorld) + Send>>,
 }
 
 impl From<SimError> for DriverError {
@@ -41,7 +41,7 @@ impl SimDriver {
             world,
             robot: robot.into(),
             noise_seed,
-            observer: None,
+            observers: Vec::new(),
         })
     }
 
@@ -50,9 +50,10 @@ impl SimDriver {
         &self.robot
     }
 
-    /// Watches every physics step of the commands that follow.
+    /// Watches every physics step of the commands that follow, beside the observers
+    /// already watching (a judge's contact watch and a replay recorder, say).
     pub fn observe(&mut self, observer: impl FnMut(&SimWorld) + Send + 'static) {
-        self.observer = Some(Box::new(observer));
+        self.observers.push(Box::new(observer));
     }
 
     /// Runs `f` on the world, then lets the observer see it.
@@ -61,7 +62,7 @@ impl SimDriver {
         f: impl FnOnce(&mut SimWorld, &str) -> Result<T, SimError>,
     ) -> Result<T, DriverError> {
         let out = f(&mut self.world, &self.robot);
-        if let Some(obs) = &mut self.observer {
+        for obs in &mut self.observers {
             obs(&self.world);
         }
         Ok(out?)
@@ -105,7 +106,7 @@ impl Cameras for SimDriver {
 impl Arms for SimDriver {
     fn execute(&mut self, trajectory: &JointTrajectory) -> Result<(), DriverError> {
         trajectory.validate()?;
-        if self.observer.is_none() {
+        if self.observers.is_empty() {
             return self.run(|w, r| w.follow_trajectory(r, trajectory).map(|_| ()));
         }
         // With an observer, step through the trajectory so it sees every step.

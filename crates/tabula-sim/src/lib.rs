@@ -7,6 +7,7 @@ pub mod camera;
 pub mod driver;
 pub mod generate;
 pub mod objects;
+pub mod replay;
 pub mod robot;
 pub mod scene;
 pub mod verdict;
