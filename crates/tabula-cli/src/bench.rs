@@ -111,16 +111,18 @@ pub enum BenchCommand {
     },
 }
 
-pub fn run(c: BenchCommand) -> Result<()> {
+pub fn run(c: BenchCommand, report: Option<&std::path::Path>) -> Result<()> {
     match c {
-        BenchCommand::Perception { scenes, reps, json } => perception(scenes, reps.max(1), json),
+        BenchCommand::Perception { scenes, reps, json } => {
+            perception(scenes, reps.max(1), json, report)
+        }
         BenchCommand::Frames {
             clouds,
             reps,
             layout,
             json,
-        } => frames(&clouds, reps.max(1), &layout, json),
-        BenchCommand::PickPlace { variants, json } => pick_place(variants, json),
+        } => frames(&clouds, reps.max(1), &layout, json, report),
+        BenchCommand::PickPlace { variants, json } => pick_place(variants, json, report),
         BenchCommand::Clear {
             suite,
             scenes,
@@ -135,6 +137,7 @@ pub fn run(c: BenchCommand) -> Result<()> {
             params.as_deref(),
             save_failures.as_deref(),
             json,
+            report,
         ),
         BenchCommand::Place {
             suite,
@@ -150,8 +153,11 @@ pub fn run(c: BenchCommand) -> Result<()> {
             params.as_deref(),
             save_failures.as_deref(),
             json,
+            report,
         ),
-        BenchCommand::StablePoses { dir, reps, json } => crate::stable::bench(&dir, reps, json),
+        BenchCommand::StablePoses { dir, reps, json } => {
+            crate::stable::bench(&dir, reps, json, report)
+        }
     }
 }
 
@@ -167,12 +173,14 @@ struct PickPlaceRow {
 }
 
 /// Runs the generated shelf tasks (both cores, one task each) and prints a table.
-fn pick_place(variants: u64, json: bool) -> Result<()> {
+fn pick_place(variants: u64, json: bool, report: Option<&std::path::Path>) -> Result<()> {
     use rayon::prelude::*;
     use tabula_tasks::pick_place::{PickPlaceParams, PickPlaceRequest};
+    let progress = crate::progress::steps(variants, "tasks");
     let rows: Vec<Result<PickPlaceRow>> = (1..=variants)
         .into_par_iter()
         .map(|seed| {
+            let _tick = crate::progress::Tick(&progress);
             let task = tabula_sim::generate::golem_shelf_task(seed);
             let scene = tabula_sim::Scene::parse(&task.scene, "generated")?;
             let world = tabula_sim::SimWorld::from_scene(&scene, Default::default())?;
@@ -207,6 +215,7 @@ fn pick_place(variants: u64, json: bool) -> Result<()> {
             })
         })
         .collect();
+    progress.finish_and_clear();
     let rows: Vec<PickPlaceRow> = rows.into_iter().collect::<Result<_>>()?;
     let ok = rows.iter().filter(|r| r.success).count();
     let decisions: Vec<f64> = rows
@@ -214,6 +223,31 @@ fn pick_place(variants: u64, json: bool) -> Result<()> {
         .filter(|r| r.success)
         .map(|r| r.decision_cpu_ms)
         .collect();
+    if let Some(dir) = report {
+        let page = crate::report::bench_report(
+            dir,
+            crate::report::BenchSummary {
+                title: "Pick and place by coordinates (seed 001's integral test)",
+                command: format!("tabula bench pick-place --variants {variants}"),
+                numbers: vec![
+                    ("tasks".into(), rows.len().to_string()),
+                    ("placed (physics)".into(), ok.to_string()),
+                ],
+                classes: (
+                    "target",
+                    crate::report::per_class(rows.iter().map(|r| (r.target.as_str(), r.success))),
+                ),
+                distributions: vec![(
+                    "Decision CPU per task (successful tasks)",
+                    "ms",
+                    decisions.clone(),
+                )],
+                bars: Vec::new(),
+            },
+            &rows,
+        )?;
+        eprintln!("report: {}", page.display());
+    }
     if json {
         println!(
             "{}",
@@ -306,7 +340,13 @@ impl Timer {
 
 /// `tabula bench frames`: framing (support search when the file gives no pose) and
 /// the whole pipeline, timed together, on each file organized and unorganized.
-fn frames(clouds: &[std::path::PathBuf], reps: usize, layout: &str, json: bool) -> Result<()> {
+fn frames(
+    clouds: &[std::path::PathBuf],
+    reps: usize,
+    layout: &str,
+    json: bool,
+    report: Option<&std::path::Path>,
+) -> Result<()> {
     if !["both", "organized", "unorganized"].contains(&layout) {
         anyhow::bail!("--layout is both, organized or unorganized, not `{layout}`");
     }
@@ -355,6 +395,40 @@ fn frames(clouds: &[std::path::PathBuf], reps: usize, layout: &str, json: bool) 
                 "stages_ms": t.times,
             }));
         }
+    }
+    if let Some(dir) = report {
+        let bars = |key: &str| -> Vec<(String, f64)> {
+            rows.iter()
+                .map(|r| {
+                    (
+                        format!(
+                            "{} ({})",
+                            std::path::Path::new(r["file"].as_str().unwrap_or(""))
+                                .file_name()
+                                .map_or(String::new(), |f| f.to_string_lossy().to_string()),
+                            r["layout"].as_str().unwrap_or("")
+                        ),
+                        r[key].as_f64().unwrap_or(f64::NAN),
+                    )
+                })
+                .collect()
+        };
+        let page = crate::report::bench_report(
+            dir,
+            crate::report::BenchSummary {
+                title: "Perception on sensor frames",
+                command: format!("tabula bench frames --layout {layout} --reps {reps} --cloud …"),
+                numbers: vec![("frames".into(), clouds.len().to_string())],
+                classes: ("", Vec::new()),
+                distributions: Vec::new(),
+                bars: vec![
+                    ("Pipeline CPU per frame (1 thread, median)", "ms", bars("cpu_ms")),
+                    ("Pipeline wall time per frame (2 threads, median)", "ms", bars("wall_ms")),
+                ],
+            },
+            &rows,
+        )?;
+        eprintln!("report: {}", page.display());
     }
     if json {
         println!("{}", serde_json::to_string_pretty(&rows)?);
@@ -414,7 +488,12 @@ fn quality(f: &Frame, params: &TabletopParams) -> Result<Score> {
     ))
 }
 
-fn perception(scenes: u64, reps: usize, json: bool) -> Result<()> {
+fn perception(
+    scenes: u64,
+    reps: usize,
+    json: bool,
+    report: Option<&std::path::Path>,
+) -> Result<()> {
     let timer = Timer::new(reps)?;
     let params = TabletopParams::default();
     let nine = frame(0, &TabletopLayout::nine())?;
@@ -603,6 +682,40 @@ fn perception(scenes: u64, reps: usize, json: bool) -> Result<()> {
         .iter()
         .map(|s| s["table_recall"].as_f64().unwrap_or(0.0))
         .fold(1.0, f64::min);
+    if let Some(dir) = report {
+        let page = crate::report::bench_report(
+            dir,
+            crate::report::BenchSummary {
+                title: "Perception stages and the tabletop pipeline",
+                command: format!("tabula bench perception --scenes {scenes} --reps {reps}"),
+                numbers: vec![
+                    (
+                        "reference frame: objects with IoU > 0.8".into(),
+                        format!("{} of {}", reference.recovered, reference.objects),
+                    ),
+                    (
+                        "reference frame: table precision / recall".into(),
+                        format!("{:.4} / {:.4}", reference.table_precision, reference.table_recall),
+                    ),
+                    (
+                        "suite: objects recovered".into(),
+                        format!("{recovered} of {objects}"),
+                    ),
+                ],
+                classes: ("", Vec::new()),
+                distributions: vec![("Pipeline CPU per suite frame", "ms", cpu.clone())],
+                bars: vec![(
+                    "CPU per stage on the reference frame (1 thread, median)",
+                    "ms",
+                    rows.iter()
+                        .map(|r| (r.stage.clone(), r.cpu_ms_1_thread))
+                        .collect(),
+                )],
+            },
+            &serde_json::json!({"stages": rows, "suite": suite}),
+        )?;
+        eprintln!("report: {}", page.display());
+    }
     if json {
         println!(
             "{}",

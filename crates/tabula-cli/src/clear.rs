@@ -274,15 +274,18 @@ pub fn bench(
     params: Option<&std::path::Path>,
     save_failures: Option<&std::path::Path>,
     json: bool,
+    report: Option<&std::path::Path>,
 ) -> Result<()> {
     use rayon::prelude::*;
     use tabula_sim::generate::{ClearSuite, clearing_scene};
     let which: ClearSuite = suite.parse().map_err(|e: String| anyhow!(e))?;
     let params: ClearParams = load_params(params)?;
     params.validate()?;
+    let progress = crate::progress::steps(scenes, suite);
     let runs: Vec<Result<(BenchRow, Vec<[f64; 5]>)>> = (seed..seed.saturating_add(scenes))
         .into_par_iter()
         .map(|s| {
+            let _tick = crate::progress::Tick(&progress);
             let text = clearing_scene(which, s);
             let scene = tabula_sim::Scene::parse(&text, "generated")?;
             let world = SimWorld::from_scene(&scene, Default::default())?;
@@ -332,6 +335,7 @@ pub fn bench(
             ))
         })
         .collect();
+    progress.finish_and_clear();
     let mut rows = Vec::new();
     let mut frames: Vec<[f64; 5]> = Vec::new();
     for r in runs {
@@ -377,6 +381,67 @@ pub fn bench(
         "ik_ms": col(4).median,
         "rows": rows,
     });
+    if let Some(dir) = report {
+        let numbers = [
+            "scenes",
+            "objects",
+            "removed",
+            "completion",
+            "scenes_cleared",
+            "actions",
+            "objects_per_action",
+            "grasp_success",
+            "pushes",
+            "push_loops",
+            "collisions",
+            "disturbed",
+            "no_plan_frames",
+            "ik_backtracks",
+        ]
+        .iter()
+        .map(|k| (k.replace('_', " "), summary[*k].to_string()))
+        .collect();
+        // Completion per scene size: how many objects the table had.
+        let mut sizes: Vec<(String, usize, usize)> = Vec::new();
+        let mut by_size: std::collections::BTreeMap<usize, (usize, usize)> = Default::default();
+        for r in &rows {
+            let e = by_size.entry(r.objects).or_default();
+            e.0 += r.in_bin;
+            e.1 += r.objects;
+        }
+        for (objects, (k, n)) in by_size {
+            sizes.push((format!("{objects} objects"), k, n));
+        }
+        let page = crate::report::bench_report(
+            dir,
+            crate::report::BenchSummary {
+                title: "Clearing a cluttered table (seed 002)",
+                command: format!("tabula bench clear --suite {suite} --scenes {scenes} --seed {seed}"),
+                numbers,
+                classes: ("table size (objects in the bin)", sizes),
+                distributions: vec![
+                    (
+                        "Decision CPU per frame",
+                        "ms",
+                        frames.iter().map(|f| f[0]).collect(),
+                    ),
+                    (
+                        "Perception CPU per frame",
+                        "ms",
+                        frames.iter().map(|f| f[1]).collect(),
+                    ),
+                    (
+                        "Planning CPU per frame",
+                        "ms",
+                        frames.iter().map(|f| f[3]).collect(),
+                    ),
+                ],
+                bars: Vec::new(),
+            },
+            &summary,
+        )?;
+        eprintln!("report: {}", page.display());
+    }
     if json {
         println!("{}", serde_json::to_string_pretty(&summary)?);
         return Ok(());

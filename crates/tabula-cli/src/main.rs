@@ -55,6 +55,10 @@ enum Command {
     },
     /// Benchmarks that print the tables in BENCHMARKS.md.
     Bench {
+        /// Write a report into this folder: index.html with the numbers, success per
+        /// class and timing distributions as plots, and run.json.
+        #[arg(long, global = true)]
+        report: Option<std::path::PathBuf>,
         #[command(subcommand)]
         command: bench::BenchCommand,
     },
@@ -139,7 +143,7 @@ fn main() {
     progress::init_logging(cli.verbose);
     let result = match cli.command {
         Command::Demo { report } => demo::run(&report),
-        Command::Bench { command } => bench::run(command),
+        Command::Bench { command, report } => bench::run(command, report.as_deref()),
         Command::Clear(args) => clear::run(args),
         Command::Ik { command } => ik::run(command),
         Command::Plan(args) => plan::run(args),

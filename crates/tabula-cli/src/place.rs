@@ -349,6 +349,7 @@ pub fn bench(
     params: Option<&std::path::Path>,
     save_failures: Option<&std::path::Path>,
     json: bool,
+    report: Option<&std::path::Path>,
 ) -> Result<()> {
     use rayon::prelude::*;
     let simple = match suite {
@@ -365,9 +366,11 @@ pub fn bench(
     if let Some(d) = save_failures {
         std::fs::create_dir_all(d)?;
     }
-    let rows: Vec<Result<BenchRow>> = (seed..seed + trials)
+    let progress = crate::progress::steps(trials, suite);
+    let rows: Vec<Result<BenchRow>> = (seed..seed.saturating_add(trials))
         .into_par_iter()
         .map(|s| {
+            let _tick = crate::progress::Tick(&progress);
             let task = tabula_sim::generate::place_task(s, simple, &mesh_dir)?;
             let world = tabula_sim::Scene::parse(&task.scene, "generated")
                 .map_err(anyhow::Error::from)
@@ -435,7 +438,53 @@ pub fn bench(
     if save_failures.is_none() {
         let _ = std::fs::remove_dir_all(&mesh_dir);
     }
+    progress.finish_and_clear();
     let rows: Vec<BenchRow> = rows.into_iter().collect::<Result<_>>()?;
+    if let Some(dir) = report {
+        let n = rows.len();
+        let k = rows.iter().filter(|r| r.success).count();
+        let (lo, hi) = crate::clear::wilson(k, n);
+        let mut numbers = vec![
+            ("trials".to_string(), n.to_string()),
+            (
+                "placed (95 % interval)".to_string(),
+                format!(
+                    "{k} = {:.1} % ({:.1}–{:.1} %)",
+                    100.0 * k as f64 / n.max(1) as f64,
+                    100.0 * lo,
+                    100.0 * hi
+                ),
+            ),
+        ];
+        for r in &rows {
+            if let Some(c) = &r.cause {
+                match numbers.iter_mut().find(|(name, _)| name == &format!("failed: {c}")) {
+                    Some(e) => e.1 = (e.1.parse::<usize>().unwrap_or(0) + 1).to_string(),
+                    None => numbers.push((format!("failed: {c}"), "1".into())),
+                }
+            }
+        }
+        let page = crate::report::bench_report(
+            dir,
+            crate::report::BenchSummary {
+                title: "Placing an unknown object (seed 000)",
+                command: format!("tabula bench place --suite {suite} --trials {trials} --seed {seed}"),
+                numbers,
+                classes: (
+                    "object class",
+                    crate::report::per_class(rows.iter().map(|r| (r.object.as_str(), r.success))),
+                ),
+                distributions: vec![(
+                    "Decision CPU per task",
+                    "ms",
+                    rows.iter().map(|r| r.decision_ms).collect(),
+                )],
+                bars: Vec::new(),
+            },
+            &rows,
+        )?;
+        eprintln!("report: {}", page.display());
+    }
     if json {
         println!("{}", serde_json::to_string_pretty(&rows)?);
         return Ok(());

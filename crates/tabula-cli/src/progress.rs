@@ -25,6 +25,16 @@ pub fn steps(len: u64, prefix: &str) -> ProgressBar {
     bar
 }
 
+/// Advances a bar by one when dropped: one step per finished item of a parallel loop,
+/// however the item ends (`?` included).
+pub struct Tick<'a>(pub &'a ProgressBar);
+
+impl Drop for Tick<'_> {
+    fn drop(&mut self) {
+        self.0.inc(1);
+    }
+}
+
 /// Logs behind `-v`: warnings by default, then info, debug, trace; on stderr.
 pub fn init_logging(verbosity: u8) {
     let level = match verbosity {

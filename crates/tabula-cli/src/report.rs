@@ -258,6 +258,70 @@ figure img{width:100%;border:1px solid #ccd;background:#fff}figcaption{font-size
 .hint{font-size:.8em;color:#778;margin:0}pre{background:#f5f6f8;padding:.6em;overflow-x:auto;font-size:.85em}\
 #selftest{display:none}footer{margin-top:2em;font-size:.8em;color:#667}";
 
+/// What a benchmark reports: headline numbers, success per class (name, successes,
+/// trials), timing distributions (caption, unit, samples), and its rows as run.json.
+pub struct BenchSummary<'a> {
+    pub title: &'a str,
+    pub command: String,
+    pub numbers: Vec<(String, String)>,
+    pub classes: (&'a str, Vec<(String, usize, usize)>),
+    pub distributions: Vec<(&'a str, &'a str, Vec<f64>)>,
+    /// Bar charts (caption, unit, bars): CPU time per stage or per object, say.
+    pub bars: Vec<(&'a str, &'a str, Vec<(String, f64)>)>,
+}
+
+/// Writes a benchmark's report into `dir`.
+pub fn bench_report(dir: &Path, b: BenchSummary<'_>, run: &impl Serialize) -> Result<PathBuf> {
+    let mut report = Report::create(dir, b.title)?;
+    let mut s = Section::new(b.title);
+    s.text(format!("Command: {}", b.command));
+    s.numbers = b.numbers;
+    let (class_name, classes) = &b.classes;
+    if !classes.is_empty() {
+        let bars: Vec<(String, f64)> = classes
+            .iter()
+            .map(|(name, k, n)| {
+                (
+                    format!("{name} ({k} of {n})"),
+                    100.0 * *k as f64 / (*n).max(1) as f64,
+                )
+            })
+            .collect();
+        let title = format!("Success per {class_name}");
+        let svg = crate::plots::bars(&title, "success (%)", &bars)?;
+        let fig = report.svg("classes", &title, &svg)?;
+        s.figures.push(fig);
+    }
+    for (caption, unit, bars) in &b.bars {
+        let svg = crate::plots::bars(caption, unit, bars)?;
+        let fig = report.svg(caption, caption, &svg)?;
+        s.figures.push(fig);
+    }
+    for (caption, unit, values) in &b.distributions {
+        let bins = (values.len() as f64).sqrt().ceil().clamp(5.0, 40.0) as usize;
+        let svg = crate::plots::histogram(caption, unit, values, bins)?;
+        let fig = report.svg(caption, caption, &svg)?;
+        s.figures.push(fig);
+    }
+    report.sections.push(s);
+    report.finish(run)
+}
+
+/// Successes and trials per class, classes in first-seen order.
+pub fn per_class<'a>(items: impl Iterator<Item = (&'a str, bool)>) -> Vec<(String, usize, usize)> {
+    let mut out: Vec<(String, usize, usize)> = Vec::new();
+    for (name, ok) in items {
+        match out.iter_mut().find(|c| c.0 == name) {
+            Some(c) => {
+                c.1 += ok as usize;
+                c.2 += 1;
+            }
+            None => out.push((name.to_string(), ok as usize, 1)),
+        }
+    }
+    out
+}
+
 /// A recorded run: its replay and the pictures of its moments.
 pub type Recorded = (Replay, Vec<Moment>);
 

@@ -122,7 +122,7 @@ struct BenchRow {
 /// Writes the test objects as OBJ files into `dir` and times the stable-pose search on
 /// each (median CPU over `reps`), for the side-by-side with trimesh
 /// (`scripts/trimesh_stable_poses.py DIR`).
-pub fn bench(dir: &Path, reps: usize, json: bool) -> Result<()> {
+pub fn bench(dir: &Path, reps: usize, json: bool, report: Option<&Path>) -> Result<()> {
     std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
     let params = StableParams::default();
     let mut rows = Vec::new();
@@ -149,6 +149,25 @@ pub fn bench(dir: &Path, reps: usize, json: bool) -> Result<()> {
             most_likely_probability: ml.map(|p| p.probability),
             cpu_ms_median: times[times.len() / 2],
         });
+    }
+    if let Some(out) = report {
+        let page = crate::report::bench_report(
+            out,
+            crate::report::BenchSummary {
+                title: "Stable poses of the test objects",
+                command: format!("tabula bench stable-poses --reps {reps}"),
+                numbers: vec![("objects".into(), rows.len().to_string())],
+                classes: ("", Vec::new()),
+                distributions: Vec::new(),
+                bars: vec![(
+                    "CPU per object (median)",
+                    "ms",
+                    rows.iter().map(|r| (format!("{} ({} vertices)", r.object, r.vertices), r.cpu_ms_median)).collect(),
+                )],
+            },
+            &rows,
+        )?;
+        eprintln!("report: {}", page.display());
     }
     if json {
         println!("{}", serde_json::to_string_pretty(&rows)?);
