@@ -63,8 +63,8 @@ impl ContactWatch {
             {
                 for pair in found {
                     if !c.contains(&pair) {
-                        if std::env::var_os("TABULA_TRACE").is_some() {
-                            eprintln!(
+                        if tracing::enabled!(tracing::Level::DEBUG) {
+                            tracing::debug!(
                                 "contact at t = {:.2} s: {pair:?} at {:?}",
                                 w.time(),
                                 w.pose(&pair.0).map(|p| p.translation)
@@ -148,8 +148,8 @@ impl ClearJudge {
             if let Ok(mut c) = contacts.lock() {
                 for pair in found {
                     if !target.contains(&pair.1) && !c.contains(&pair) {
-                        if std::env::var_os("TABULA_TRACE").is_some() {
-                            eprintln!(
+                        if tracing::enabled!(tracing::Level::DEBUG) {
+                            tracing::debug!(
                                 "contact at t = {:.2} s: {pair:?} (target {target:?})",
                                 w.time()
                             );
@@ -391,10 +391,10 @@ pub fn run_place_judged<R>(
                 *r = w.pose(&obj2).ok();
             }
             if let (Some(at), Ok(now)) = (*r, w.pose(&obj2))
-                && std::env::var_os("TABULA_TRACE").is_some()
+                && tracing::enabled!(tracing::Level::DEBUG)
                 && (w.time() * 10.0).fract() < 0.01
             {
-                eprintln!(
+                tracing::debug!(
                     "t = {:.2} s: object {:.3} m from its release pose, turned {:.1}°",
                     w.time(),
                     now.translation.distance(at.translation),
@@ -427,8 +427,8 @@ pub fn run_place_judged<R>(
             };
             let c = now.translation;
             let over = c.x >= f.mins.x && c.x <= f.maxs.x && c.y >= f.mins.y && c.y <= f.maxs.y;
-            if std::env::var_os("TABULA_TRACE").is_some() {
-                eprintln!(
+            if tracing::enabled!(tracing::Level::DEBUG) {
+                tracing::debug!(
                     "verdict: `{name}` top {:.3}, object bottom {:.3}, over {over}",
                     f.maxs.z, b.mins.z
                 );

@@ -536,8 +536,8 @@ fn perceive(
 ) -> Result<(Table, Vec<SeenObject>), ClearError> {
     let top =
         extract(cloud, viewpoint, tabletop).map_err(|e| ClearError::Perception(e.to_string()))?;
-    if std::env::var_os("TABULA_TRACE").is_some() {
-        eprintln!("tabletop stages (ms): {:?}", top.times);
+    if tracing::enabled!(tracing::Level::DEBUG) {
+        tracing::debug!("tabletop stages (ms): {:?}", top.times);
     }
     let up = top.plane.normal;
     let height_at = |p: Vec2| -> f64 {
@@ -1095,8 +1095,8 @@ fn predicates(
                 let swept = collides(o, &sweep, a);
                 let gripper = solo_hits.contains(&a);
                 if swept || gripper {
-                    if std::env::var_os("TABULA_TRACE").is_some() {
-                        eprintln!(
+                    if tracing::enabled!(tracing::Level::DEBUG) {
+                        tracing::debug!(
                             "block_{} o{} o{}: swept {swept} gripper {gripper} (push {:.2} m along ({:.2}, {:.2}))",
                             DIRECTIONS[k],
                             objects[a].id,
@@ -1437,8 +1437,8 @@ pub fn clear<D: RobotDriver>(
             let perceived = perceive(&cloud, frame.world_from_camera.translation, &tabletop);
             (perceived, thread_cpu() - c0, filtered)
         });
-        if std::env::var_os("TABULA_TRACE").is_some() {
-            eprintln!(
+        if tracing::enabled!(tracing::Level::DEBUG) {
+            tracing::debug!(
                 "perception CPU {:.1} ms, of which transform + self-filter {:.1} ms",
                 perception * 1e3,
                 filtered * 1e3
@@ -1505,6 +1505,17 @@ pub fn clear<D: RobotDriver>(
         fr.planning_ms = decision_total - fr.ik_ms - chain_predicates_ms;
         fr.decision_ms = fr.perception_ms + solo_predicates_ms + decision_total;
         report.ik_backtracks += fr.ik_backtracks;
+        tracing::info!(
+            frame = frame_no,
+            objects = fr.objects,
+            decision_ms = fr.decision_ms,
+            perception_ms = fr.perception_ms,
+            predicates_ms = fr.predicates_ms,
+            planning_ms = fr.planning_ms,
+            ik_ms = fr.ik_ms,
+            plan = fr.plan.join(" "),
+            "clear: decision"
+        );
         report.frames.push(fr);
         frame_no += 1;
         let (i, kind, ik) = match chosen {
@@ -1617,6 +1628,14 @@ pub fn clear<D: RobotDriver>(
             }
         }
         watch(driver, ClearEvent::After(&record));
+        tracing::info!(
+            frame = record.frame,
+            action = record.action.as_str(),
+            object = record.object,
+            ok = record.ok,
+            error = record.error.as_deref().unwrap_or(""),
+            "clear: action"
+        );
         report.log.push(record);
     }
     let decisions: Vec<f64> = report.frames.iter().map(|f| f.decision_ms).collect();
@@ -1669,10 +1688,10 @@ fn decide(
         return Decision::NothingRemovable;
     }
     let text = problem_text(objects, g, &goal);
-    let trace = std::env::var_os("TABULA_TRACE").is_some();
+    let trace = tracing::enabled!(tracing::Level::DEBUG);
     if trace {
         for (i, o) in objects.iter().enumerate() {
-            eprintln!(
+            tracing::debug!(
                 "o{}: centre ({:.3}, {:.3}) rect {:.3} × {:.3}, bottom {:.3} top {:.3}, grasp {}",
                 o.id,
                 o.rect.center.x,
@@ -1688,7 +1707,7 @@ fn decide(
                 }
             );
         }
-        eprintln!("{text}");
+        tracing::debug!("{text}");
     }
     let Ok(problem) = tabula_pddl::parse_problem(&text, domain) else {
         return Decision::NoPlan;
@@ -1912,8 +1931,8 @@ fn first_pose_ik(
                     first.get_or_insert(sols[0].clone());
                 }
                 Err(e) => {
-                    if std::env::var_os("TABULA_TRACE").is_some() {
-                        eprintln!(
+                    if tracing::enabled!(tracing::Level::DEBUG) {
+                        tracing::debug!(
                             "IK {} o{} yaw {yaw} at ({:.3}, {:.3}, {:.3}): {e}",
                             kind.pddl(),
                             objects[i].id,
@@ -1984,9 +2003,9 @@ fn current_arm(driver: &mut impl RobotDriver, group: &MoveGroup) -> Result<Vec<f
 }
 
 fn run(driver: &mut impl RobotDriver, plan: &Plan, phase: &str) -> Result<(), ExecError> {
-    if std::env::var_os("TABULA_TRACE").is_some() {
+    if tracing::enabled!(tracing::Level::DEBUG) {
         let t = driver.joint_state().map(|s| s.stamp).unwrap_or(f64::NAN);
-        eprintln!(
+        tracing::debug!(
             "exec {phase} from t = {t:.2} s ({:.2} s)",
             plan.trajectory.duration()
         );

@@ -327,6 +327,7 @@ fn timed_phase<T>(
     } else {
         t0.elapsed().as_secs_f64() * 1e3
     };
+    tracing::info!(phase = name, ms, ok = out.is_ok(), "pick-place");
     report.phases.push(Phase {
         name: name.into(),
         ms,
@@ -410,10 +411,10 @@ fn run(
         })?;
     }
     let decision_start = thread_cpu();
-    let trace = std::env::var_os("TABULA_TRACE").is_some();
+    let trace = tracing::enabled!(tracing::Level::DEBUG);
     let mark = |what: &str| {
         if trace {
-            eprintln!("{:>9.1} ms  {what}", (thread_cpu() - decision_start) * 1e3);
+            tracing::debug!("{:>9.1} ms  {what}", (thread_cpu() - decision_start) * 1e3);
         }
     };
     // ---- The object, the target surface, the occupancy around them.
@@ -650,7 +651,7 @@ fn run(
     ) -> Result<(), DriverError>| {
         report.trajectories.push(plan.trajectory.clone());
         if trace {
-            eprintln!(
+            tracing::debug!(
                 "phase {name}: {:.2} s of motion",
                 plan.trajectory.duration()
             );

@@ -304,7 +304,7 @@ pub fn place(
         report: PlaceReport::default(),
         decision_cpu: 0.0,
         scan_cpu: 0.0,
-        trace: std::env::var_os("TABULA_TRACE").is_some(),
+        trace: tracing::enabled!(tracing::Level::DEBUG),
         template: None,
         scene_keys: Default::default(),
     };
@@ -379,7 +379,7 @@ impl Run<'_> {
 
     fn mark(&self, what: &str) {
         if self.trace {
-            eprintln!("place: {what}");
+            tracing::debug!("place: {what}");
         }
     }
 
@@ -392,6 +392,13 @@ impl Run<'_> {
         let (t0, cpu0) = (Instant::now(), self.decision_cpu);
         self.mark(&format!("phase {name}"));
         let out = f(self);
+        tracing::info!(
+            phase = name,
+            ms = t0.elapsed().as_secs_f64() * 1e3,
+            decision_cpu_ms = (self.decision_cpu - cpu0) * 1e3,
+            ok = out.is_ok(),
+            "place"
+        );
         self.report.phases.push(Phase {
             name: name.into(),
             ms: t0.elapsed().as_secs_f64() * 1e3,
@@ -657,7 +664,7 @@ impl Run<'_> {
                         (a.min(t), b.max(t))
                     },
                 );
-                eprintln!(
+                tracing::debug!(
                     "place: view of {} object points, tool-frame box {lo:.3?} – {hi:.3?}",
                     object.len()
                 );
@@ -804,7 +811,7 @@ impl Run<'_> {
                 }
             }
             if trace {
-                eprintln!("place: no carry pose: {:?}", &why[..why.len().min(4)]);
+                tracing::debug!("place: no carry pose: {:?}", &why[..why.len().min(4)]);
             }
             None
         });
@@ -904,7 +911,7 @@ impl Run<'_> {
         let search = find_surfaces(&cloud, keep.as_deref(), &p.surfaces, false);
         if self.trace {
             for t in &search.trials {
-                eprintln!(
+                tracing::debug!(
                     "place: plane of {} points at {:.2} m, tilt {:.2}: {:?} ({} points searched)",
                     t.points,
                     t.height,
@@ -1662,8 +1669,8 @@ fn forward_extent(
                 continue;
             }
             let x = shape.compute_aabb(&(base_from_world * world)).maxs.x;
-            if std::env::var_os("TABULA_TRACE").is_some() && x > 0.4 {
-                eprintln!("place: link {} reaches {x:.2} m forward", link.name);
+            if tracing::enabled!(tracing::Level::DEBUG) && x > 0.4 {
+                tracing::debug!("place: link {} reaches {x:.2} m forward", link.name);
             }
             front = front.max(x);
         }
