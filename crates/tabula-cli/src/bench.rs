@@ -422,8 +422,16 @@ fn frames(
                 classes: ("", Vec::new()),
                 distributions: Vec::new(),
                 bars: vec![
-                    ("Pipeline CPU per frame (1 thread, median)", "ms", bars("cpu_ms")),
-                    ("Pipeline wall time per frame (2 threads, median)", "ms", bars("wall_ms")),
+                    (
+                        "Pipeline CPU per frame (1 thread, median)",
+                        "ms",
+                        bars("cpu_ms"),
+                    ),
+                    (
+                        "Pipeline wall time per frame (2 threads, median)",
+                        "ms",
+                        bars("wall_ms"),
+                    ),
                 ],
             },
             &rows,
@@ -695,7 +703,10 @@ fn perception(
                     ),
                     (
                         "reference frame: table precision / recall".into(),
-                        format!("{:.4} / {:.4}", reference.table_precision, reference.table_recall),
+                        format!(
+                            "{:.4} / {:.4}",
+                            reference.table_precision, reference.table_recall
+                        ),
                     ),
                     (
                         "suite: objects recovered".into(),

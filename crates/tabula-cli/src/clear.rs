@@ -98,12 +98,13 @@ pub fn run(a: ClearArgs) -> Result<()> {
         a.run.seed,
         a.run.recording(),
     )?;
-    a.run.finish(&world, &out, out.success, print_summary, |report, out| {
-        report.title = "tabula clear".into();
-        let section = report_section(report, out, recorded.as_ref())?;
-        report.sections.push(section);
-        Ok(())
-    })
+    a.run
+        .finish(&world, &out, out.success, print_summary, |report, out| {
+            report.title = "tabula clear".into();
+            let section = report_section(report, out, recorded.as_ref())?;
+            report.sections.push(section);
+            Ok(())
+        })
 }
 
 /// The report's part for a clearing run: the metrics, the decision time per frame and
@@ -122,7 +123,10 @@ pub fn report_section(
         .number("in the bin", v.in_bin)
         .number("left on the table", v.left_on_table)
         .number("actions", r.actions)
-        .number("grasps (failed)", format!("{} ({})", r.grasps, r.failed_grasps))
+        .number(
+            "grasps (failed)",
+            format!("{} ({})", r.grasps, r.failed_grasps),
+        )
         .number("pushes", r.pushes)
         .number(
             "objects per action",
@@ -416,7 +420,9 @@ pub fn bench(
             dir,
             crate::report::BenchSummary {
                 title: "Clearing a cluttered table (seed 002)",
-                command: format!("tabula bench clear --suite {suite} --scenes {scenes} --seed {seed}"),
+                command: format!(
+                    "tabula bench clear --suite {suite} --scenes {scenes} --seed {seed}"
+                ),
                 numbers,
                 classes: ("table size (objects in the bin)", sizes),
                 distributions: vec![

@@ -73,7 +73,23 @@ pub fn run(report_dir: &Path) -> Result<()> {
     for (name, _, line) in &summary {
         overview.number(name.replace('_', " "), line);
     }
-    overview.number("wall time (s)", format!("{:.1}", t0.elapsed().as_secs_f64()));
+    overview.number(
+        "wall time (s)",
+        format!("{:.1}", t0.elapsed().as_secs_f64()),
+    );
+    // One picture per job at the top: the overview eye when the hand lets go.
+    for job in &jobs {
+        if let Some(f) = job
+            .figures
+            .iter()
+            .find(|f| f.caption.contains("lets go") && f.caption.ends_with("from overview"))
+        {
+            overview.figures.push(crate::report::Figure {
+                file: f.file.clone(),
+                caption: format!("{} — {}", job.title, f.caption),
+            });
+        }
+    }
     let mut capabilities = Section::new("What the jobs stand on");
     capabilities.text(
         "Kinematics, task planning, the simulator, perception and motion planning on their \
@@ -94,10 +110,7 @@ pub fn run(report_dir: &Path) -> Result<()> {
     for (name, _, line) in &summary {
         println!("  {:<11} {line}", name.replace('_', " "));
     }
-    println!(
-        "\nreport (pictures, plots, 3D replays): {}",
-        page.display()
-    );
+    println!("\nreport (pictures, plots, 3D replays): {}", page.display());
     Ok(())
 }
 
@@ -155,9 +168,12 @@ fn placing(report: &mut Report) -> Result<(Section, serde_json::Value, String)> 
         out.decision_ms,
     );
     println!("  {line}");
-    println!("\n  run it: cargo run --release -- place --scene scenes/pr2_holding.toml --report DIR\n");
+    println!(
+        "\n  run it: cargo run --release -- place --scene scenes/pr2_holding.toml --report DIR\n"
+    );
     let mut section = crate::place::report_section(report, &out, &params, recorded.as_ref())?;
-    section.text("Run it: cargo run --release -- place --scene scenes/pr2_holding.toml --report DIR");
+    section
+        .text("Run it: cargo run --release -- place --scene scenes/pr2_holding.toml --report DIR");
     Ok((section, serde_json::to_value(&out)?, line))
 }
 
@@ -274,7 +290,8 @@ fn perception(
     use tabula_perception::freespace::{FreeSpaceMap, FreeSpaceParams};
     use tabula_perception::{TabletopParams, extract, to_world};
     use tabula_sim::generate::{TABLE_TOP, TabletopLayout, tabletop_frame};
-    say!(log, 
+    say!(
+        log,
         "7. Perception (PCL's role): the table, its objects and its free space in that frame\n"
     );
     let t0 = Instant::now();
@@ -285,7 +302,8 @@ fn perception(
         &TabletopParams::default(),
     )?;
     let ms = t0.elapsed().as_secs_f64() * 1e3;
-    say!(log, 
+    say!(
+        log,
         "  table at {:.3} m ({} points, {:.2} m² seen), {} objects, {ms:.1} ms",
         t.table.centroid.z,
         t.table.inliers.len(),
@@ -295,7 +313,8 @@ fn perception(
     for o in &t.objects {
         let c = o.obb.center;
         let s = o.obb.half_extents * 2000.0;
-        say!(log, 
+        say!(
+            log,
             "    centre ({:.3}, {:.3}), {:.0} × {:.0} × {:.0} mm box, {} points{}",
             c.x,
             c.y,
@@ -329,14 +348,16 @@ fn perception(
     let fig = report.svg("top-view", "Top view of the table: free (green), objects (red), unseen (grey), boxes, the free spot (blue)", &svg)?;
     section.figures.push(fig);
     match spot {
-        Some(p) => say!(log, 
+        Some(p) => say!(
+            log,
             "  free: {:.2} m²; a 10 × 8 cm box with 3 cm to spare fits at ({:.3}, {:.3}), turned {:.0}°",
             map.free_area(),
             p.position.x,
             p.position.y,
             p.yaw.to_degrees()
         ),
-        None => say!(log, 
+        None => say!(
+            log,
             "  free: {:.2} m²; a 10 × 8 cm box fits nowhere",
             map.free_area()
         ),
@@ -362,14 +383,24 @@ fn perception(
         0.8,
         200,
     );
-    say!(log, 
+    say!(
+        log,
         "  nine-object frame (two touching pairs, a stack, 0.5 % outliers): {} of {} objects with IoU > 0.8, \
          table precision {:.3} recall {:.3}, {ms:.1} ms (PCL: 1.2 s)\n",
-        s.recovered, s.objects, s.table_precision, s.table_recall
+        s.recovered,
+        s.objects,
+        s.table_precision,
+        s.table_recall
     );
     section
-        .number("objects recovered (IoU > 0.8) in the nine-object frame", format!("{} of {}", s.recovered, s.objects))
-        .number("table precision / recall", format!("{:.3} / {:.3}", s.table_precision, s.table_recall))
+        .number(
+            "objects recovered (IoU > 0.8) in the nine-object frame",
+            format!("{} of {}", s.recovered, s.objects),
+        )
+        .number(
+            "table precision / recall",
+            format!("{:.3} / {:.3}", s.table_precision, s.table_recall),
+        )
         .number("pipeline time on that frame (ms, wall)", format!("{ms:.1}"));
     Ok(section)
 }
@@ -378,7 +409,10 @@ fn perception(
 fn motion(log: &mut Vec<String>) -> Result<()> {
     use tabula_motion::bench::{reach_configuration, robot_world, table_height, tabletop_world};
     use tabula_motion::{PlannerParams, WorldParams, rrt_connect, time_parameterize};
-    say!(log, "8. Motion planning (MoveIt/OMPL's role): WAM reaches over a cluttered table\n");
+    say!(
+        log,
+        "8. Motion planning (MoveIt/OMPL's role): WAM reaches over a cluttered table\n"
+    );
     let robot = robots::load("wam")?;
     let chain = Chain::new(&robot.model, &robot.default_base, &robot.default_tip)?;
     let empty = robot_world(&robot, chain, WorldParams::default())?;
@@ -402,7 +436,8 @@ fn motion(log: &mut Vec<String>) -> Result<()> {
             },
         )?;
         let traj = time_parameterize(&path.waypoints, &world.chain.velocity, &[2.0; 7], 0.01);
-        say!(log, 
+        say!(
+            log,
             "  reach {}: {} waypoints, {:.2} rad, planned in {:.2} ms, {:.2} s to execute at the joints' limits",
             k + 1,
             path.waypoints.len(),
@@ -411,7 +446,10 @@ fn motion(log: &mut Vec<String>) -> Result<()> {
             traj.duration()
         );
     }
-    say!(log, "\n  Benchmarks: `tabula motion bench --robot wam` (see BENCHMARKS.md)\n");
+    say!(
+        log,
+        "\n  Benchmarks: `tabula motion bench --robot wam` (see BENCHMARKS.md)\n"
+    );
     Ok(())
 }
 
@@ -419,7 +457,10 @@ fn motion(log: &mut Vec<String>) -> Result<()> {
 fn simulator(log: &mut Vec<String>) -> Result<tabula_sim::DepthFrame> {
     use tabula_sim::camera::{Camera, capture};
     use tabula_sim::{PhysicsParams, Scene, SimWorld};
-    say!(log, "6. Simulator (Gazebo's role): seed 002's cluttered table\n");
+    say!(
+        log,
+        "6. Simulator (Gazebo's role): seed 002's cluttered table\n"
+    );
     let mut scene = Scene::parse(
         include_str!("../../../scenes/clutter.toml"),
         "scenes/clutter.toml",
@@ -428,7 +469,8 @@ fn simulator(log: &mut Vec<String>) -> Result<tabula_sim::DepthFrame> {
     let mut world = SimWorld::from_scene(&scene, PhysicsParams::default())?;
     let t0 = Instant::now();
     let report = world.settle();
-    say!(log, 
+    say!(
+        log,
         "  settled {} objects in {} steps ({:.1} ms): all at rest = {}",
         world.object_poses().len(),
         report.steps,
@@ -438,7 +480,8 @@ fn simulator(log: &mut Vec<String>) -> Result<tabula_sim::DepthFrame> {
     let camera = Camera::from_spec(&scene.cameras[0], &world)?;
     let t0 = Instant::now();
     let frame = capture(&world, &camera, 1);
-    say!(log, 
+    say!(
+        log,
         "  overhead depth frame {}×{}: {} valid points, {:.1} ms",
         frame.width,
         frame.height,
@@ -454,7 +497,8 @@ fn simulator(log: &mut Vec<String>) -> Result<tabula_sim::DepthFrame> {
         &mut std::io::BufWriter::new(std::fs::File::create(&pcd)?),
         tabula_geom::PcdEncoding::Binary,
     )?;
-    say!(log, 
+    say!(
+        log,
         "  snapshot: {}\n  depth frame: {}\n",
         png.display(),
         pcd.display()
@@ -467,7 +511,10 @@ fn planning(log: &mut Vec<String>) -> Result<()> {
     use tabula_pddl::{
         GroundAtom, Planner, SearchMode, generator, parse_domain, parse_problem, validate,
     };
-    say!(log, "5. Task planning (seed 002): clearing a table, optimal PDDL plans in process\n");
+    say!(
+        log,
+        "5. Task planning (seed 002): clearing a table, optimal PDDL plans in process\n"
+    );
     let domain = parse_domain(include_str!("../../../pddl/tablewclear-domain.pddl"))?;
     let problem = parse_problem(include_str!("../../../pddl/thesis6-a.pddl"), &domain)?;
     let mut planner = Planner::for_table_clearing(domain.clone(), problem)?;
@@ -475,7 +522,8 @@ fn planning(log: &mut Vec<String>) -> Result<()> {
     let plan = planner.plan(SearchMode::Optimal, None)?;
     let ms = t0.elapsed().as_secs_f64() * 1e3;
     let steps: Vec<String> = plan.steps.iter().map(ToString::to_string).collect();
-    say!(log, 
+    say!(
+        log,
         "  thesis6-a (6 objects): {} actions, optimal, {ms:.2} ms",
         steps.len()
     );
@@ -499,7 +547,8 @@ fn planning(log: &mut Vec<String>) -> Result<()> {
         .map(|a| a.args.join(" "))
         .collect();
     let replanned = planner.plan(SearchMode::Optimal, None)?;
-    say!(log, 
+    say!(
+        log,
         "  {first} has no IK solution → replanned in {:.2} ms ({} dropped from the goal): {} actions, starting {}",
         t0.elapsed().as_secs_f64() * 1e3,
         if dropped.is_empty() {
@@ -519,18 +568,25 @@ fn planning(log: &mut Vec<String>) -> Result<()> {
     let mut planner = Planner::for_table_clearing(domain.clone(), big)?;
     let dropped = planner.drop_unreachable_goals(None)?;
     let plan = planner.plan(SearchMode::Optimal, None)?;
-    say!(log, 
+    say!(
+        log,
         "  a generated 40-object table: {} objects can never be removed, optimal plan of {} actions, {:.1} ms with grounding",
         dropped.len(),
         plan.steps.len(),
         t0.elapsed().as_secs_f64() * 1e3
     );
-    say!(log, "\n  Benchmarks: `tabula plan bench` (see BENCHMARKS.md)\n");
+    say!(
+        log,
+        "\n  Benchmarks: `tabula plan bench` (see BENCHMARKS.md)\n"
+    );
     Ok(())
 }
 
 fn kinematics(log: &mut Vec<String>) -> Result<()> {
-    say!(log, "4. Kinematics (seed 001): Golem-III closed-form IK, all branches\n");
+    say!(
+        log,
+        "4. Kinematics (seed 001): Golem-III closed-form IK, all branches\n"
+    );
     let golem = robots::load("golem3")?;
     let ik = Golem3Ik::new(&golem.model, ArmSide::Right, Golem3Params::default())?;
     let chain = ik.chain().clone();
@@ -551,9 +607,12 @@ fn kinematics(log: &mut Vec<String>) -> Result<()> {
     ];
     for (label, target) in &targets {
         let t = target.translation;
-        say!(log, 
+        say!(
+            log,
             "  target: {label} at ({:.3}, {:.3}, {:.3}) in torso_lift_link",
-            t.x, t.y, t.z
+            t.x,
+            t.y,
+            t.z
         );
         let t0 = Instant::now();
         let result = ik.solve(target, IkMode::Full, &seed);
@@ -569,7 +628,8 @@ fn kinematics(log: &mut Vec<String>) -> Result<()> {
     let reach = Vec3::new(0.35, -0.55, 1.0);
     let t0 = Instant::now();
     let sols = ik.solve(&Pose::from_translation(reach), IkMode::PositionOnly, &seed)?;
-    say!(log, 
+    say!(
+        log,
         "  position only ({:.2}, {:.2}, {:.2}): {:?} in {:.1} µs\n",
         reach.x,
         reach.y,
@@ -582,7 +642,10 @@ fn kinematics(log: &mut Vec<String>) -> Result<()> {
         t0.elapsed().as_secs_f64() * 1e6
     );
 
-    say!(log, "  Numeric IK on the 7-DOF WAM and the PR2 right arm (any URDF chain):");
+    say!(
+        log,
+        "  Numeric IK on the 7-DOF WAM and the PR2 right arm (any URDF chain):"
+    );
     for name in ["wam", "pr2"] {
         let robot = robots::load(name)?;
         let chain = Chain::new(&robot.model, &robot.default_base, &robot.default_tip)?;
@@ -596,7 +659,8 @@ fn kinematics(log: &mut Vec<String>) -> Result<()> {
         let target = chain.fk(&q_true)?;
         let t0 = Instant::now();
         let sols = solver.solve(&target, IkMode::Full, &chain.mid_configuration())?;
-        say!(log, 
+        say!(
+            log,
             "    {name:<4} {} → {}: solved in {:.1} µs, error {:.1e} m / {:.1e} rad",
             chain.base_link,
             chain.tip_link,
@@ -605,7 +669,8 @@ fn kinematics(log: &mut Vec<String>) -> Result<()> {
             sols[0].rotation_error
         );
     }
-    say!(log, 
+    say!(
+        log,
         "\n  Benchmarks: `tabula ik bench --robot golem3 --solver analytic --poses 10000` (see BENCHMARKS.md)\n"
     );
     Ok(())

@@ -211,7 +211,14 @@ pub fn run(a: PerceiveArgs) -> Result<()> {
     };
     if let Some(dir) = &a.report {
         let footprint = placement.flatten().zip(a.place.as_deref());
-        write_report(dir, &result, &map, footprint, Some((&cloud, colors)), &json())?;
+        write_report(
+            dir,
+            &result,
+            &map,
+            footprint,
+            Some((&cloud, colors)),
+            &json(),
+        )?;
         eprintln!("report: {}", dir.join("index.html").display());
     }
     if a.json {
@@ -557,12 +564,13 @@ fn draw_top_view<DB: plotters::prelude::DrawingBackend>(
             f * Vec3::new(-x, y, 0.0),
         ]);
         chart
-            .draw_series([
-                Polygon::new(rect.clone(), RGBColor(120, 160, 240).filled()),
-            ])
+            .draw_series([Polygon::new(rect.clone(), RGBColor(120, 160, 240).filled())])
             .map_err(|e| err(&e))?;
         chart
-            .draw_series([PathElement::new(rect, RGBColor(20, 40, 160).stroke_width(2))])
+            .draw_series([PathElement::new(
+                rect,
+                RGBColor(20, 40, 160).stroke_width(2),
+            )])
             .map_err(|e| err(&e))?;
     }
     if labels {
@@ -610,11 +618,13 @@ fn write_report(
     }
     let (svg, png) = top_view(t, map, placement)?;
     std::fs::write(dir.join("top.svg"), &svg).context("cannot write top.svg")?;
-    png.save(dir.join("top.png")).context("cannot write top.png")?;
+    png.save(dir.join("top.png"))
+        .context("cannot write top.png")?;
     s.figures.push(crate::report::Figure {
         file: "top.svg".into(),
-        caption: "Top view: free (green), objects (red), unseen (grey), boxes, the free spot (blue)"
-            .into(),
+        caption:
+            "Top view: free (green), objects (red), unseen (grey), boxes, the free spot (blue)"
+                .into(),
     });
     if let Some((cloud, colors)) = frame
         && cloud.is_organized()

@@ -123,12 +123,13 @@ pub fn run(a: PlaceArgs) -> Result<()> {
         a.run.seed,
         a.run.recording(),
     )?;
-    a.run.finish(&world, &out, out.success, print_summary, |report, out| {
-        report.title = "tabula place".into();
-        let section = report_section(report, out, &params, recorded.as_ref())?;
-        report.sections.push(section);
-        Ok(())
-    })
+    a.run
+        .finish(&world, &out, out.success, print_summary, |report, out| {
+            report.title = "tabula place".into();
+            let section = report_section(report, out, &params, recorded.as_ref())?;
+            report.sections.push(section);
+            Ok(())
+        })
 }
 
 /// The report's part for a placement: the verdict, the scanned model and its stable
@@ -179,7 +180,11 @@ pub fn report_section(
             ),
         );
     }
-    s.log = r.rejected.iter().map(|w| format!("rejected: {w}")).collect();
+    s.log = r
+        .rejected
+        .iter()
+        .map(|w| format!("rejected: {w}"))
+        .collect();
     if !r.model_points.is_empty()
         && let Ok(poses) = tabula_tasks::stable::of_cloud(&r.model_points, &params.stable)
         && !poses.poses.is_empty()
@@ -458,7 +463,10 @@ pub fn bench(
         ];
         for r in &rows {
             if let Some(c) = &r.cause {
-                match numbers.iter_mut().find(|(name, _)| name == &format!("failed: {c}")) {
+                match numbers
+                    .iter_mut()
+                    .find(|(name, _)| name == &format!("failed: {c}"))
+                {
                     Some(e) => e.1 = (e.1.parse::<usize>().unwrap_or(0) + 1).to_string(),
                     None => numbers.push((format!("failed: {c}"), "1".into())),
                 }
@@ -468,7 +476,9 @@ pub fn bench(
             dir,
             crate::report::BenchSummary {
                 title: "Placing an unknown object (seed 000)",
-                command: format!("tabula bench place --suite {suite} --trials {trials} --seed {seed}"),
+                command: format!(
+                    "tabula bench place --suite {suite} --trials {trials} --seed {seed}"
+                ),
                 numbers,
                 classes: (
                     "object class",

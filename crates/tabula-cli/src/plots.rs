@@ -140,7 +140,9 @@ pub fn stacked(
                 }))
                 .map_err(err)?
                 .label(*name)
-                .legend(move |(x, y)| Rectangle::new([(x, y - 5), (x + 12, y + 5)], colour.filled()));
+                .legend(move |(x, y)| {
+                    Rectangle::new([(x, y - 5), (x + 12, y + 5)], colour.filled())
+                });
         }
         chart
             .configure_series_labels()
@@ -238,7 +240,12 @@ mod tests {
 
     #[test]
     fn plots_are_svg_with_their_labels() {
-        let b = bars("phases", "ms", &[("scan".into(), 3.0), ("plan".into(), 1.0)]).unwrap();
+        let b = bars(
+            "phases",
+            "ms",
+            &[("scan".into(), 3.0), ("plan".into(), 1.0)],
+        )
+        .unwrap();
         assert!(b.starts_with("<svg") && b.contains("scan") && b.contains("plan"));
         let s = stacked(
             "decision",

@@ -384,7 +384,11 @@ mod tests {
         let mut s = Section::new("numbers");
         s.number("objects", 3).text("a & b");
         let fig = r
-            .svg("plot", "a plot", &crate::plots::bars("t", "ms", &[("a".into(), 1.0)]).unwrap())
+            .svg(
+                "plot",
+                "a plot",
+                &crate::plots::bars("t", "ms", &[("a".into(), 1.0)]).unwrap(),
+            )
             .unwrap();
         s.figures.push(fig);
         r.sections.push(s);

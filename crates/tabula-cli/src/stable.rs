@@ -162,7 +162,14 @@ pub fn bench(dir: &Path, reps: usize, json: bool, report: Option<&Path>) -> Resu
                 bars: vec![(
                     "CPU per object (median)",
                     "ms",
-                    rows.iter().map(|r| (format!("{} ({} vertices)", r.object, r.vertices), r.cpu_ms_median)).collect(),
+                    rows.iter()
+                        .map(|r| {
+                            (
+                                format!("{} ({} vertices)", r.object, r.vertices),
+                                r.cpu_ms_median,
+                            )
+                        })
+                        .collect(),
                 )],
             },
             &rows,

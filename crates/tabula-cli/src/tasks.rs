@@ -222,7 +222,8 @@ pub fn pick_place_section(
         "{}: arm {}, {} grasp; `{}` ended {:.1} cm from the target, tilted {:.1}°.",
         if out.success { "Success" } else { "Failed" },
         r.arm.as_deref().unwrap_or("-"),
-        r.grasp.map_or("-".into(), |g| format!("{g:?}").to_lowercase()),
+        r.grasp
+            .map_or("-".into(), |g| format!("{g:?}").to_lowercase()),
         v.object,
         v.target_error * 100.0,
         v.tilt.to_degrees()
@@ -234,10 +235,17 @@ pub fn pick_place_section(
         .number("arm", r.arm.as_deref().unwrap_or("-"))
         .number("decision CPU (ms)", format!("{:.1}", r.decision_cpu_ms))
         .number("grasp candidates tried", r.candidates_tried)
-        .number("target error (cm)", format!("{:.2}", v.target_error * 100.0))
+        .number(
+            "target error (cm)",
+            format!("{:.2}", v.target_error * 100.0),
+        )
         .number("tilt (°)", format!("{:.2}", v.tilt.to_degrees()))
         .number("furniture contacts", v.furniture_contacts.len());
-    s.log = r.rejected.iter().map(|w| format!("rejected: {w}")).collect();
+    s.log = r
+        .rejected
+        .iter()
+        .map(|w| format!("rejected: {w}"))
+        .collect();
     phase_plot(report, &mut s, &r.phases)?;
     if let Some(rec) = recorded {
         report.recorded(&mut s, "pick-place", rec)?;
@@ -263,7 +271,11 @@ pub fn phase_plot(
             )
         })
         .collect();
-    let svg = crate::plots::bars("Time per phase", "ms (wall, simulated motion included)", &bars)?;
+    let svg = crate::plots::bars(
+        "Time per phase",
+        "ms (wall, simulated motion included)",
+        &bars,
+    )?;
     let fig = report.svg("phases", "Time per phase", &svg)?;
     section.figures.push(fig);
     Ok(())

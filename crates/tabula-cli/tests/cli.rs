@@ -170,17 +170,6 @@ fn bad_input_is_one_clear_line() {
 }
 
 #[test]
-fn demo_runs() {
-    let out = tabula(&["demo"]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    assert!(String::from_utf8_lossy(&out.stdout).contains("Kinematics"));
-}
-
-#[test]
 fn bench_results_repeat_with_the_same_seed() {
     let args = [
         "ik", "bench", "--robot", "wam", "--solver", "numeric", "--poses", "100", "--seed", "9",

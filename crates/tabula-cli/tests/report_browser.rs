@@ -1,7 +1,8 @@
-//! The demo's report opened in a real browser (headless Chromium): the page loads from
-//! disk without script errors, every image and plot decodes, every 3D replay draws
-//! (its canvas shows a scene, not one flat colour) — and the same check fails on a copy
-//! of the report with a broken picture and a missing replay.
+//! `tabula demo` runs the three jobs and writes its report; the report opened in a real
+//! browser (headless Chromium): the page loads from disk without script errors, every
+//! image and plot decodes, every 3D replay draws (its canvas shows a scene, not one
+//! flat colour) — and the same check fails on a copy of the report with a broken
+//! picture and a missing replay.
 //!
 //! Needs Chromium (`apt-get install chromium`; `.ci/run` installs it and sets
 //! `TABULA_REQUIRE_BROWSER=1`, so CI fails rather than skips without it).
@@ -69,15 +70,7 @@ fn self_test(chrome: &Path, page: &Path, scratch: &Path) -> serde_json::Value {
 }
 
 #[test]
-fn the_demo_report_loads_draws_and_shows_every_image() {
-    let Some(chrome) = chromium() else {
-        assert!(
-            std::env::var_os("TABULA_REQUIRE_BROWSER").is_none(),
-            "TABULA_REQUIRE_BROWSER is set but no chromium was found"
-        );
-        eprintln!("skipped: no chromium on PATH (apt-get install chromium)");
-        return;
-    };
+fn the_demo_runs_the_three_jobs_and_its_report_loads_draws_and_shows_every_image() {
     let scratch = Path::new(env!("CARGO_TARGET_TMPDIR")).join("report-browser");
     let _ = std::fs::remove_dir_all(&scratch);
     std::fs::create_dir_all(&scratch).unwrap();
@@ -92,6 +85,36 @@ fn the_demo_report_loads_draws_and_shows_every_image() {
         "tabula demo failed: {}",
         String::from_utf8_lossy(&run.stderr)
     );
+    let stdout = String::from_utf8_lossy(&run.stdout);
+    // Outcomes are pinned by the scenario tests (tests/placing.rs, clearing.rs,
+    // pick_place.rs); here: the three jobs ran and were summarised.
+    for job in ["placing     ", "clearing    ", "pick place  "] {
+        assert!(
+            stdout.contains(job),
+            "the demo's summary lacks `{job}`:\n{stdout}"
+        );
+    }
+    assert!(stdout.contains("Kinematics") && stdout.contains("index.html"));
+    let replays = std::fs::read_dir(&report)
+        .unwrap()
+        .filter(|e| {
+            e.as_ref()
+                .unwrap()
+                .file_name()
+                .to_string_lossy()
+                .contains("replay-")
+        })
+        .count();
+    assert_eq!(replays, 3, "one replay per job");
+
+    let Some(chrome) = chromium() else {
+        assert!(
+            std::env::var_os("TABULA_REQUIRE_BROWSER").is_none(),
+            "TABULA_REQUIRE_BROWSER is set but no chromium was found"
+        );
+        eprintln!("browser part skipped: no chromium on PATH (apt-get install chromium)");
+        return;
+    };
     let page = report.join("index.html");
 
     let verdict = self_test(&chrome, &page, &scratch);
@@ -121,7 +144,11 @@ fn the_demo_report_loads_draws_and_shows_every_image() {
     for p in img.pixels().step_by(13) {
         colours.insert(p.0);
     }
-    assert!(colours.len() > 500, "a flat screenshot: {} colours", colours.len());
+    assert!(
+        colours.len() > 500,
+        "a flat screenshot: {} colours",
+        colours.len()
+    );
 
     // The check can fail: a truncated picture and a missing replay are reported.
     let broken = scratch.join("broken");
@@ -145,7 +172,10 @@ fn the_demo_report_loads_draws_and_shows_every_image() {
     let verdict = self_test(&chrome, &broken.join("index.html"), &scratch);
     assert_eq!(verdict["ok"], false, "{verdict}");
     let broken_list = verdict["broken"].to_string();
-    assert!(broken_list.contains(png_file.as_deref().unwrap()), "{verdict}");
+    assert!(
+        broken_list.contains(png_file.as_deref().unwrap()),
+        "{verdict}"
+    );
     assert!(
         verdict["replays"]
             .as_array()

@@ -178,8 +178,21 @@ pub trait BaseControl {
     fn drive_to(&mut self, x: f64, y: f64, theta: f64) -> Result<(), DriverError>;
 }
 
+/// Labels for moments of a task ("scanned the object", "pushed o3"), as a rosbag's
+/// markers: a recorder takes pictures there, a real robot's driver may log or publish
+/// them. Nothing moves; drivers that keep no record ignore them.
+pub trait Annotations {
+    fn annotate(&mut self, _label: &str) {}
+}
+
 /// Everything a task uses. Robots without a head or a base answer
 /// [`DriverError::Unsupported`].
-pub trait RobotDriver: JointStates + Cameras + Arms + Grippers + HeadControl + BaseControl {}
+pub trait RobotDriver:
+    JointStates + Cameras + Arms + Grippers + HeadControl + BaseControl + Annotations
+{
+}
 
-impl<T: JointStates + Cameras + Arms + Grippers + HeadControl + BaseControl> RobotDriver for T {}
+impl<T: JointStates + Cameras + Arms + Grippers + HeadControl + BaseControl + Annotations>
+    RobotDriver for T
+{
+}

@@ -7,8 +7,8 @@ use crate::camera::capture;
 use crate::world::{SimError, SimWorld};
 use tabula_geom::{Pose, Vec3};
 use tabula_robot::driver::{
-    Arms, BaseControl, CameraFrame, Cameras, DriverError, GripState, Grippers, HeadControl,
-    JointState, JointStates, JointTrajectory,
+    Annotations, Arms, BaseControl, CameraFrame, Cameras, DriverError, GripState, Grippers,
+    HeadControl, JointState, JointStates, JointTrajectory,
 };
 
 /// One simulated robot behind the driver traits.
@@ -184,6 +184,17 @@ impl HeadControl for SimDriver {
                 world_point,
             )
         })
+    }
+}
+
+impl Annotations for SimDriver {
+    /// Kept in the world's notes (with the simulated time) for its observers.
+    fn annotate(&mut self, label: &str) {
+        let time = self.world.time();
+        self.world.notes.push((time, label.to_string()));
+        for obs in &mut self.observers {
+            obs(&self.world);
+        }
     }
 }
 

@@ -87,6 +87,8 @@ pub struct Recorder {
     params: RecorderParams,
     eyes: Vec<Eye>,
     held: Vec<(String, Vec<String>)>,
+    /// Notes of the world already turned into moments.
+    notes_seen: usize,
     moments: Vec<Moment>,
 }
 
@@ -101,7 +103,12 @@ fn pose7(p: &Pose) -> [f32; 7] {
 }
 
 /// The triangles of a collider shape at `local`, appended to `vertices`/`triangles`.
-fn append_shape(shape: &dyn Shape, local: &Pose, vertices: &mut Vec<f32>, triangles: &mut Vec<u32>) {
+fn append_shape(
+    shape: &dyn Shape,
+    local: &Pose,
+    vertices: &mut Vec<f32>,
+    triangles: &mut Vec<u32>,
+) {
     let (points, tris): (Vec<Vec3>, Vec<[u32; 3]>) = match shape.as_typed_shape() {
         TypedShape::Cuboid(s) => s.to_trimesh(),
         TypedShape::Ball(s) => s.to_trimesh(12, 16),
@@ -175,6 +182,7 @@ impl Recorder {
             params,
             eyes,
             held: held_by_robot(world),
+            notes_seen: world.notes.len(),
             moments: Vec::new(),
         };
         r.frame(world);
@@ -210,10 +218,16 @@ impl Recorder {
     }
 
     /// Records the world after a physics step (at most `rate_hz` frames per simulated
-    /// second) and takes pictures when what a robot holds changes.
+    /// second) and takes pictures when what a robot holds changes or a task annotates
+    /// a moment.
     pub fn observe(&mut self, world: &SimWorld) {
         if world.time() - self.last >= 1.0 / self.params.rate_hz {
             self.frame(world);
+        }
+        while self.notes_seen < world.notes.len() {
+            let label = world.notes[self.notes_seen].1.clone();
+            self.notes_seen += 1;
+            self.mark(world, &label);
         }
         let held = held_by_robot(world);
         if held != self.held {

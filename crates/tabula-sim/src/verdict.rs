@@ -430,7 +430,8 @@ pub fn run_place_judged<R>(
             if tracing::enabled!(tracing::Level::DEBUG) {
                 tracing::debug!(
                     "verdict: `{name}` top {:.3}, object bottom {:.3}, over {over}",
-                    f.maxs.z, b.mins.z
+                    f.maxs.z,
+                    b.mins.z
                 );
             }
             if over && (b.mins.z - f.maxs.z).abs() <= tol.contact {

@@ -159,6 +159,8 @@ pub struct SimWorld {
     pub cameras: Vec<crate::scene::CameraSpec>,
     /// Physics steps taken since the world was built: the simulator's clock.
     pub steps: u64,
+    /// Labels a driver was given for moments of a task, with the simulated time.
+    pub notes: Vec<(f64, String)>,
     /// The specs the world was built from, kept up to date with spawned and deleted
     /// objects, so the world can be written back as a scene ([`Self::to_scene`]).
     source: Scene,
@@ -217,6 +219,7 @@ impl SimWorld {
             attachments: Vec::new(),
             cameras: Vec::new(),
             steps: 0,
+            notes: Vec::new(),
             source: Scene::default(),
             base_dir: None,
         }

@@ -1628,6 +1628,15 @@ pub fn clear<D: RobotDriver>(
             }
         }
         watch(driver, ClearEvent::After(&record));
+        if record.action != "grasp" {
+            // Grasps are moments already (the hand takes and lets go); pushes are not.
+            driver.annotate(&format!(
+                "{} o{}{}",
+                record.action,
+                record.object,
+                if record.ok { "" } else { " (failed)" }
+            ));
+        }
         tracing::info!(
             frame = record.frame,
             action = record.action.as_str(),

@@ -386,7 +386,11 @@ fn run(
         }
     }
     let _ = state;
-    for (name, at, leaf) in looks {
+    for (k, (name, at, leaf)) in looks.into_iter().enumerate() {
+        if k == 1 {
+            // The head has looked at the object: a moment for the record.
+            driver.annotate("looked at the object");
+        }
         timed_phase(report, &name, false, || {
             match driver.look_at(at) {
                 Ok(_) | Err(DriverError::Unsupported(_)) => {}

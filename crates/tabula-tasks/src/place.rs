@@ -443,6 +443,7 @@ impl Run<'_> {
         let modelled = self.phase("model object", |r| r.model_object(driver, &arm));
         self.scan_cpu += self.decision_cpu - c0;
         let (model, seen) = modelled?;
+        driver.annotate("scanned the object in the hand");
         // ---- Stable poses (Algs 2–7) with the gripper clear of the surface.
         let poses = self.phase("stable poses", |r| {
             r.decide(|r| r.stable_poses(&arm, &model))
@@ -451,6 +452,7 @@ impl Run<'_> {
             .ok_or_else(|| PlaceError::Model("the scan has no solid hull".into()))?;
         // ---- Carry the object out of the camera's way, then look for surfaces.
         self.phase("carry", |r| r.carry(driver, &arm, &hull, &seen))?;
+        driver.annotate("carrying it out of the camera's view");
         let mut scene = seen;
         let mut turned = false;
         loop {
@@ -459,6 +461,7 @@ impl Run<'_> {
                     r.search_surfaces(driver, &arm, &hull, &mut scene)
                 })
                 .and_then(|surfaces| {
+                    driver.annotate(&format!("found {} surface(s)", surfaces.len()));
                     self.report.surfaces_found = self.report.surfaces_found.max(surfaces.len());
                     self.try_surfaces(driver, &arm, &hull, &poses, &surfaces, &mut scene)
                 });

@@ -4,8 +4,8 @@
 
 use tabula_geom::{PointCloud, Pose, Vec3};
 use tabula_robot::driver::{
-    Arms, BaseControl, CameraFrame, Cameras, DriverError, GripState, Grippers, HeadControl,
-    JointState, JointStates, JointTrajectory,
+    Annotations, Arms, BaseControl, CameraFrame, Cameras, DriverError, GripState, Grippers,
+    HeadControl, JointState, JointStates, JointTrajectory,
 };
 use tabula_robot::robots::{self, NamedRobot};
 use tabula_tasks::pick_place::{PickPlaceParams, PickPlaceRequest, pick_place};
@@ -44,6 +44,8 @@ impl MockRobot {
         }
     }
 }
+
+impl Annotations for MockRobot {}
 
 impl JointStates for MockRobot {
     fn joint_state(&self) -> Result<JointState, DriverError> {
