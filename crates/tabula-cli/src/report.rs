@@ -258,6 +258,9 @@ figure img{width:100%;border:1px solid #ccd;background:#fff}figcaption{font-size
 .hint{font-size:.8em;color:#778;margin:0}pre{background:#f5f6f8;padding:.6em;overflow-x:auto;font-size:.85em}\
 #selftest{display:none}footer{margin-top:2em;font-size:.8em;color:#667}";
 
+/// A bar chart: caption, unit, and (label, value) per bar.
+pub type BarChart<'a> = (&'a str, &'a str, Vec<(String, f64)>);
+
 /// What a benchmark reports: headline numbers, success per class (name, successes,
 /// trials), timing distributions (caption, unit, samples), and its rows as run.json.
 pub struct BenchSummary<'a> {
@@ -267,7 +270,7 @@ pub struct BenchSummary<'a> {
     pub classes: (&'a str, Vec<(String, usize, usize)>),
     pub distributions: Vec<(&'a str, &'a str, Vec<f64>)>,
     /// Bar charts (caption, unit, bars): CPU time per stage or per object, say.
-    pub bars: Vec<(&'a str, &'a str, Vec<(String, f64)>)>,
+    pub bars: Vec<BarChart<'a>>,
 }
 
 /// Writes a benchmark's report into `dir`.
