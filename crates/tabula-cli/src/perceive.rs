@@ -665,7 +665,6 @@ fn write_frame_image(
     t: &Tabletop,
 ) -> Result<()> {
     let (w, h) = (cloud.width, cloud.height);
-    let mut img = image::RgbImage::new(w as u32, h as u32);
     let (lo, hi) = cloud
         .points
         .iter()
@@ -700,14 +699,19 @@ fn write_frame_image(
     for &i in t.partial.iter().flat_map(|o| &o.indices) {
         label[i] = Some([255, 255, 255]);
     }
-    for (i, l) in label.iter().enumerate() {
-        let b = base(i);
-        let px = match l {
-            Some(l) => [0, 1, 2].map(|c| ((b[c] as u16 + 2 * l[c] as u16) / 3) as u8),
-            None => b,
-        };
-        img.put_pixel((i % w) as u32, (i / w) as u32, image::Rgb(px));
-    }
+    let pixels: Vec<u8> = label
+        .iter()
+        .enumerate()
+        .flat_map(|(i, l)| {
+            let b = base(i);
+            match l {
+                Some(l) => [0, 1, 2].map(|c| ((b[c] as u16 + 2 * l[c] as u16) / 3) as u8),
+                None => b,
+            }
+        })
+        .collect();
+    let img = image::RgbImage::from_raw(w as u32, h as u32, pixels)
+        .context("frame.png: the frame's size and its points disagree")?;
     img.save(dir.join("frame.png"))
         .context("cannot write frame.png")?;
     Ok(())

@@ -525,11 +525,8 @@ pub fn snapshot(
             })
         })
         .collect();
-    let mut img = image::RgbImage::new(width as u32, height as u32);
-    for (i, p) in pixels.into_iter().enumerate() {
-        img.put_pixel((i % width) as u32, (i / width) as u32, image::Rgb(p));
-    }
-    img
+    image::RgbImage::from_raw(width as u32, height as u32, pixels.concat())
+        .unwrap_or_else(|| image::RgbImage::new(width as u32, height as u32))
 }
 
 #[cfg(test)]
