@@ -134,13 +134,8 @@ fn placing(report: &mut Report) -> Result<(Section, serde_json::Value, String)> 
     let r = &out.report;
     if let Some(m) = &r.model {
         println!(
-            "  scanned in {} views: {} points, {:.0} × {:.0} × {:.0} mm, hull {:.0} cm³ (the cup is 288 cm³)",
-            m.views,
-            m.points,
-            m.size[0] * 1e3,
-            m.size[1] * 1e3,
-            m.size[2] * 1e3,
-            m.hull_volume_m3 * 1e6
+            "  scanned: {} (the cup is 288 cm³)",
+            crate::place::model_line(m)
         );
     }
     if let Some(p) = &out.stable_pose {

@@ -167,18 +167,7 @@ pub fn report_section(
         )
         .number("furniture contacts", v.furniture_contacts.len());
     if let Some(m) = &r.model {
-        s.number(
-            "scanned model",
-            format!(
-                "{} points from {} views, {:.0} × {:.0} × {:.0} mm, hull {:.1} cm³",
-                m.points,
-                m.views,
-                m.size[0] * 1e3,
-                m.size[1] * 1e3,
-                m.size[2] * 1e3,
-                m.hull_volume_m3 * 1e6
-            ),
-        );
+        s.number("scanned model", model_line(m));
     }
     s.log = r
         .rejected
@@ -231,6 +220,20 @@ pub fn report_section(
     Ok(s)
 }
 
+/// The scanned model in one line: points, views, size in the tool frame, hull volume.
+pub fn model_line(m: &tabula_tasks::place::ModelReport) -> String {
+    format!(
+        "{} points from {} of {} views, {:.0} × {:.0} × {:.0} mm, hull {:.1} cm³",
+        m.points,
+        m.views,
+        m.views_tried,
+        m.size[0] * 1e3,
+        m.size[1] * 1e3,
+        m.size[2] * 1e3,
+        m.hull_volume_m3 * 1e6
+    )
+}
+
 fn print_summary(out: &PlaceJson) {
     let r = &out.report;
     println!(
@@ -239,16 +242,7 @@ fn print_summary(out: &PlaceJson) {
         r.arm.as_deref().unwrap_or("-")
     );
     if let Some(m) = &r.model {
-        println!(
-            "  model: {} points from {}/{} views, {:.0} × {:.0} × {:.0} mm, hull {:.1} cm³",
-            m.points,
-            m.views,
-            m.views_tried,
-            m.size[0] * 1e3,
-            m.size[1] * 1e3,
-            m.size[2] * 1e3,
-            m.hull_volume_m3 * 1e6
-        );
+        println!("  model: {}", model_line(m));
     }
     if let Some(s) = &out.stable_pose {
         println!(
