@@ -86,6 +86,9 @@ pub struct BenchArgs {
     /// Print one JSON object instead of a table.
     #[arg(long)]
     json: bool,
+    /// Write a report into this folder: the solve-time distribution, errors per axis.
+    #[arg(long)]
+    report: Option<std::path::PathBuf>,
 }
 
 #[derive(Args)]
@@ -285,6 +288,60 @@ fn run_bench(a: BenchArgs) -> Result<()> {
         a.poses,
         a.seed,
     );
+    if let Some(dir) = &a.report {
+        let e = &report.axis_error_samples;
+        let p95 = |v: &[f64]| tabula_robot::ik::bench::Spread::of(v).p95;
+        let page = crate::report::bench_report(
+            dir,
+            crate::report::BenchSummary {
+                title: "Inverse kinematics (seed 001's protocol)",
+                command: format!(
+                    "tabula ik bench --robot {} --solver {} --poses {} --seed {}",
+                    s.robot.label, report.solver, a.poses, a.seed
+                ),
+                numbers: vec![
+                    (
+                        "chain".into(),
+                        format!("{} → {} ({} DOF)", report.base, report.tip, report.dof),
+                    ),
+                    ("mode".into(), report.mode.clone()),
+                    ("success rate".into(), format!("{:.4}", report.success_rate)),
+                    (
+                        "solve µs median / p95 / max".into(),
+                        format!(
+                            "{:.2} / {:.2} / {:.2}",
+                            report.solve_us.median, report.solve_us.p95, report.solve_us.max
+                        ),
+                    ),
+                    (
+                        "CPU µs per solve".into(),
+                        format!("{:.2}", report.cpu_us_per_solve),
+                    ),
+                    (
+                        "unreachable targets rejected".into(),
+                        format!("{:.4}", report.unreachable_rejected_rate),
+                    ),
+                ],
+                classes: ("", Vec::new()),
+                distributions: vec![(
+                    "Wall time per solve (reachable targets)",
+                    "µs",
+                    report.solve_us_samples.clone(),
+                )],
+                bars: vec![(
+                    "Error per axis, 95th percentile (µm for x y z, µrad for roll pitch yaw)",
+                    "µm / µrad",
+                    ["x", "y", "z", "roll", "pitch", "yaw"]
+                        .iter()
+                        .zip(e.iter())
+                        .map(|(n, v)| (n.to_string(), p95(v) * 1e6))
+                        .collect(),
+                )],
+            },
+            &report,
+        )?;
+        eprintln!("report: {}", page.display());
+    }
     if a.json {
         println!("{}", serde_json::to_string(&report)?);
         return Ok(());

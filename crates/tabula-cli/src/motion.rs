@@ -22,6 +22,9 @@ pub enum MotionCommand {
         timeout: f64,
         #[arg(long)]
         json: bool,
+        /// Write a report into this folder: the planning-time distribution.
+        #[arg(long)]
+        report: Option<std::path::PathBuf>,
     },
 }
 
@@ -33,6 +36,7 @@ pub fn run(cmd: MotionCommand) -> Result<()> {
             seed,
             timeout,
             json,
+            report: report_dir,
         } => {
             if robot != "wam" && robot != "pr2" {
                 bail!("--robot must be wam or pr2 (the generated scenes are sized for them)");
@@ -48,6 +52,38 @@ pub fn run(cmd: MotionCommand) -> Result<()> {
                 ..PlannerParams::default()
             };
             let report = bench::run(&r, &chain, problems, seed, &params)?;
+            if let Some(dir) = &report_dir {
+                let page = crate::report::bench_report(
+                    dir,
+                    crate::report::BenchSummary {
+                        title: "Motion planning: RRT-Connect on tabletop reaches",
+                        command: format!(
+                            "tabula motion bench --robot {robot} --problems {problems} --seed {seed} --timeout {timeout}"
+                        ),
+                        numbers: vec![
+                            ("problems".into(), report.problems.to_string()),
+                            ("solved".into(), report.solved.to_string()),
+                            (
+                                "planning ms median / p95".into(),
+                                format!("{:.2} / {:.2}", report.time_ms_median, report.time_ms_p95),
+                            ),
+                            (
+                                "collision checks per second".into(),
+                                format!("{:.0}", report.checks_per_second),
+                            ),
+                        ],
+                        classes: ("", Vec::new()),
+                        distributions: vec![(
+                            "Planning time per solved problem",
+                            "ms",
+                            report.time_ms_samples.clone(),
+                        )],
+                        bars: Vec::new(),
+                    },
+                    &report,
+                )?;
+                eprintln!("report: {}", page.display());
+            }
             if json {
                 println!("{}", serde_json::to_string(&report)?);
             } else {

@@ -36,6 +36,22 @@ fn legend<'a, DB: DrawingBackend + 'a, CT: plotters::coord::CoordTranslate>(
         .map_err(err)
 }
 
+/// Axis numbers with the digits their size needs (1e-6 is not "0.0").
+fn tick(v: &f64) -> String {
+    let a = v.abs();
+    if a == 0.0 {
+        "0".into()
+    } else if !(1e-2..1e5).contains(&a) {
+        format!("{v:.1e}")
+    } else if a < 1.0 {
+        format!("{v:.3}")
+    } else if a < 100.0 {
+        format!("{v:.1}")
+    } else {
+        format!("{v:.0}")
+    }
+}
+
 fn upper(max: f64) -> f64 {
     if max.is_finite() && max > 0.0 {
         max * 1.1
@@ -73,6 +89,7 @@ pub fn bars(title: &str, unit: &str, items: &[(String, f64)]) -> Result<String> 
             .configure_mesh()
             .disable_y_mesh()
             .x_desc(unit)
+            .x_label_formatter(&tick)
             .y_labels(n)
             .y_label_formatter(&|v| match v {
                 // Row 0 at the top: the first item reads first.
@@ -132,6 +149,7 @@ pub fn stacked(
             .disable_x_mesh()
             .x_desc(x_desc)
             .y_desc(unit)
+            .y_label_formatter(&tick)
             .x_labels(n.min(20))
             .draw()
             .map_err(err)?;
@@ -171,7 +189,17 @@ pub fn histogram(title: &str, unit: &str, values: &[f64], bins: usize) -> Result
         let root = SVGBackend::with_string(&mut svg, SIZE).into_drawing_area();
         root.fill(&WHITE).map_err(err)?;
         let lo = finite.iter().copied().fold(f64::INFINITY, f64::min);
-        let hi = finite.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        let max = finite.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        // A few far outliers (a page fault, a preempted thread) would squash the rest
+        // into one bar: the axis ends at the 99th percentile, the rest are counted in
+        // the last bin and said in the legend.
+        let p99 = quantile(&finite, 0.99).unwrap_or(max);
+        let hi = if max > lo + 2.0 * (p99 - lo) {
+            p99
+        } else {
+            max
+        };
+        let beyond = finite.iter().filter(|v| **v > hi).count();
         let (lo, hi) = if finite.is_empty() {
             (0.0, 1.0)
         } else if hi - lo < 1e-12 {
@@ -196,7 +224,15 @@ pub fn histogram(title: &str, unit: &str, values: &[f64], bins: usize) -> Result
         chart
             .configure_mesh()
             .disable_x_mesh()
-            .x_desc(unit)
+            .x_desc(if beyond > 0 {
+                format!(
+                    "{unit} ({beyond} values beyond the axis, up to {}, in the last bin)",
+                    tick(&max)
+                )
+            } else {
+                unit.to_string()
+            })
+            .x_label_formatter(&tick)
             .y_desc("count")
             .draw()
             .map_err(err)?;
@@ -227,12 +263,17 @@ pub fn histogram(title: &str, unit: &str, values: &[f64], bins: usize) -> Result
 
 /// The median of `values` (NaN-free), `None` when empty.
 pub fn median(values: &[f64]) -> Option<f64> {
+    quantile(values, 0.5)
+}
+
+/// The `q` quantile of the finite `values` (nearest rank), `None` when there are none.
+fn quantile(values: &[f64], q: f64) -> Option<f64> {
     let mut v: Vec<f64> = values.iter().copied().filter(|x| x.is_finite()).collect();
     if v.is_empty() {
         return None;
     }
     v.sort_by(f64::total_cmp);
-    Some(v[v.len() / 2])
+    Some(v[((v.len() - 1) as f64 * q).round() as usize])
 }
 
 #[cfg(test)]
@@ -259,6 +300,11 @@ mod tests {
         assert!(s.contains("perception") && s.matches("<rect").count() >= 4);
         let h = histogram("ik", "µs", &[1.0, 2.0, 2.0, 3.0, f64::NAN], 5).unwrap();
         assert!(h.contains("median 2.000"));
+        let mut slow = vec![1.0; 300];
+        slow.push(4000.0);
+        let h = histogram("ik", "µs", &slow, 5).unwrap();
+        assert!(h.contains("1 values beyond the axis"), "{h}");
+        assert_eq!(tick(&2.5e-7), "2.5e-7");
     }
 
     #[test]

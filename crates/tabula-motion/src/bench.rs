@@ -101,6 +101,9 @@ pub struct MotionBenchReport {
     pub validity_check_us_median: f64,
     /// One convex–convex contact query (box–box, box–cylinder at random poses), median.
     pub convex_query_us_median: f64,
+    /// Planning time of every solved problem (ms), for distributions in reports.
+    #[serde(skip)]
+    pub time_ms_samples: Vec<f64>,
 }
 
 /// Median time of one convex–convex contact query (the FCL-style primitive).
@@ -204,7 +207,9 @@ pub fn run(
         v.sort_by(f64::total_cmp);
         v[((v.len() - 1) as f64 * q).round() as usize]
     };
+    let samples = times.clone();
     Ok(MotionBenchReport {
+        time_ms_samples: samples,
         robot: robot.label.clone(),
         problems: attempted,
         solved,

@@ -91,6 +91,12 @@ pub struct IkBenchReport {
     pub errors: AxisErrors,
     pub solutions_per_pose: Spread,
     pub mean_solutions_per_pose: f64,
+    /// Every reachable solve's wall time (µs), for distributions in reports.
+    #[serde(skip)]
+    pub solve_us_samples: Vec<f64>,
+    /// Every solution's error per axis (x y z in m, roll pitch yaw in rad).
+    #[serde(skip)]
+    pub axis_error_samples: [Vec<f64>; 6],
 }
 
 /// CPU time of the calling thread (s), for benchmarks that report CPU rather than wall time.
@@ -269,5 +275,7 @@ pub fn run(
         },
         mean_solutions_per_pose: counts.iter().sum::<f64>() / counts.len().max(1) as f64,
         solutions_per_pose: Spread::of(&counts),
+        solve_us_samples: solve_us,
+        axis_error_samples: axis,
     }
 }
