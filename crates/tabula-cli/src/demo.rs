@@ -339,7 +339,11 @@ fn perception(
         t.table.area,
         t.objects.len()
     ));
-    let (svg, _) = crate::perceive::top_view(&t, &map, spot.map(|p| (p, &[0.1, 0.08][..])))?;
+    let (svg, _) = crate::perceive::top_view(&crate::perceive::TopView::of_tabletop(
+        &t,
+        &map,
+        spot.map(|p| (p, &[0.1, 0.08][..])),
+    ))?;
     let fig = report.svg("top-view", "Top view of the table: free (green), objects (red), unseen (grey), boxes, the free spot (blue)", &svg)?;
     section.figures.push(fig);
     match spot {

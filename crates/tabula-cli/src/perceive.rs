@@ -412,16 +412,70 @@ fn to_json(
     })
 }
 
-/// Top view of the table, drawn with plotters: the occupancy grid (free green, objects
-/// red, unseen grey), the table's outline, object footprints and boxes (numbered in the
-/// SVG), and the placement if one was asked for. Returns the SVG and a PNG of it (the
-/// PNG without text: plotters' bitmap backend would need a font).
-pub fn top_view(
-    t: &Tabletop,
-    map: &FreeSpaceMap,
-    placement: Option<(Placement, &[f64])>,
-) -> Result<(String, image::RgbImage)> {
+/// What a top view shows: a surface's occupancy grid (free green, objects red, unseen
+/// grey), its outline, object outlines and boxes, labels, and a chosen spot (blue).
+/// Every polygon is in the world; the view is the surface's plane seen from above.
+pub struct TopView<'a> {
+    pub map: &'a FreeSpaceMap,
+    pub outline: &'a [Vec3],
+    pub objects: Vec<Vec<Vec3>>,
+    pub boxes: Vec<Vec<Vec3>>,
+    pub labels: Vec<(String, Vec3)>,
+    pub spot: Option<Vec<Vec3>>,
+}
+
+impl<'a> TopView<'a> {
+    /// The tabletop pipeline's result: footprints, minimal-area boxes, numbers, and a
+    /// footprint of `size` placed where the map found room.
+    pub fn of_tabletop(
+        t: &'a Tabletop,
+        map: &'a FreeSpaceMap,
+        placement: Option<(Placement, &[f64])>,
+    ) -> Self {
+        let boxes = t
+            .objects
+            .iter()
+            .map(|o| {
+                let b = o.obb;
+                [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)]
+                    .iter()
+                    .map(|(sx, sy)| {
+                        b.center
+                            + b.axes[0] * (sx * b.half_extents.x)
+                            + b.axes[1] * (sy * b.half_extents.y)
+                    })
+                    .collect()
+            })
+            .collect();
+        let spot = placement.map(|(p, size)| {
+            let f = p.world_from_footprint;
+            let (x, y) = (size[0] / 2.0, size[1] / 2.0);
+            [(-x, -y), (x, -y), (x, y), (-x, y)]
+                .iter()
+                .map(|(a, b)| f * Vec3::new(*a, *b, 0.0))
+                .collect()
+        });
+        Self {
+            map,
+            outline: &t.table.hull,
+            objects: t.objects.iter().map(|o| o.footprint.clone()).collect(),
+            boxes,
+            labels: t
+                .objects
+                .iter()
+                .enumerate()
+                .map(|(n, o)| (format!("{}", n + 1), o.centroid))
+                .collect(),
+            spot,
+        }
+    }
+}
+
+/// A top view drawn with plotters: the SVG and a PNG of it (the PNG without text:
+/// plotters' bitmap backend would need a font).
+pub fn top_view(view: &TopView<'_>) -> Result<(String, image::RgbImage)> {
     const PX_PER_M: f64 = 400.0;
+    let map = view.map;
     let (w_m, h_m) = (
         map.nx as f64 * map.resolution,
         map.ny as f64 * map.resolution,
@@ -433,17 +487,13 @@ pub fn top_view(
     let mut svg = String::new();
     draw_top_view(
         plotters::prelude::SVGBackend::with_string(&mut svg, (size.0 + 70, size.1 + 60)),
-        t,
-        map,
-        placement,
+        view,
         true,
     )?;
     let mut buf = vec![255u8; (size.0 * size.1 * 3) as usize];
     draw_top_view(
         plotters::prelude::BitMapBackend::with_buffer(&mut buf, size),
-        t,
-        map,
-        placement,
+        view,
         false,
     )?;
     let png = image::RgbImage::from_raw(size.0, size.1, buf)
@@ -453,12 +503,11 @@ pub fn top_view(
 
 fn draw_top_view<DB: plotters::prelude::DrawingBackend>(
     backend: DB,
-    t: &Tabletop,
-    map: &FreeSpaceMap,
-    placement: Option<(Placement, &[f64])>,
+    view: &TopView<'_>,
     labels: bool,
 ) -> Result<()> {
     use plotters::prelude::*;
+    let map = view.map;
     let err = |e: &dyn std::fmt::Display| anyhow::anyhow!("top view: {e}");
     let root = backend.into_drawing_area();
     root.fill(&WHITE).map_err(|e| err(&e))?;
@@ -481,7 +530,7 @@ fn draw_top_view<DB: plotters::prelude::DrawingBackend>(
         chart
             .configure_mesh()
             .disable_mesh()
-            .x_desc("u (m, in the table plane)")
+            .x_desc("u (m, in the surface's plane)")
             .y_desc("v (m)")
             .draw()
             .map_err(|e| err(&e))?;
@@ -517,7 +566,7 @@ fn draw_top_view<DB: plotters::prelude::DrawingBackend>(
         }
     }
     chart.draw_series(cells).map_err(|e| err(&e))?;
-    let outline = |pts: &[Vec3]| -> Vec<(f64, f64)> {
+    let closed = |pts: &[Vec3]| -> Vec<(f64, f64)> {
         let mut q: Vec<(f64, f64)> = pts
             .iter()
             .map(|p| {
@@ -531,38 +580,24 @@ fn draw_top_view<DB: plotters::prelude::DrawingBackend>(
         q
     };
     let mut lines = vec![PathElement::new(
-        outline(&t.table.hull),
+        closed(view.outline),
         RGBColor(60, 60, 60).stroke_width(2),
     )];
-    for o in &t.objects {
+    for o in &view.objects {
         lines.push(PathElement::new(
-            outline(&o.footprint),
+            closed(o),
             RGBColor(150, 30, 30).stroke_width(2),
         ));
-        let b = o.obb;
-        let corner = |sx: f64, sy: f64| {
-            b.center + b.axes[0] * (sx * b.half_extents.x) + b.axes[1] * (sy * b.half_extents.y)
-        };
+    }
+    for b in &view.boxes {
         lines.push(PathElement::new(
-            outline(&[
-                corner(-1.0, -1.0),
-                corner(1.0, -1.0),
-                corner(1.0, 1.0),
-                corner(-1.0, 1.0),
-            ]),
+            closed(b),
             RGBColor(40, 40, 40).stroke_width(1),
         ));
     }
     chart.draw_series(lines).map_err(|e| err(&e))?;
-    if let Some((p, size)) = placement {
-        let f = p.world_from_footprint;
-        let (x, y) = (size[0] / 2.0, size[1] / 2.0);
-        let rect = outline(&[
-            f * Vec3::new(-x, -y, 0.0),
-            f * Vec3::new(x, -y, 0.0),
-            f * Vec3::new(x, y, 0.0),
-            f * Vec3::new(-x, y, 0.0),
-        ]);
+    if let Some(spot) = &view.spot {
+        let rect = closed(spot);
         chart
             .draw_series([Polygon::new(rect.clone(), RGBColor(120, 160, 240).filled())])
             .map_err(|e| err(&e))?;
@@ -575,9 +610,9 @@ fn draw_top_view<DB: plotters::prelude::DrawingBackend>(
     }
     if labels {
         chart
-            .draw_series(t.objects.iter().enumerate().map(|(n, o)| {
-                let c = map.to_plane(o.centroid);
-                Text::new(format!("{}", n + 1), (c.x, c.y), ("sans-serif", 13))
+            .draw_series(view.labels.iter().map(|(text, at)| {
+                let c = map.to_plane(*at);
+                Text::new(text.clone(), (c.x, c.y), ("sans-serif", 13))
             }))
             .map_err(|e| err(&e))?;
     }
@@ -616,7 +651,7 @@ fn write_report(
             ),
         );
     }
-    let (svg, png) = top_view(t, map, placement)?;
+    let (svg, png) = top_view(&TopView::of_tabletop(t, map, placement))?;
     std::fs::write(dir.join("top.svg"), &svg).context("cannot write top.svg")?;
     png.save(dir.join("top.png"))
         .context("cannot write top.png")?;

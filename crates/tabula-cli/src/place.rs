@@ -213,6 +213,35 @@ pub fn report_section(
         )?;
         s.figures.push(fig);
     }
+    if let Some(view) = &r.top_view {
+        // Objects as the outlines of their points seen from above.
+        let objects = view
+            .objects
+            .iter()
+            .map(|pts| {
+                let flat: Vec<tabula_geom::Vec2> =
+                    pts.iter().map(|q| view.map.to_plane(*q)).collect();
+                tabula_geom::polygon::convex_hull_2d(&flat)
+                    .into_iter()
+                    .map(|i| pts[i])
+                    .collect()
+            })
+            .collect();
+        let (svg, _) = crate::perceive::top_view(&crate::perceive::TopView {
+            map: &view.map,
+            outline: &view.outline,
+            objects,
+            boxes: Vec::new(),
+            labels: Vec::new(),
+            spot: view.spot.clone(),
+        })?;
+        let fig = report.svg(
+            "top-view",
+            "The surface as the placement saw it: free (green), objects (red), unseen (grey), the object's footprint where it was planned to rest (blue)",
+            &svg,
+        )?;
+        s.figures.push(fig);
+    }
     crate::tasks::phase_plot(report, &mut s, &out.phases)?;
     if let Some(rec) = recorded {
         report.recorded(&mut s, "place", rec)?;

@@ -282,6 +282,20 @@ pub struct PlaceReport {
     /// The model in the tool frame (for tests and reports).
     #[serde(skip)]
     pub model_points: Vec<Vec3>,
+    /// The last surface's free-space map as the decision saw it (for reports).
+    #[serde(skip)]
+    pub top_view: Option<PlaceTopView>,
+}
+
+/// What the placement saw of the surface it chose: its free-space map and outline, the
+/// objects on it (their points), and the footprint of the object resting where it was
+/// planned to go (world, on the surface).
+#[derive(Debug, Clone)]
+pub struct PlaceTopView {
+    pub map: FreeSpaceMap,
+    pub outline: Vec<Vec3>,
+    pub objects: Vec<Vec<Vec3>>,
+    pub spot: Option<Vec<Vec3>>,
 }
 
 /// A placement's report and, when it failed, why.
@@ -1124,6 +1138,23 @@ impl Run<'_> {
         let (seq, spot, pose_index) = plan;
         self.report.stable_pose = Some(poses[pose_index].clone());
         self.report.planned_world_from_tool = Some(pose_array(&spot.world_from_tool));
+        if let Some(view) = self.report.top_view.as_mut() {
+            // The object's outline resting at the spot, as the map sees it.
+            let resting: Vec<Vec3> = self
+                .report
+                .model_points
+                .iter()
+                .map(|q| spot.world_from_tool.transform_point(*q))
+                .collect();
+            let flat: Vec<Vec2> = resting.iter().map(|q| q.truncate()).collect();
+            let z = surface.centroid.z;
+            view.spot = Some(
+                convex_hull_2d(&flat)
+                    .into_iter()
+                    .map(|i| flat[i].extend(z))
+                    .collect(),
+            );
+        }
         let gripper = robot
             .description
             .arm(arm)
@@ -1145,7 +1176,7 @@ impl Run<'_> {
     /// Free spots on `surface` for each usable pose: (pose index, world position of the
     /// footprint origin, yaw in the world, score), best first.
     fn free_spots(
-        &self,
+        &mut self,
         poses: &[StablePose],
         surface: &Surface,
         scene: &[Vec3],
@@ -1179,6 +1210,12 @@ impl Run<'_> {
             .collect();
         let map = FreeSpaceMap::build(&seen, pts, &objects, &fs)
             .map_err(|e| PlaceError::NoRoom(e.to_string()))?;
+        self.report.top_view = Some(PlaceTopView {
+            map: map.clone(),
+            outline: surface.hull.clone(),
+            objects,
+            spot: None,
+        });
         let u_yaw = map.u.y.atan2(map.u.x);
         let mut out = Vec::new();
         for (k, pose) in poses.iter().enumerate() {
