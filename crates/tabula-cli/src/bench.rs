@@ -355,7 +355,9 @@ fn frames(
     let timer = Timer::new(reps)?;
     let params = TabletopParams::default();
     let mut rows = Vec::new();
+    let progress = crate::progress::steps(clouds.len() as u64, "frames");
     for path in clouds {
+        let _tick = crate::progress::Tick(&progress);
         let file = crate::perceive::read_cloud_file(path)?;
         let grid_free = PointCloud::unorganized(
             file.cloud
@@ -644,7 +646,9 @@ fn perception(
         ..timer
     };
     let mut suite = Vec::new();
+    let progress = crate::progress::steps(scenes, "scenes");
     for seed in 1..=scenes {
+        let _tick = crate::progress::Tick(&progress);
         let layout = TabletopLayout::random(seed);
         let f = frame(seed, &layout)?;
         let s = quality(&f, &params)?;

@@ -280,6 +280,8 @@ fn run_bench(a: BenchArgs) -> Result<()> {
     );
     let one_attempt: Option<&dyn IkSolver> =
         (s.solver_name == "numeric-lm").then_some(&single as &dyn IkSolver);
+    let progress =
+        crate::progress::spinner(&format!("{} reachable and unreachable targets", a.poses));
     let report = bench::run(
         s.solver.as_ref(),
         one_attempt,
@@ -288,6 +290,7 @@ fn run_bench(a: BenchArgs) -> Result<()> {
         a.poses,
         a.seed,
     );
+    progress.finish_and_clear();
     if let Some(dir) = &a.report {
         let e = &report.axis_error_samples;
         let p95 = |v: &[f64]| tabula_robot::ik::bench::Spread::of(v).p95;

@@ -51,7 +51,9 @@ pub fn run(cmd: MotionCommand) -> Result<()> {
                 timeout_s: timeout,
                 ..PlannerParams::default()
             };
+            let progress = crate::progress::spinner(&format!("{problems} reach problems"));
             let report = bench::run(&r, &chain, problems, seed, &params)?;
+            progress.finish_and_clear();
             if let Some(dir) = &report_dir {
                 let page = crate::report::bench_report(
                     dir,

@@ -105,6 +105,7 @@ pub fn run(a: PlanArgs) -> Result<()> {
         SearchMode::Optimal
     };
     let t0 = Instant::now();
+    let progress = crate::progress::spinner("grounding");
     let deadline = t0 + Duration::from_secs_f64(a.timeout);
     let options = GroundOptions {
         deadline: Some(deadline),
@@ -113,6 +114,7 @@ pub fn run(a: PlanArgs) -> Result<()> {
     let planner = match Planner::new(d, p, options) {
         Ok(planner) => planner,
         Err(GroundError::Timeout) => {
+            progress.finish_and_clear();
             if a.json {
                 println!(
                     "{}",
@@ -126,8 +128,10 @@ pub fn run(a: PlanArgs) -> Result<()> {
     };
     let ground_ms = t0.elapsed().as_secs_f64() * 1e3;
     let t1 = Instant::now();
+    progress.set_message("searching");
     let result = planner.plan(mode, Some(deadline.saturating_duration_since(t1)));
     let search_ms = t1.elapsed().as_secs_f64() * 1e3;
+    progress.finish_and_clear();
     let unit = !(planner.domain().uses_action_costs() && planner.problem().minimize_total_cost);
     if a.json {
         let value = match &result {
@@ -198,7 +202,10 @@ fn bench(b: BenchArgs) -> Result<()> {
             "  N  ground  optimal (len, exp.)  ground+optimal  replan-1-change  fast (len)  10-call loop  goal check"
         );
     }
+    let progress = crate::progress::steps(b.objects.len() as u64, "sizes");
     for &n in &b.objects {
+        let _tick = crate::progress::Tick(&progress);
+        progress.set_message(format!("{n} objects"));
         let (mut ground, mut opt, mut replan, mut fast, mut check) =
             (vec![], vec![], vec![], vec![], vec![]);
         let (mut total, mut loop10) = (vec![], vec![]);
@@ -284,6 +291,7 @@ fn bench(b: BenchArgs) -> Result<()> {
         }
         rows.push(row);
     }
+    progress.finish_and_clear();
     if let Some(dir) = &b.report {
         let per_size = |key: &str| -> Vec<(String, f64)> {
             rows.iter()

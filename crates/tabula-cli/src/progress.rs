@@ -25,6 +25,17 @@ pub fn steps(len: u64, prefix: &str) -> ProgressBar {
     bar
 }
 
+/// A spinner for work of unknown length (a search, a library's benchmark loop).
+pub fn spinner(message: &str) -> ProgressBar {
+    let bar = steps(0, "");
+    bar.set_length(0);
+    if let Ok(style) = ProgressStyle::with_template("{spinner} {msg} ({elapsed})") {
+        bar.set_style(style);
+    }
+    bar.set_message(message.to_string());
+    bar
+}
+
 /// Advances a bar by one when dropped: one step per finished item of a parallel loop,
 /// however the item ends (`?` included).
 pub struct Tick<'a>(pub &'a ProgressBar);

@@ -126,7 +126,10 @@ pub fn bench(dir: &Path, reps: usize, json: bool, report: Option<&Path>) -> Resu
     std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
     let params = StableParams::default();
     let mut rows = Vec::new();
-    for o in tabula_sim::objects::catalogue() {
+    let catalogue = tabula_sim::objects::catalogue();
+    let progress = crate::progress::steps(catalogue.len() as u64, "objects");
+    for o in catalogue {
+        let _tick = crate::progress::Tick(&progress);
         let path = dir.join(format!("{}.obj", o.name));
         std::fs::write(&path, o.to_obj())
             .with_context(|| format!("cannot write {}", path.display()))?;
