@@ -253,7 +253,7 @@ pub fn pick_place_section(
     Ok(s)
 }
 
-/// Time per phase as bars (wall ms; planning CPU beside motions).
+/// Time per phase as bars (wall ms: the simulated motion is in it).
 pub fn phase_plot(
     report: &mut Report,
     section: &mut Section,
