@@ -224,7 +224,7 @@ fn pick_place(variants: u64, json: bool, report: Option<&std::path::Path>) -> Re
         .map(|r| r.decision_cpu_ms)
         .collect();
     if let Some(dir) = report {
-        let page = crate::report::bench_report(
+        crate::report::bench_report(
             dir,
             crate::report::BenchSummary {
                 title: "Pick and place by coordinates (seed 001's integral test)",
@@ -246,7 +246,6 @@ fn pick_place(variants: u64, json: bool, report: Option<&std::path::Path>) -> Re
             },
             &rows,
         )?;
-        eprintln!("report: {}", page.display());
     }
     if json {
         println!(
@@ -415,7 +414,7 @@ fn frames(
                 })
                 .collect()
         };
-        let page = crate::report::bench_report(
+        crate::report::bench_report(
             dir,
             crate::report::BenchSummary {
                 title: "Perception on sensor frames",
@@ -438,7 +437,6 @@ fn frames(
             },
             &rows,
         )?;
-        eprintln!("report: {}", page.display());
     }
     if json {
         println!("{}", serde_json::to_string_pretty(&rows)?);
@@ -695,7 +693,7 @@ fn perception(
         .map(|s| s["table_recall"].as_f64().unwrap_or(0.0))
         .fold(1.0, f64::min);
     if let Some(dir) = report {
-        let page = crate::report::bench_report(
+        crate::report::bench_report(
             dir,
             crate::report::BenchSummary {
                 title: "Perception stages and the tabletop pipeline",
@@ -729,7 +727,6 @@ fn perception(
             },
             &serde_json::json!({"stages": rows, "suite": suite}),
         )?;
-        eprintln!("report: {}", page.display());
     }
     if json {
         println!(

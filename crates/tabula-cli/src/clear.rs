@@ -416,7 +416,7 @@ pub fn bench(
         for (objects, (k, n)) in by_size {
             sizes.push((format!("{objects} objects"), k, n));
         }
-        let page = crate::report::bench_report(
+        crate::report::bench_report(
             dir,
             crate::report::BenchSummary {
                 title: "Clearing a cluttered table (seed 002)",
@@ -446,7 +446,6 @@ pub fn bench(
             },
             &summary,
         )?;
-        eprintln!("report: {}", page.display());
     }
     if json {
         println!("{}", serde_json::to_string_pretty(&summary)?);

@@ -294,7 +294,7 @@ fn run_bench(a: BenchArgs) -> Result<()> {
     if let Some(dir) = &a.report {
         let e = &report.axis_error_samples;
         let p95 = |v: &[f64]| tabula_robot::ik::bench::Spread::of(v).p95;
-        let page = crate::report::bench_report(
+        crate::report::bench_report(
             dir,
             crate::report::BenchSummary {
                 title: "Inverse kinematics (seed 001's protocol)",
@@ -343,7 +343,6 @@ fn run_bench(a: BenchArgs) -> Result<()> {
             },
             &report,
         )?;
-        eprintln!("report: {}", page.display());
     }
     if a.json {
         println!("{}", serde_json::to_string(&report)?);

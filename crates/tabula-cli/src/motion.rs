@@ -55,7 +55,7 @@ pub fn run(cmd: MotionCommand) -> Result<()> {
             let report = bench::run(&r, &chain, problems, seed, &params)?;
             progress.finish_and_clear();
             if let Some(dir) = &report_dir {
-                let page = crate::report::bench_report(
+                crate::report::bench_report(
                     dir,
                     crate::report::BenchSummary {
                         title: "Motion planning: RRT-Connect on tabletop reaches",
@@ -84,7 +84,6 @@ pub fn run(cmd: MotionCommand) -> Result<()> {
                     },
                     &report,
                 )?;
-                eprintln!("report: {}", page.display());
             }
             if json {
                 println!("{}", serde_json::to_string(&report)?);

@@ -495,7 +495,7 @@ pub fn bench(
                 }
             }
         }
-        let page = crate::report::bench_report(
+        crate::report::bench_report(
             dir,
             crate::report::BenchSummary {
                 title: "Placing an unknown object (seed 000)",
@@ -516,7 +516,6 @@ pub fn bench(
             },
             &rows,
         )?;
-        eprintln!("report: {}", page.display());
     }
     if json {
         println!("{}", serde_json::to_string_pretty(&rows)?);

@@ -303,7 +303,7 @@ fn bench(b: BenchArgs) -> Result<()> {
                 })
                 .collect()
         };
-        let page = crate::report::bench_report(
+        crate::report::bench_report(
             dir,
             crate::report::BenchSummary {
                 title: "Task planning: table clearing in PDDL (seed 002's domain)",
@@ -350,7 +350,6 @@ fn bench(b: BenchArgs) -> Result<()> {
             },
             &rows,
         )?;
-        eprintln!("report: {}", page.display());
     }
     if b.json {
         println!("{}", serde_json::to_string(&rows)?);

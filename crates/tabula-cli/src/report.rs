@@ -273,8 +273,8 @@ pub struct BenchSummary<'a> {
     pub bars: Vec<BarChart<'a>>,
 }
 
-/// Writes a benchmark's report into `dir`.
-pub fn bench_report(dir: &Path, b: BenchSummary<'_>, run: &impl Serialize) -> Result<PathBuf> {
+/// Writes a benchmark's report into `dir` and says where it is (on stderr).
+pub fn bench_report(dir: &Path, b: BenchSummary<'_>, run: &impl Serialize) -> Result<()> {
     let mut report = Report::create(dir, b.title)?;
     let mut s = Section::new(b.title);
     s.text(format!("Command: {}", b.command));
@@ -307,7 +307,9 @@ pub fn bench_report(dir: &Path, b: BenchSummary<'_>, run: &impl Serialize) -> Re
         s.figures.push(fig);
     }
     report.sections.push(s);
-    report.finish(run)
+    let page = report.finish(run)?;
+    eprintln!("report: {}", page.display());
+    Ok(())
 }
 
 /// Successes and trials per class, classes in first-seen order.

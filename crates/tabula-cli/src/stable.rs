@@ -154,7 +154,7 @@ pub fn bench(dir: &Path, reps: usize, json: bool, report: Option<&Path>) -> Resu
         });
     }
     if let Some(out) = report {
-        let page = crate::report::bench_report(
+        crate::report::bench_report(
             out,
             crate::report::BenchSummary {
                 title: "Stable poses of the test objects",
@@ -177,7 +177,6 @@ pub fn bench(dir: &Path, reps: usize, json: bool, report: Option<&Path>) -> Resu
             },
             &rows,
         )?;
-        eprintln!("report: {}", page.display());
     }
     if json {
         println!("{}", serde_json::to_string_pretty(&rows)?);
