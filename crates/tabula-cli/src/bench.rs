@@ -111,6 +111,18 @@ pub enum BenchCommand {
     },
 }
 
+impl BenchCommand {
+    /// Benchmarks that drive robots in the simulator (Ctrl+C stops them).
+    pub fn moves_robots(&self) -> bool {
+        matches!(
+            self,
+            BenchCommand::PickPlace { .. }
+                | BenchCommand::Clear { .. }
+                | BenchCommand::Place { .. }
+        )
+    }
+}
+
 pub fn run(c: BenchCommand, report: Option<&std::path::Path>) -> Result<()> {
     match c {
         BenchCommand::Perception { scenes, reps, json } => {

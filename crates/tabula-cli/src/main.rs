@@ -31,6 +31,32 @@ pub mod exit {
     pub const USAGE: i32 = 64;
     /// A bug: a panic reached the top (BSD's EX_SOFTWARE).
     pub const INTERNAL: i32 = 70;
+    /// The operator stopped the run (Ctrl+C), as shells report SIGINT: 128 + 2.
+    pub const STOPPED: i32 = 130;
+
+    /// The status a task run ends with: stopped, done, or no solution.
+    pub fn of_task(success: bool) -> i32 {
+        if tabula_robot::driver::stop_requested() {
+            STOPPED
+        } else if success {
+            OK
+        } else {
+            NO_SOLUTION
+        }
+    }
+
+    /// Ctrl+C while robots move: the first asks every driver to stop (the robot holds
+    /// where it is, the run ends, `--save-scene` is written, the status is 130); a
+    /// second quits at once.
+    pub fn stop_on_ctrl_c() {
+        let _ = ctrlc::set_handler(|| {
+            if tabula_robot::driver::stop_requested() {
+                std::process::exit(STOPPED);
+            }
+            tabula_robot::driver::request_stop();
+            eprintln!("stopping: the robot holds where it is (Ctrl+C again quits at once)");
+        });
+    }
 }
 
 /// tabula — perceive, model, place and clear with one Rust workspace.
@@ -141,6 +167,18 @@ fn main() {
         }
     };
     progress::init_logging(cli.verbose);
+    // Commands that move robots stop them on Ctrl+C; the others keep the default
+    // (the process ends at once).
+    let moves_robots = match &cli.command {
+        Command::Demo { .. } | Command::Clear(_) | Command::Place(_) | Command::PickPlace(_) => {
+            true
+        }
+        Command::Bench { command, .. } => command.moves_robots(),
+        _ => false,
+    };
+    if moves_robots {
+        exit::stop_on_ctrl_c();
+    }
     let result = match cli.command {
         Command::Demo { report } => demo::run(&report),
         Command::Bench { command, report } => bench::run(command, report.as_deref()),
@@ -154,6 +192,10 @@ fn main() {
         Command::Sim { command } => sim::run(command),
         Command::StablePoses(args) => stable::run(args),
     };
+    if tabula_robot::driver::stop_requested() {
+        eprintln!("stopped by Ctrl+C");
+        std::process::exit(exit::STOPPED);
+    }
     if let Err(e) = result {
         eprintln!(
             "error: {}",

@@ -84,10 +84,10 @@ impl TaskRunArgs {
         } else {
             summary(out);
         }
-        if !success {
-            std::process::exit(crate::exit::NO_SOLUTION);
+        match crate::exit::of_task(success) {
+            crate::exit::OK => Ok(()),
+            status => std::process::exit(status),
         }
-        Ok(())
     }
 
     /// The world of `--scene`.
@@ -363,8 +363,8 @@ pub fn run(a: PickPlaceArgs) -> Result<()> {
             v.furniture_contacts.len()
         );
     }
-    if !out.success {
-        std::process::exit(crate::exit::NO_SOLUTION);
+    match crate::exit::of_task(out.success) {
+        crate::exit::OK => Ok(()),
+        status => std::process::exit(status),
     }
-    Ok(())
 }

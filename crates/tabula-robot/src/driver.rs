@@ -26,6 +26,23 @@ pub enum DriverError {
     Unsupported(&'static str),
     #[error("{0}")]
     Hardware(String),
+    /// The operator stopped the robot (Ctrl+C): it holds where it is.
+    #[error("stopped by the operator")]
+    Stopped,
+}
+
+/// The operator's stop (Ctrl+C), process-wide as an emergency stop is: once asked,
+/// drivers finish no motion and start none, and tasks end with [`DriverError::Stopped`].
+static STOP: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+/// Asks every driver of this process to stop (a signal handler may call it).
+pub fn request_stop() {
+    STOP.store(true, std::sync::atomic::Ordering::SeqCst);
+}
+
+/// Whether a stop was asked for.
+pub fn stop_requested() -> bool {
+    STOP.load(std::sync::atomic::Ordering::SeqCst)
 }
 
 /// Positions of named joints at a time (s, the driver's clock).

@@ -8,7 +8,7 @@ use crate::world::{SimError, SimWorld};
 use tabula_geom::{Pose, Vec3};
 use tabula_robot::driver::{
     Annotations, Arms, BaseControl, CameraFrame, Cameras, DriverError, GripState, Grippers,
-    HeadControl, JointState, JointStates, JointTrajectory,
+    HeadControl, JointState, JointStates, JointTrajectory, stop_requested,
 };
 
 /// One simulated robot behind the driver traits.
@@ -56,11 +56,15 @@ impl SimDriver {
         self.observers.push(Box::new(observer));
     }
 
-    /// Runs `f` on the world, then lets the observer see it.
+    /// Runs `f` on the world, then lets the observer see it; nothing once the operator
+    /// has stopped the robot.
     fn run<T>(
         &mut self,
         f: impl FnOnce(&mut SimWorld, &str) -> Result<T, SimError>,
     ) -> Result<T, DriverError> {
+        if stop_requested() {
+            return Err(DriverError::Stopped);
+        }
         let out = f(&mut self.world, &self.robot);
         for obs in &mut self.observers {
             obs(&self.world);
@@ -92,6 +96,9 @@ impl JointStates for SimDriver {
 
 impl Cameras for SimDriver {
     fn capture(&mut self, camera: &str) -> Result<CameraFrame, DriverError> {
+        if stop_requested() {
+            return Err(DriverError::Stopped);
+        }
         let cam = self.world.camera(camera)?;
         self.noise_seed = self.noise_seed.wrapping_add(1);
         let frame = capture(&self.world, &cam, self.noise_seed);
@@ -106,10 +113,9 @@ impl Cameras for SimDriver {
 impl Arms for SimDriver {
     fn execute(&mut self, trajectory: &JointTrajectory) -> Result<(), DriverError> {
         trajectory.validate()?;
-        if self.observers.is_empty() {
-            return self.run(|w, r| w.follow_trajectory(r, trajectory).map(|_| ()));
-        }
-        // With an observer, step through the trajectory so it sees every step.
+        // Step through the trajectory: observers see every step, and a stop holds the
+        // arm where the last step left it (inside the joints' limits, as every
+        // sample of a valid trajectory is).
         let dt = self.world.physics.integration_parameters.dt;
         let mut t = 0.0;
         let mut start = trajectory.positions.first().cloned().unwrap_or_default();
