@@ -261,6 +261,117 @@ pub fn histogram(title: &str, unit: &str, values: &[f64], bins: usize) -> Result
     Ok(svg)
 }
 
+/// Box plots side by side: for each category (an axis, a measure) one box per series
+/// (a solver), quartiles and 1.5 IQR whiskers; `log` draws the values on a log scale
+/// (errors that span orders of magnitude), values below 1e-18 drawn at 1e-18.
+pub fn boxes(
+    title: &str,
+    unit: &str,
+    categories: &[&str],
+    series: &[(&str, Vec<Vec<f64>>)],
+    log: bool,
+) -> Result<String> {
+    const FLOOR: f64 = 1e-18;
+    let clean = |v: &[f64]| -> Vec<f32> {
+        v.iter()
+            .filter(|x| x.is_finite())
+            .map(|x| if log { x.max(FLOOR) } else { *x } as f32)
+            .collect()
+    };
+    let data: Vec<Vec<Vec<f32>>> = series
+        .iter()
+        .map(|(_, per)| per.iter().map(|v| clean(v)).collect())
+        .collect();
+    let all = data.iter().flatten().flatten().copied();
+    let (lo, hi) = all.fold((f32::INFINITY, f32::NEG_INFINITY), |(a, b), v| {
+        (a.min(v), b.max(v))
+    });
+    let (lo, hi) = if lo.is_finite() && hi > lo {
+        (lo, hi)
+    } else if lo.is_finite() {
+        (lo * 0.5, lo * 2.0 + 1e-9)
+    } else {
+        (1e-6, 1.0)
+    };
+    let n = categories.len().max(1);
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, SIZE).into_drawing_area();
+        root.fill(&WHITE).map_err(err)?;
+        let mut builder = ChartBuilder::on(&root);
+        builder
+            .caption(title, (FONT, 18))
+            .margin(10)
+            .x_label_area_size(36)
+            .y_label_area_size(64);
+        let x = (0..n).into_segmented();
+        let labels: Vec<&str> = categories.to_vec();
+        let x_fmt = |v: &SegmentValue<usize>| match v {
+            SegmentValue::CenterOf(i) => labels.get(*i).map(|s| s.to_string()).unwrap_or_default(),
+            _ => String::new(),
+        };
+        let width = (480 / (n * series.len().max(1))).clamp(6, 40) as u32;
+        let step = width as f64 + 4.0;
+        let first = -(series.len() as f64 - 1.0) / 2.0 * step;
+        macro_rules! draw {
+            ($chart:expr) => {{
+                let mut chart = $chart;
+                chart
+                    .configure_mesh()
+                    .disable_x_mesh()
+                    .x_labels(n)
+                    .x_label_formatter(&x_fmt)
+                    .y_desc(unit)
+                    .y_label_formatter(&|v: &f32| tick(&(*v as f64)))
+                    .draw()
+                    .map_err(err)?;
+                for (k, (name, _)) in series.iter().enumerate() {
+                    let colour = PALETTE[k % PALETTE.len()];
+                    let offset = first + k as f64 * step;
+                    chart
+                        .draw_series(
+                            data[k]
+                                .iter()
+                                .enumerate()
+                                .filter(|(_, v)| !v.is_empty())
+                                .map(|(c, v)| {
+                                    Boxplot::new_vertical(
+                                        SegmentValue::CenterOf(c),
+                                        &Quartiles::new(v),
+                                    )
+                                    .width(width)
+                                    .offset(offset)
+                                    .style(colour.stroke_width(2))
+                                }),
+                        )
+                        .map_err(err)?
+                        .label(*name)
+                        .legend(move |(x, y)| {
+                            Rectangle::new([(x, y - 5), (x + 12, y + 5)], colour.filled())
+                        });
+                }
+                legend(&mut chart)?;
+            }};
+        }
+        if log {
+            draw!(
+                builder
+                    .build_cartesian_2d(x, (lo * 0.5..hi * 2.0).log_scale())
+                    .map_err(err)?
+            );
+        } else {
+            let pad = (hi - lo) * 0.05;
+            draw!(
+                builder
+                    .build_cartesian_2d(x, (lo - pad).min(0.0)..hi + pad)
+                    .map_err(err)?
+            );
+        }
+        root.present().map_err(err)?;
+    }
+    Ok(svg)
+}
+
 /// The median of `values` (NaN-free), `None` when empty.
 pub fn median(values: &[f64]) -> Option<f64> {
     quantile(values, 0.5)
@@ -305,6 +416,18 @@ mod tests {
         let h = histogram("ik", "µs", &slow, 5).unwrap();
         assert!(h.contains("1 values beyond the axis"), "{h}");
         assert_eq!(tick(&2.5e-7), "2.5e-7");
+        let b = boxes(
+            "errors",
+            "m",
+            &["x", "y"],
+            &[
+                ("a", vec![vec![1e-9, 2e-9, 3e-9], vec![0.0, 1e-12]]),
+                ("b", vec![vec![1e-6, f64::NAN], vec![]]),
+            ],
+            true,
+        )
+        .unwrap();
+        assert!(b.contains("errors") && b.contains(">a<") || b.contains("a</text>"));
     }
 
     #[test]

@@ -170,6 +170,35 @@ fn bad_input_is_one_clear_line() {
 }
 
 #[test]
+fn ik_bench_compares_two_solvers_with_mann_whitney() {
+    let v = tabula_json(&[
+        "ik",
+        "bench",
+        "--robot",
+        "golem3",
+        "--compare",
+        "analytic",
+        "numeric",
+        "--poses",
+        "200",
+        "--json",
+    ]);
+    let measures = v["measures"].as_array().unwrap();
+    assert_eq!(measures.len(), 7, "{v}");
+    assert_eq!(measures[0]["measure"], "solve time");
+    for m in &measures[1..] {
+        // The closed form is exact to rounding; Levenberg–Marquardt stops at its
+        // tolerance: every axis error differs, the closed form's smaller.
+        assert!(
+            m["median_a"].as_f64().unwrap() < m["median_b"].as_f64().unwrap(),
+            "{m}"
+        );
+        assert!(m["test"]["p"].as_f64().unwrap() < 0.05, "{m}");
+        assert_eq!(m["test"]["n_a"], 200);
+    }
+}
+
+#[test]
 fn bench_results_repeat_with_the_same_seed() {
     let args = [
         "ik", "bench", "--robot", "wam", "--solver", "numeric", "--poses", "100", "--seed", "9",
