@@ -1,6 +1,7 @@
 //! `tabula`: the command-line face of the tabula manipulation stack.
 
 mod args;
+mod arm;
 mod bench;
 mod clear;
 mod demo;
@@ -79,6 +80,9 @@ enum Command {
         #[arg(long, default_value = "tabula-demo")]
         report: std::path::PathBuf,
     },
+    /// A manipulation service: move an arm to joint values, a pose or a named pose, open
+    /// or close a gripper — in the simulator or, with --dry-run, through a fake driver.
+    Arm(arm::ArmArgs),
     /// Benchmarks that print the tables in BENCHMARKS.md.
     Bench {
         /// Write a report into this folder: index.html with the numbers, success per
@@ -181,6 +185,7 @@ fn main() {
     }
     let result = match cli.command {
         Command::Demo { report } => demo::run(&report),
+        Command::Arm(args) => arm::run(args),
         Command::Bench { command, report } => bench::run(command, report.as_deref()),
         Command::Clear(args) => clear::run(args),
         Command::Ik { command } => ik::run(command),
@@ -195,6 +200,12 @@ fn main() {
     if tabula_robot::driver::stop_requested() {
         eprintln!("stopped by Ctrl+C");
         std::process::exit(exit::STOPPED);
+    }
+    if let Err(e) = &result
+        && let Some(no) = e.downcast_ref::<arm::NoSolution>()
+    {
+        eprintln!("{no}");
+        std::process::exit(exit::NO_SOLUTION);
     }
     if let Err(e) = result {
         eprintln!(

@@ -169,6 +169,89 @@ fn bad_input_is_one_clear_line() {
     assert!(String::from_utf8_lossy(&nan.stderr).contains("finite number"));
 }
 
+/// `tabula arm`: the dry run (a fake driver integrating commands) and the simulator
+/// plan and execute the same trajectory and end at the same tool pose.
+#[test]
+fn arm_service_dry_run_matches_the_simulator() {
+    for action in [
+        vec!["move-pose", "0.6", "0.2", "1.0", "0", "3.1416", "0"],
+        vec!["named", "tuck"],
+        vec!["move-joints", "0.3", "-0.5", "0", "2.0", "0", "0.4", "0"],
+    ] {
+        let args = |dry: bool| {
+            let mut v = vec!["arm", "--scene", "../../scenes/clutter.toml", "--json"];
+            if dry {
+                v.push("--dry-run");
+            }
+            v.extend(action.iter().copied());
+            v
+        };
+        let sim = tabula_json(&args(false));
+        let dry = tabula_json(&args(true));
+        assert_eq!(sim["driver"], "simulator");
+        assert_eq!(dry["driver"], "fake");
+        assert_eq!(sim["trajectory"], dry["trajectory"], "{action:?}");
+        assert!(sim["trajectory"]["positions"].as_array().unwrap().len() >= 2);
+        let (a, b) = (&sim["tool_pose"], &dry["tool_pose"]);
+        for k in 0..7 {
+            let d = a[k].as_f64().unwrap() - b[k].as_f64().unwrap();
+            assert!(d.abs() < 1e-6, "{action:?}: {a} vs {b}");
+        }
+    }
+    let closed = tabula_json(&[
+        "arm",
+        "--scene",
+        "../../scenes/clutter.toml",
+        "--json",
+        "--dry-run",
+        "gripper",
+        "close",
+    ]);
+    assert!(
+        (closed["grip"][0].as_f64().unwrap() - 0.03).abs() < 1e-9,
+        "{closed}"
+    );
+    // Out of reach: no solution (status 2); a wrong arm or joint count: bad input (1).
+    let far = tabula(&[
+        "arm",
+        "--scene",
+        "../../scenes/clutter.toml",
+        "move-pose",
+        "5",
+        "0",
+        "1",
+        "0",
+        "0",
+        "0",
+    ]);
+    assert_eq!(
+        far.status.code(),
+        Some(2),
+        "{}",
+        String::from_utf8_lossy(&far.stderr)
+    );
+    let wrong = tabula(&[
+        "arm",
+        "--scene",
+        "../../scenes/clutter.toml",
+        "named",
+        "--arm",
+        "left",
+        "tuck",
+    ]);
+    assert_eq!(wrong.status.code(), Some(1));
+    let count = tabula(&[
+        "arm",
+        "--scene",
+        "../../scenes/clutter.toml",
+        "move-joints",
+        "0.1",
+        "0.2",
+    ]);
+    assert_eq!(count.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&count.stderr).contains("7 joints"));
+}
+
 #[test]
 fn ik_bench_compares_two_solvers_with_mann_whitney() {
     let v = tabula_json(&[

@@ -11,6 +11,7 @@ pub mod chain;
 pub mod description;
 pub mod driver;
 mod error;
+pub mod fake;
 pub mod ik;
 pub mod model;
 pub mod robots;

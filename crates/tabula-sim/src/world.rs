@@ -676,11 +676,17 @@ impl SimWorld {
     /// The collision shapes of every piece of furniture, in the world (a workcell's
     /// known obstacles, as a MoveIt planning scene loads them).
     pub fn furniture_shapes(&self) -> Vec<(String, SharedShape, Pose)> {
+        self.shapes_of(EntityKind::Furniture)
+    }
+
+    /// Every object's collider shapes where they are now (name, shape, world pose).
+    pub fn object_shapes(&self) -> Vec<(String, SharedShape, Pose)> {
+        self.shapes_of(EntityKind::Object)
+    }
+
+    fn shapes_of(&self, kind: EntityKind) -> Vec<(String, SharedShape, Pose)> {
         let mut out = Vec::new();
-        for e in self
-            .live_entities()
-            .filter(|e| e.kind == EntityKind::Furniture)
-        {
+        for e in self.live_entities().filter(|e| e.kind == kind) {
             let body = &self.physics.bodies[e.body];
             for &ch in body.colliders() {
                 let c = &self.physics.colliders[ch];
