@@ -427,7 +427,15 @@ mod tests {
             true,
         )
         .unwrap();
-        assert!(b.contains("errors") && b.contains(">a<") || b.contains("a</text>"));
+        // The title, both legend entries, and a box (its rectangle) per non-empty group.
+        let flat = b.replace('\n', "");
+        assert!(
+            flat.contains(">errors</text>")
+                && flat.contains(">a</text>")
+                && flat.contains(">b</text>"),
+            "{b}"
+        );
+        assert!(b.matches("<rect").count() >= 3, "{b}");
     }
 
     #[test]

@@ -15,6 +15,7 @@ pub mod fake;
 pub mod ik;
 pub mod model;
 pub mod robots;
+pub mod xacro;
 
 pub use chain::Chain;
 pub use description::RobotDescription;

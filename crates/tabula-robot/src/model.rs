@@ -188,10 +188,15 @@ pub struct RobotModel {
 }
 
 impl RobotModel {
-    /// Loads a URDF file; `package://pkg/...` mesh paths resolve relative to the file.
+    /// Loads a URDF file, or a xacro file (`.xacro`) expanded first; `package://pkg/...`
+    /// mesh paths resolve relative to the file.
     pub fn from_urdf_file(path: impl AsRef<Path>) -> Result<Self, RobotError> {
         let path = path.as_ref();
-        let text = tabula_geom::input::read_text(path, tabula_geom::input::Format::Robot)?;
+        let text = if crate::xacro::is_xacro(path) {
+            crate::xacro::expand(path, &[])?
+        } else {
+            tabula_geom::input::read_text(path, tabula_geom::input::Format::Robot)?
+        };
         Self::parse(&text, path.parent(), Some(path))
     }
 
@@ -539,7 +544,7 @@ fn checked_value(owner: &str, field: &'static str, value: f64) -> Result<f64, Ro
 /// The deepest element nesting of XML text, counted before the XML reader (which
 /// recurses) sees it: tags opened minus closed, skipping comments, declarations,
 /// processing instructions and self-closing tags. Stops counting past `limit`.
-fn xml_depth(text: &str, limit: usize) -> usize {
+pub(crate) fn xml_depth(text: &str, limit: usize) -> usize {
     let bytes = text.as_bytes();
     let (mut depth, mut deepest, mut i) = (0usize, 0usize, 0usize);
     while let Some(off) = bytes[i..].iter().position(|&b| b == b'<') {

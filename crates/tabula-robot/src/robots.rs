@@ -46,9 +46,9 @@ impl NamedRobot {
     }
 }
 
-/// Loads `golem3`, `wam`, `pr2`, or a URDF file path. A file's description is the
-/// `<stem>.toml` beside it when there is one; otherwise one arm runs from its root to
-/// its deepest leaf.
+/// Loads `golem3`, `wam`, `pr2`, or a URDF or xacro file path. A file's description is
+/// the `<stem>.toml` beside it when there is one (for `arm.urdf.xacro`: `arm.urdf.toml`
+/// or `arm.toml`); otherwise one arm runs from its root to its deepest leaf.
 pub fn load(name_or_path: &str) -> Result<NamedRobot, RobotError> {
     let builtin = |urdf: &str, toml: &str| -> Result<NamedRobot, RobotError> {
         let model = RobotModel::from_urdf_str(urdf, None)?;
@@ -61,11 +61,17 @@ pub fn load(name_or_path: &str) -> Result<NamedRobot, RobotError> {
         "pr2" => builtin(PR2_URDF, PR2_TOML),
         path if Path::new(path)
             .extension()
-            .is_some_and(|e| e.eq_ignore_ascii_case("urdf"))
+            .is_some_and(|e| e.eq_ignore_ascii_case("urdf") || e.eq_ignore_ascii_case("xacro"))
             || Path::new(path).exists() =>
         {
             let model = RobotModel::from_urdf_file(path)?;
-            let beside = Path::new(path).with_extension("toml");
+            // `arm.urdf` → `arm.toml`; `arm.urdf.xacro` → `arm.urdf.toml` or `arm.toml`.
+            let p = Path::new(path);
+            let stem = p.with_extension("");
+            let beside = [p.with_extension("toml"), stem.with_extension("toml")]
+                .into_iter()
+                .find(|c| c.is_file())
+                .unwrap_or_else(|| p.with_extension("toml"));
             let description = if beside.is_file() {
                 let text = tabula_geom::input::read_text(&beside, Format::Robot)?;
                 RobotDescription::from_toml(&text, &model)
