@@ -117,16 +117,7 @@ pub fn run(a: ArmArgs) -> Result<()> {
         let r = world.robot(&robot_name)?;
         NamedRobot::new(r.model.clone(), r.description.clone(), &robot_name)
     };
-    // The planning scene: the furniture and every object the robot does not hold, as
-    // the scene file places them (the same for the simulator and the dry run).
-    let held = world.held_objects(&robot_name);
-    let mut obstacles = world.furniture_shapes();
-    obstacles.extend(
-        world
-            .object_shapes()
-            .into_iter()
-            .filter(|(name, _, _)| !held.contains(name)),
-    );
+    let obstacles = planning_scene(&world, &robot_name);
     let out = if a.dry_run {
         let state = world.robot(&robot_name)?;
         let mut js = tabula_robot::driver::JointState::default();
@@ -200,8 +191,42 @@ fn save_scene(world: &SimWorld, path: Option<&PathBuf>) -> Result<()> {
     Ok(())
 }
 
+/// A shape of the planning scene: name, shape, world pose.
+pub type Obstacle = (String, tabula_geom::parry::shape::SharedShape, Pose);
+
+/// The planning scene: the furniture and every object `robot` does not hold, where the
+/// world has them (for the simulator and the dry run alike, from the scene file).
+pub fn planning_scene(world: &SimWorld, robot: &str) -> Vec<Obstacle> {
+    let held = world.held_objects(robot);
+    let mut obstacles = world.furniture_shapes();
+    obstacles.extend(
+        world
+            .object_shapes()
+            .into_iter()
+            .filter(|(name, _, _)| !held.contains(name)),
+    );
+    obstacles
+}
+
+/// A move group for `arm` at the driver's state with the planning scene's obstacles.
+pub fn move_group(
+    driver: &impl RobotDriver,
+    robot: &NamedRobot,
+    arm: &str,
+    obstacles: &[Obstacle],
+    params: &MoveGroupParams,
+) -> Result<MoveGroup> {
+    let state = driver.joint_state()?;
+    let root = driver.world_from_root()?;
+    let mut group = MoveGroup::new(robot, arm, &state, root, params.clone())?;
+    for (k, (name, shape, pose)) in obstacles.iter().enumerate() {
+        group.add_object(&format!("{name}#{k}"), shape.clone(), *pose)?;
+    }
+    Ok(group)
+}
+
 /// The arm called `wanted`, or the description's first.
-fn arm_name(robot: &NamedRobot, wanted: Option<&String>) -> Result<String> {
+pub fn arm_name(robot: &NamedRobot, wanted: Option<&String>) -> Result<String> {
     match wanted {
         Some(a) => Ok(robot.description.arm(a)?.name.clone()),
         None => robot
@@ -217,13 +242,12 @@ fn arm_name(robot: &NamedRobot, wanted: Option<&String>) -> Result<String> {
 fn act(
     driver: &mut impl RobotDriver,
     robot: &NamedRobot,
-    obstacles: &[(String, tabula_geom::parry::shape::SharedShape, Pose)],
+    obstacles: &[Obstacle],
     action: &ArmAction,
     params: &MoveGroupParams,
     driver_name: &'static str,
 ) -> Result<ArmJson> {
     let state = driver.joint_state()?;
-    let root = driver.world_from_root()?;
     let mut out = ArmJson {
         driver: driver_name,
         action: String::new(),
@@ -281,10 +305,7 @@ fn act(
         | ArmAction::Named { arm, .. } => Some(arm_name(robot, arm.as_ref())?),
     };
     if let Some(arm) = &arm {
-        let mut group = MoveGroup::new(robot, arm, &state, root, params.clone())?;
-        for (k, (name, shape, pose)) in obstacles.iter().enumerate() {
-            group.add_object(&format!("{name}#{k}"), shape.clone(), *pose)?;
-        }
+        let mut group = move_group(driver, robot, arm, obstacles, params)?;
         let start = group.arm_values(&state);
         let plan = match action {
             ArmAction::MoveJoints { values, .. } => {

@@ -16,6 +16,7 @@ mod report;
 mod sim;
 mod stable;
 mod tasks;
+mod teleop;
 
 use clap::{Parser, Subcommand};
 
@@ -121,6 +122,9 @@ enum Command {
         #[command(subcommand)]
         command: sim::SimCommand,
     },
+    /// Tele-operate the gripper from the keyboard in a terminal UI: steps in the base or
+    /// the tool frame, checked and executed in the simulator (seed 000's Module 0).
+    Teleop(teleop::TeleopArgs),
     /// How an object rests on a table (seed 000): stable poses of a mesh or a scanned
     /// cloud with their stability margins and landing probabilities.
     StablePoses(stable::StablePosesArgs),
@@ -186,6 +190,7 @@ fn main() {
     let result = match cli.command {
         Command::Demo { report } => demo::run(&report),
         Command::Arm(args) => arm::run(args),
+        Command::Teleop(args) => teleop::run(args),
         Command::Bench { command, report } => bench::run(command, report.as_deref()),
         Command::Clear(args) => clear::run(args),
         Command::Ik { command } => ik::run(command),

@@ -1,0 +1,432 @@
+//! `tabula teleop`: the gripper tele-operated from the keyboard (seed 000 §1.6's
+//! Module 0) in a terminal UI. Each key is one step of the tool along x, y, z or about
+//! them, in the robot's base (odometry) frame or the tool's own; the step is a Cartesian
+//! path through the arm's IK from the current joints, checked against the joints'
+//! limits and the scene, executed in the simulator — or refused with the reason.
+
+use crate::arm::{arm_name, move_group, planning_scene};
+use crate::tasks::{load_params, load_world, scene_robot};
+use anyhow::{Result, anyhow};
+use clap::Args;
+use ratatui::crossterm::event::{self, Event, KeyCode, KeyEventKind};
+use ratatui::layout::{Constraint, Layout};
+use ratatui::style::{Color, Style};
+use ratatui::text::Line;
+use ratatui::widgets::{Block, LineGauge, Paragraph};
+use std::path::PathBuf;
+use tabula_geom::{Pose, Quat, Vec3};
+use tabula_motion::group::{MoveGroup, MoveGroupParams};
+use tabula_robot::driver::{Arms, Grippers, HeadControl, JointStates, JointTrajectory};
+use tabula_robot::robots::NamedRobot;
+use tabula_sim::SimDriver;
+
+#[derive(Args)]
+pub struct TeleopArgs {
+    #[arg(long)]
+    scene: PathBuf,
+    #[arg(long)]
+    robot: Option<String>,
+    /// The arm to drive (a name from the robot's description; default: its first).
+    #[arg(long)]
+    group: Option<String>,
+    /// Refresh a picture of the scene (PNG) here after every step, for a viewer.
+    #[arg(long)]
+    snapshot: Option<PathBuf>,
+    /// Motion parameters (TOML, `MoveGroupParams`).
+    #[arg(long)]
+    params: Option<PathBuf>,
+}
+
+/// Which frame a step is taken in.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Frame {
+    Base,
+    Tool,
+}
+
+/// The tele-operation state: the simulated robot, its arm, step sizes, the last answer.
+struct Teleop {
+    driver: SimDriver,
+    robot: NamedRobot,
+    arm: String,
+    /// The arm over the scene's furniture and objects; its allowed-collision matrix is
+    /// sampled once, each step only takes the new joint state.
+    group: MoveGroup,
+    frame: Frame,
+    step_m: f64,
+    step_rad: f64,
+    last: String,
+    snapshot: Option<PathBuf>,
+}
+
+impl Teleop {
+    /// The tool's pose in the robot's base frame and the arm's joints (name, value,
+    /// limits).
+    #[allow(clippy::type_complexity)]
+    fn status(&mut self) -> Result<(Pose, Vec<(String, f64, f64, f64)>)> {
+        let state = self.driver.joint_state()?;
+        self.group.set_state(&self.robot, &state)?;
+        let group = &self.group;
+        let q = group.arm_values(&state);
+        let base_from_tool = self.driver.world_from_root()?.inverse() * group.tip_pose(&q)?;
+        let joints = group
+            .joint_names()
+            .iter()
+            .zip(&q)
+            .map(|(n, v)| {
+                let l = self
+                    .robot
+                    .model
+                    .joint(n)
+                    .map(|j| self.robot.model.joints[j].limits);
+                let (lo, hi) = l.map_or((f64::NAN, f64::NAN), |l| (l.lower, l.upper));
+                (n.clone(), *v, lo, hi)
+            })
+            .collect();
+        Ok((base_from_tool, joints))
+    }
+
+    /// One step: `translation` (m) and `rotation` (a rotation vector, rad) in the
+    /// current frame.
+    fn step(&mut self, translation: Vec3, rotation: Vec3, what: &str) {
+        self.last = match self.try_step(translation, rotation) {
+            Ok(()) => format!(
+                "moved: {what} ({} frame)",
+                if self.frame == Frame::Base {
+                    "base"
+                } else {
+                    "tool"
+                }
+            ),
+            Err(e) => format!("refused: {what}: {e}"),
+        };
+        self.refresh_snapshot();
+    }
+
+    fn try_step(&mut self, translation: Vec3, rotation: Vec3) -> Result<()> {
+        let state = self.driver.joint_state()?;
+        self.group.set_state(&self.robot, &state)?;
+        let group = &self.group;
+        let q = group.arm_values(&state);
+        let world_from_tool = group.tip_pose(&q)?;
+        let world_from_base = self.driver.world_from_root()?;
+        let target = match self.frame {
+            Frame::Base => {
+                let r = world_from_base.rotation;
+                Pose::from_parts(
+                    world_from_tool.translation + r * translation,
+                    Quat::from_scaled_axis(r * rotation) * world_from_tool.rotation,
+                )
+            }
+            Frame::Tool => {
+                world_from_tool * Pose::from_parts(translation, Quat::from_scaled_axis(rotation))
+            }
+        };
+        let plan = group.cartesian(&q, &target).map_err(|e| anyhow!("{e}"))?;
+        self.driver.execute(&plan.trajectory)?;
+        Ok(())
+    }
+
+    /// Moves the torso's lift joint by `delta` (m), inside its limits and only if the
+    /// arm stays clear of the scene there.
+    fn torso(&mut self, delta: f64) {
+        let result = (|| -> Result<String> {
+            let lift = self
+                .robot
+                .description
+                .torso_joints
+                .iter()
+                .find(|n| {
+                    self.robot.model.joint(n).is_some_and(|j| {
+                        self.robot.model.joints[j].kind == tabula_robot::model::JointKind::Prismatic
+                    })
+                })
+                .cloned()
+                .ok_or_else(|| anyhow!("this robot has no torso lift"))?;
+            let j = self
+                .robot
+                .model
+                .joint(&lift)
+                .ok_or_else(|| anyhow!("no joint {lift}"))?;
+            let limits = self.robot.model.joints[j].limits;
+            let state = self.driver.joint_state()?;
+            let now = state.get(&lift).unwrap_or(0.0);
+            let goal = now + delta;
+            if goal < limits.lower - 1e-9 || goal > limits.upper + 1e-9 {
+                anyhow::bail!(
+                    "{lift} would leave its limits [{:.3}, {:.3}] m",
+                    limits.lower,
+                    limits.upper
+                );
+            }
+            let mut after = state.clone();
+            if let Some(i) = after.names.iter().position(|n| *n == lift) {
+                after.positions[i] = goal;
+            }
+            self.group.set_state(&self.robot, &after)?;
+            let clash = self
+                .group
+                .world
+                .first_collision(&self.group.arm_values(&after))?;
+            self.group.set_state(&self.robot, &state)?;
+            if let Some((a, b)) = clash {
+                anyhow::bail!("{a} would touch {b}");
+            }
+            let v = limits.velocity.clamp(0.01, 0.1);
+            self.driver.execute(&JointTrajectory {
+                joint_names: vec![lift.clone()],
+                times: vec![0.0, delta.abs() / v],
+                positions: vec![vec![now], vec![goal]],
+            })?;
+            Ok(format!("moved: torso to {goal:.3} m"))
+        })();
+        self.last = result.unwrap_or_else(|e| format!("refused: torso: {e}"));
+        self.refresh_snapshot();
+    }
+
+    fn gripper(&mut self, open: bool) {
+        let result = (|| -> Result<String> {
+            let group = self.robot.description.arm(&self.arm)?;
+            let g = self
+                .robot
+                .description
+                .gripper_of(group)
+                .map(|g| g.name.clone())
+                .ok_or_else(|| anyhow!("arm `{}` has no gripper", self.arm))?;
+            if open {
+                self.driver.open(&g)?;
+                Ok("gripper opened".into())
+            } else {
+                let s = self.driver.close(&g)?;
+                Ok(format!(
+                    "gripper closed to {:.1} mm{}",
+                    s.width * 1e3,
+                    if s.holding { ", holding" } else { "" }
+                ))
+            }
+        })();
+        self.last = result.unwrap_or_else(|e| format!("refused: gripper: {e}"));
+        self.refresh_snapshot();
+    }
+
+    fn look_at_gripper(&mut self) {
+        let result = (|| -> Result<String> {
+            let state = self.driver.joint_state()?;
+            self.group.set_state(&self.robot, &state)?;
+            let q = self.group.arm_values(&state);
+            let at = self.group.tip_pose(&q)?.translation;
+            let off = self.driver.look_at(at)?;
+            Ok(format!(
+                "looking at the gripper ({:.1}° off)",
+                off.to_degrees()
+            ))
+        })();
+        self.last = result.unwrap_or_else(|e| format!("refused: look: {e}"));
+        self.refresh_snapshot();
+    }
+
+    fn refresh_snapshot(&self) {
+        if let Some(path) = &self.snapshot
+            && let Some(eye) = tabula_sim::replay::default_eyes(&self.driver.world)
+                .into_iter()
+                .find(|e| e.camera.is_none())
+        {
+            let img =
+                tabula_sim::camera::snapshot(&self.driver.world, eye.eye, eye.target, 640, 480);
+            let _ = img.save(path);
+        }
+    }
+
+    /// Handles a key; `false` when it asks to quit.
+    fn key(&mut self, code: KeyCode) -> bool {
+        let (m, r) = (self.step_m, self.step_rad);
+        let cm = m * 100.0;
+        let deg = r.to_degrees();
+        match code {
+            KeyCode::Char('q') | KeyCode::Esc => return false,
+            KeyCode::Char('w') => self.step(Vec3::X * m, Vec3::ZERO, &format!("+x {cm:.1} cm")),
+            KeyCode::Char('s') => self.step(-Vec3::X * m, Vec3::ZERO, &format!("-x {cm:.1} cm")),
+            KeyCode::Char('a') => self.step(Vec3::Y * m, Vec3::ZERO, &format!("+y {cm:.1} cm")),
+            KeyCode::Char('d') => self.step(-Vec3::Y * m, Vec3::ZERO, &format!("-y {cm:.1} cm")),
+            KeyCode::Char('r') => self.step(Vec3::Z * m, Vec3::ZERO, &format!("+z {cm:.1} cm")),
+            KeyCode::Char('f') => self.step(-Vec3::Z * m, Vec3::ZERO, &format!("-z {cm:.1} cm")),
+            KeyCode::Char('u') => self.step(Vec3::ZERO, Vec3::X * r, &format!("+roll {deg:.1}°")),
+            KeyCode::Char('o') => self.step(Vec3::ZERO, -Vec3::X * r, &format!("-roll {deg:.1}°")),
+            KeyCode::Char('i') => self.step(Vec3::ZERO, Vec3::Y * r, &format!("+pitch {deg:.1}°")),
+            KeyCode::Char('k') => self.step(Vec3::ZERO, -Vec3::Y * r, &format!("-pitch {deg:.1}°")),
+            KeyCode::Char('j') => self.step(Vec3::ZERO, Vec3::Z * r, &format!("+yaw {deg:.1}°")),
+            KeyCode::Char('l') => self.step(Vec3::ZERO, -Vec3::Z * r, &format!("-yaw {deg:.1}°")),
+            KeyCode::Char('t') => {
+                self.frame = if self.frame == Frame::Base {
+                    Frame::Tool
+                } else {
+                    Frame::Base
+                };
+                self.last = "frame switched".into();
+            }
+            KeyCode::Char('+') => {
+                self.step_m = (self.step_m * 2.0).min(0.5);
+                self.last = format!("step {:.1} cm", self.step_m * 100.0);
+            }
+            KeyCode::Char('-') => {
+                self.step_m = (self.step_m / 2.0).max(0.001);
+                self.last = format!("step {:.1} cm", self.step_m * 100.0);
+            }
+            KeyCode::Char(']') => {
+                self.step_rad = (self.step_rad * 2.0).min(1.0);
+                self.last = format!("turn {:.1}°", self.step_rad.to_degrees());
+            }
+            KeyCode::Char('[') => {
+                self.step_rad = (self.step_rad / 2.0).max(0.005);
+                self.last = format!("turn {:.1}°", self.step_rad.to_degrees());
+            }
+            KeyCode::Char('c') => self.gripper(false),
+            KeyCode::Char('v') => self.gripper(true),
+            KeyCode::Char('y') => self.torso(0.02),
+            KeyCode::Char('h') => self.torso(-0.02),
+            KeyCode::Char('g') => self.look_at_gripper(),
+            _ => {}
+        }
+        true
+    }
+
+    #[allow(clippy::type_complexity)]
+    fn draw(
+        &self,
+        frame: &mut ratatui::Frame,
+        status: &Result<(Pose, Vec<(String, f64, f64, f64)>)>,
+    ) {
+        let (pose, joints) = match status {
+            Ok((p, j)) => (*p, j),
+            Err(e) => {
+                frame.render_widget(Paragraph::new(format!("error: {e}")), frame.area());
+                return;
+            }
+        };
+        let t = pose.translation;
+        let [roll, pitch, yaw] = tabula_geom::rpy_from_quat(pose.rotation);
+        let x_axis = pose.rotation * Vec3::X;
+        let [top, gauges, help] = Layout::vertical([
+            Constraint::Length(8),
+            Constraint::Min(joints.len() as u16 + 2),
+            Constraint::Length(5),
+        ])
+        .areas(frame.area());
+        let refused = self.last.starts_with("refused");
+        let lines = vec![
+            Line::from(format!(
+                "tool (base): x {:+.4} y {:+.4} z {:+.4} m   roll {:+.2} pitch {:+.2} yaw {:+.2} °",
+                t.x,
+                t.y,
+                t.z,
+                roll.to_degrees(),
+                pitch.to_degrees(),
+                yaw.to_degrees()
+            )),
+            Line::from(format!(
+                "tool x axis (base): {:+.4} {:+.4} {:+.4}",
+                x_axis.x, x_axis.y, x_axis.z
+            )),
+            Line::from(format!(
+                "frame: {}   step: {:.1} cm, {:.1}°",
+                if self.frame == Frame::Base {
+                    "base"
+                } else {
+                    "tool"
+                },
+                self.step_m * 100.0,
+                self.step_rad.to_degrees()
+            )),
+            Line::styled(
+                format!("last: {}", self.last),
+                Style::default().fg(if refused { Color::Red } else { Color::Green }),
+            ),
+        ];
+        frame.render_widget(
+            Paragraph::new(lines).block(Block::bordered().title(format!(
+                " tabula teleop — {} arm `{}` ",
+                self.robot.label, self.arm
+            ))),
+            top,
+        );
+        let block = Block::bordered().title(" joints against their limits ");
+        let inner = block.inner(gauges);
+        frame.render_widget(block, gauges);
+        let rows = Layout::vertical(vec![Constraint::Length(1); joints.len()]).split(inner);
+        for ((name, v, lo, hi), row) in joints.iter().zip(rows.iter()) {
+            let (v, lo, hi) = (*v, *lo, *hi);
+            let ratio = if hi > lo && lo.is_finite() && hi.is_finite() {
+                ((v - lo) / (hi - lo)).clamp(0.0, 1.0)
+            } else {
+                0.5
+            };
+            frame.render_widget(
+                LineGauge::default()
+                    .ratio(ratio)
+                    .label(format!("{name:<26} {v:+.3} [{lo:+.2}, {hi:+.2}]"))
+                    .filled_style(Style::default().fg(if !(0.02..=0.98).contains(&ratio) {
+                        Color::Red
+                    } else {
+                        Color::Cyan
+                    })),
+                *row,
+            );
+        }
+        frame.render_widget(
+            Paragraph::new(vec![
+                Line::from(
+                    "w/s ±x  a/d ±y  r/f ±z   u/o ±roll  i/k ±pitch  j/l ±yaw   t base/tool frame",
+                ),
+                Line::from(
+                    "+/- step size  ]/[ turn size   c close  v open gripper   y/h torso up/down",
+                ),
+                Line::from("g look at the gripper   q or Esc quit"),
+            ])
+            .block(Block::bordered().title(" keys ")),
+            help,
+        );
+    }
+}
+
+pub fn run(a: TeleopArgs) -> Result<()> {
+    let params: MoveGroupParams = load_params(a.params.as_deref())?;
+    let (_, world) = load_world(&a.scene)?;
+    let robot_name = scene_robot(&world, a.robot.as_deref())?;
+    let robot = {
+        let r = world.robot(&robot_name)?;
+        NamedRobot::new(r.model.clone(), r.description.clone(), &robot_name)
+    };
+    let arm = arm_name(&robot, a.group.as_ref())?;
+    let obstacles = planning_scene(&world, &robot_name);
+    let driver = SimDriver::new(world, &robot_name, 1)?;
+    let group = move_group(&driver, &robot, &arm, &obstacles, &params)?;
+    let mut t = Teleop {
+        driver,
+        robot,
+        arm,
+        group,
+        frame: Frame::Base,
+        step_m: 0.01,
+        step_rad: 5f64.to_radians(),
+        last: "ready".into(),
+        snapshot: a.snapshot,
+    };
+    t.refresh_snapshot();
+    // ratatui::init puts the terminal in raw mode on the alternate screen and restores
+    // it on a panic; restore() undoes it on every way out below.
+    let mut terminal = ratatui::init();
+    let result = (|| -> Result<()> {
+        loop {
+            let status = t.status();
+            terminal.draw(|f| t.draw(f, &status))?;
+            if let Event::Key(k) = event::read()?
+                && k.kind == KeyEventKind::Press
+                && !t.key(k.code)
+            {
+                return Ok(());
+            }
+        }
+    })();
+    ratatui::restore();
+    result
+}
