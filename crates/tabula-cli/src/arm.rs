@@ -4,7 +4,7 @@
 //! objects, executed in the simulator or, with `--dry-run`, through a fake driver that
 //! only integrates the commands (MoveIt's fake controllers): the same plan either way.
 
-use crate::tasks::{load_params, load_world, scene_robot};
+use crate::tasks::{load_params, load_world, scene_robot_named};
 use anyhow::{Context, Result, anyhow, bail};
 use clap::{Args, Subcommand, ValueEnum};
 use serde::Serialize;
@@ -112,11 +112,7 @@ impl From<&JointTrajectory> for TrajectoryJson {
 pub fn run(a: ArmArgs) -> Result<()> {
     let params: MoveGroupParams = load_params(a.params.as_deref())?;
     let (_, world) = load_world(&a.scene)?;
-    let robot_name = scene_robot(&world, a.robot.as_deref())?;
-    let robot = {
-        let r = world.robot(&robot_name)?;
-        NamedRobot::new(r.model.clone(), r.description.clone(), &robot_name)
-    };
+    let (robot_name, robot) = scene_robot_named(&world, a.robot.as_deref())?;
     let obstacles = planning_scene(&world, &robot_name);
     let out = if a.dry_run {
         let state = world.robot(&robot_name)?;

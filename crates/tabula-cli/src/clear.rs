@@ -1,11 +1,10 @@
 //! `tabula clear`: seed 002's table clearing run in the simulator, judged by its physics.
 
 use crate::report::{Recorded, Recording, Report, Section};
-use crate::tasks::{TaskRunArgs, load_params, scene_robot};
+use crate::tasks::{TaskRunArgs, load_params, scene_robot_named};
 use anyhow::{Result, anyhow};
 use clap::Args;
 use serde::Serialize;
-use tabula_robot::robots::NamedRobot;
 use tabula_sim::SimWorld;
 use tabula_sim::verdict::{ClearVerdict, run_clear_judged};
 use tabula_tasks::clear::{ClearParams, ClearReport, ClearRequest, clear};
@@ -43,11 +42,7 @@ pub fn clear_in(
     seed: u64,
     record: bool,
 ) -> Result<(ClearJson, SimWorld, Option<Recorded>)> {
-    let robot_name = scene_robot(&world, robot)?;
-    let robot = {
-        let r = world.robot(&robot_name)?;
-        NamedRobot::new(r.model.clone(), r.description.clone(), &robot_name)
-    };
+    let (robot_name, robot) = scene_robot_named(&world, robot)?;
     let mut recording = Recording::new(record);
     let (outcome, verdict, world) = run_clear_judged(
         world,

@@ -2,7 +2,7 @@
 //! (seed 000) in the simulator, judged by its physics.
 
 use crate::report::{Recorded, Recording, Report, Section};
-use crate::tasks::{TaskRunArgs, load_params, scene_robot};
+use crate::tasks::{TaskRunArgs, load_params, scene_robot, scene_robot_named};
 use anyhow::Result;
 use serde::Serialize;
 use tabula_geom::{Pose, Quat, Vec3};
@@ -55,11 +55,7 @@ pub fn place_in(
     seed: u64,
     record: bool,
 ) -> Result<(PlaceJson, SimWorld, Option<Recorded>)> {
-    let robot_name = scene_robot(&world, robot)?;
-    let robot = {
-        let r = world.robot(&robot_name)?;
-        tabula_robot::robots::NamedRobot::new(r.model.clone(), r.description.clone(), &robot_name)
-    };
+    let (robot_name, robot) = scene_robot_named(&world, robot)?;
     let mut recording = Recording::new(record);
     let (outcome, verdict, world) = run_place_judged(world, &robot_name, seed, |driver| {
         recording.start(driver);

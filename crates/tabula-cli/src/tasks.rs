@@ -131,6 +131,18 @@ pub fn scene_robot(world: &SimWorld, wanted: Option<&str>) -> Result<String> {
     }
 }
 
+/// The scene's robot (`wanted`, or its first) by name, with its model and description.
+pub fn scene_robot_named(
+    world: &SimWorld,
+    wanted: Option<&str>,
+) -> Result<(String, tabula_robot::robots::NamedRobot)> {
+    let name = scene_robot(world, wanted)?;
+    let r = world.robot(&name)?;
+    let robot =
+        tabula_robot::robots::NamedRobot::new(r.model.clone(), r.description.clone(), &name);
+    Ok((name, robot))
+}
+
 /// `--arm NAME` must name one of the robot's arms (or be `auto`): a typo is an error
 /// of the input, not a failed task.
 pub fn check_arm(world: &SimWorld, robot: &str, arm: &str) -> Result<()> {
@@ -290,11 +302,7 @@ pub fn pick_place_in(
     seed: u64,
     record: bool,
 ) -> Result<(PickPlaceJson, SimWorld, Option<Recorded>)> {
-    let robot_name = scene_robot(&world, robot)?;
-    let robot = {
-        let r = world.robot(&robot_name)?;
-        tabula_robot::robots::NamedRobot::new(r.model.clone(), r.description.clone(), &robot_name)
-    };
+    let (robot_name, robot) = scene_robot_named(&world, robot)?;
     let mut recording = Recording::new(record);
     let (outcome, mut verdict, world) = run_judged(
         world,

@@ -5,7 +5,7 @@
 //! limits and the scene, executed in the simulator — or refused with the reason.
 
 use crate::arm::{arm_name, move_group, planning_scene};
-use crate::tasks::{load_params, load_world, scene_robot};
+use crate::tasks::{load_params, load_world, scene_robot_named};
 use anyhow::{Result, anyhow};
 use clap::Args;
 use ratatui::crossterm::event::{self, Event, KeyCode, KeyEventKind};
@@ -391,11 +391,7 @@ impl Teleop {
 pub fn run(a: TeleopArgs) -> Result<()> {
     let params: MoveGroupParams = load_params(a.params.as_deref())?;
     let (_, world) = load_world(&a.scene)?;
-    let robot_name = scene_robot(&world, a.robot.as_deref())?;
-    let robot = {
-        let r = world.robot(&robot_name)?;
-        NamedRobot::new(r.model.clone(), r.description.clone(), &robot_name)
-    };
+    let (robot_name, robot) = scene_robot_named(&world, a.robot.as_deref())?;
     let arm = arm_name(&robot, a.group.as_ref())?;
     let obstacles = planning_scene(&world, &robot_name);
     let driver = SimDriver::new(world, &robot_name, 1)?;
