@@ -66,6 +66,10 @@ enum ArmAction {
         #[arg(long)]
         gripper: Option<String>,
         command: GripCommand,
+        /// Close squeezing with at most this force (N per finger, capped at the finger
+        /// joint's limit): the object is held only if friction carries it.
+        #[arg(long, value_parser = crate::args::finite)]
+        effort: Option<f64>,
     },
 }
 
@@ -255,7 +259,11 @@ fn act(
         grip: None,
     };
     let arm = match action {
-        ArmAction::Gripper { gripper, command } => {
+        ArmAction::Gripper {
+            gripper,
+            command,
+            effort,
+        } => {
             let g = match gripper {
                 Some(g) => g.clone(),
                 None => {
@@ -290,7 +298,11 @@ fn act(
                     out.grip = Some((gr.width_at(&robot.model, v), false));
                 }
                 GripCommand::Close => {
-                    let grip = driver.close(&g)?;
+                    let grip = match effort {
+                        Some(e) if *e < 0.0 => bail!("--effort must not be negative"),
+                        Some(e) => driver.close_with_effort(&g, *e)?,
+                        None => driver.close(&g)?,
+                    };
                     out.grip = Some((grip.width, grip.holding));
                 }
             }

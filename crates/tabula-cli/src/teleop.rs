@@ -55,6 +55,8 @@ struct Teleop {
     frame: Frame,
     step_m: f64,
     step_rad: f64,
+    /// Squeeze of a close (N per finger; the joint's limit caps it).
+    effort: f64,
     last: String,
     snapshot: Option<PathBuf>,
 }
@@ -197,7 +199,7 @@ impl Teleop {
                 self.driver.open(&g)?;
                 Ok("gripper opened".into())
             } else {
-                let s = self.driver.close(&g)?;
+                let s = self.driver.close_with_effort(&g, self.effort)?;
                 Ok(format!(
                     "gripper closed to {:.1} mm{}",
                     s.width * 1e3,
@@ -280,6 +282,14 @@ impl Teleop {
                 self.step_rad = (self.step_rad / 2.0).max(0.005);
                 self.last = format!("turn {:.1}°", self.step_rad.to_degrees());
             }
+            KeyCode::Char('>') => {
+                self.effort = (self.effort * 2.0).min(1000.0);
+                self.last = format!("grip effort {:.1} N", self.effort);
+            }
+            KeyCode::Char('<') => {
+                self.effort = (self.effort / 2.0).max(0.5);
+                self.last = format!("grip effort {:.1} N", self.effort);
+            }
             KeyCode::Char('c') => self.gripper(false),
             KeyCode::Char('v') => self.gripper(true),
             KeyCode::Char('y') => self.torso(0.02),
@@ -328,14 +338,15 @@ impl Teleop {
                 x_axis.x, x_axis.y, x_axis.z
             )),
             Line::from(format!(
-                "frame: {}   step: {:.1} cm, {:.1}°",
+                "frame: {}   step: {:.1} cm, {:.1}°   grip effort: {:.1} N",
                 if self.frame == Frame::Base {
                     "base"
                 } else {
                     "tool"
                 },
                 self.step_m * 100.0,
-                self.step_rad.to_degrees()
+                self.step_rad.to_degrees(),
+                self.effort
             )),
             Line::styled(
                 format!("last: {}", self.last),
@@ -378,7 +389,7 @@ impl Teleop {
                     "w/s ±x  a/d ±y  r/f ±z   u/o ±roll  i/k ±pitch  j/l ±yaw   t base/tool frame",
                 ),
                 Line::from(
-                    "+/- step size  ]/[ turn size   c close  v open gripper   y/h torso up/down",
+                    "+/- step size  ]/[ turn size   c close  v open gripper  >/< grip effort  y/h torso",
                 ),
                 Line::from("g look at the gripper   q or Esc quit"),
             ])
@@ -404,6 +415,7 @@ pub fn run(a: TeleopArgs) -> Result<()> {
         frame: Frame::Base,
         step_m: 0.01,
         step_rad: 5f64.to_radians(),
+        effort: 20.0,
         last: "ready".into(),
         snapshot: a.snapshot,
     };

@@ -211,6 +211,18 @@ fn arm_service_dry_run_matches_the_simulator() {
         (closed["grip"][0].as_f64().unwrap() - 0.03).abs() < 1e-9,
         "{closed}"
     );
+    // A gentle close on nothing holds nothing.
+    let gentle = tabula_json(&[
+        "arm",
+        "--scene",
+        "../../scenes/clutter.toml",
+        "--json",
+        "gripper",
+        "close",
+        "--effort",
+        "5",
+    ]);
+    assert_eq!(gentle["grip"][1], false, "{gentle}");
     // Out of reach: no solution (status 2); a wrong arm or joint count: bad input (1).
     let far = tabula(&[
         "arm",

@@ -180,6 +180,15 @@ pub trait Arms {
 pub trait Grippers {
     fn open(&mut self, gripper: &str) -> Result<(), DriverError>;
     fn close(&mut self, gripper: &str) -> Result<GripState, DriverError>;
+    /// Closes squeezing with at most `effort` newtons per finger (capped at the finger
+    /// joint's limit), so a gentle grip does not crush and a weak one may not hold.
+    /// Drivers that cannot limit the force close as [`Self::close`] does.
+    fn close_with_effort(&mut self, gripper: &str, effort: f64) -> Result<GripState, DriverError> {
+        if !(effort.is_finite() && effort >= 0.0) {
+            return Err(DriverError::NonFinite);
+        }
+        self.close(gripper)
+    }
 }
 
 /// A pan/tilt head.

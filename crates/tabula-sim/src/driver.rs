@@ -145,13 +145,31 @@ impl Grippers for SimDriver {
     }
 
     fn close(&mut self, gripper: &str) -> Result<GripState, DriverError> {
+        self.close_limited(gripper, None)
+    }
+
+    fn close_with_effort(&mut self, gripper: &str, effort: f64) -> Result<GripState, DriverError> {
+        if !(effort.is_finite() && effort >= 0.0) {
+            return Err(DriverError::NonFinite);
+        }
+        self.close_limited(gripper, Some(effort))
+    }
+}
+
+impl SimDriver {
+    fn close_limited(
+        &mut self,
+        gripper: &str,
+        effort: Option<f64>,
+    ) -> Result<GripState, DriverError> {
         let g = self.gripper(gripper)?;
         let held = self.run(|w, r| {
-            w.close_gripper(
+            w.close_gripper_with_effort(
                 r,
                 &g.finger_joint,
                 [g.fingers[0].as_str(), g.fingers[1].as_str()],
                 &g.palm,
+                effort,
             )
         })?;
         let value = self.world.joint(&self.robot, &g.finger_joint)?;

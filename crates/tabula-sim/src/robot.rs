@@ -236,6 +236,25 @@ impl SimWorld {
         fingers: [&str; 2],
         palm: &str,
     ) -> Result<Option<String>, SimError> {
+        self.close_gripper_with_effort(robot, finger_joint, fingers, palm, None)
+    }
+
+    /// [`Self::close_gripper`] squeezing with at most `effort` (N per finger, capped at
+    /// the finger joint's URDF effort limit): the fingers stop on the object either way,
+    /// but it is held only if friction can carry it, 2·μ·F ≥ m·g (μ: the object's and
+    /// the fingers' friction averaged, as the physics combines them). `None` holds
+    /// whatever both fingers touch, as the seeds' Gazebo grasp plugin did.
+    pub fn close_gripper_with_effort(
+        &mut self,
+        robot: &str,
+        finger_joint: &str,
+        fingers: [&str; 2],
+        palm: &str,
+        effort: Option<f64>,
+    ) -> Result<Option<String>, SimError> {
+        if effort.is_some_and(|e| !(e.is_finite() && e >= 0.0)) {
+            return Err(SimError::NonFinite);
+        }
         let ri = self.robot_index(robot)?;
         let j = self.joint_index(ri, finger_joint)?;
         let (lower, start) = (
@@ -255,6 +274,18 @@ impl SimWorld {
                 && a == b
             {
                 let object = a.clone();
+                if let Some(effort) = effort
+                    && !self.friction_carries(
+                        ri,
+                        j,
+                        &format!("{robot}/{}", fingers[0]),
+                        &object,
+                        effort,
+                    )
+                {
+                    // Squeezed, not carried: the fingers rest on it.
+                    return Ok(None);
+                }
                 let world_from_palm = self.link_pose(robot, palm)?;
                 let world_from_object = self.pose(&object)?;
                 let oi = self
@@ -272,6 +303,38 @@ impl SimWorld {
             }
         }
         Ok(None)
+    }
+
+    /// Whether two fingers squeezing with `effort` (capped at joint `j`'s limit) carry
+    /// `object` by friction.
+    fn friction_carries(
+        &self,
+        ri: usize,
+        j: usize,
+        finger: &str,
+        object: &str,
+        effort: f64,
+    ) -> bool {
+        let limit = self.robots[ri].model.joints[j].limits.effort;
+        let force = if limit.is_finite() && limit > 0.0 {
+            effort.min(limit)
+        } else {
+            effort
+        };
+        let friction_of = |name: &str| -> Option<(f64, f64)> {
+            let e = self.entity(name)?;
+            let body = self.physics.bodies.get(self.entities[e].body)?;
+            let c = body.colliders().first()?;
+            Some((self.physics.colliders.get(*c)?.friction(), body.mass()))
+        };
+        let (Some((mu_object, mass)), Some((mu_finger, _))) =
+            (friction_of(object), friction_of(finger))
+        else {
+            return true;
+        };
+        let mu = 0.5 * (mu_object + mu_finger);
+        let g = self.physics.gravity.length();
+        2.0 * mu * force >= mass * g
     }
 
     /// Opens the gripper: held objects are released to the physics.

@@ -116,3 +116,44 @@ fn the_gripper_carries_a_box_and_lets_it_fall_on_the_table() {
     );
     assert!((rest.translation.x - 0.55).abs() < 0.1 && rest.translation.y.abs() < 0.1);
 }
+
+/// A grip limited in force holds what friction can carry and no more: 2·μ·F ≥ m·g.
+#[test]
+fn a_gentle_grip_holds_light_objects_and_lets_heavy_ones_stay() {
+    let robot = tabula_robot::robots::load("wam").unwrap();
+    let chain = Chain::new(&robot.model, "base_link", "wam_tool").unwrap();
+    let names: Vec<String> = chain.joint_names.clone();
+    let grasp = ik(
+        &chain,
+        Vec3::new(0.55, 0.0, 0.425),
+        &chain.mid_configuration(),
+    );
+    let held_with = |mass: f64, effort: Option<f64>| {
+        let text = SCENE.replace("mass = 0.1", &format!("mass = {mass}"));
+        let scene = Scene::parse(&text, "grasp.toml").unwrap();
+        let mut world = SimWorld::from_scene(&scene, PhysicsParams::default()).unwrap();
+        let at: Vec<(&str, f64)> = names
+            .iter()
+            .map(String::as_str)
+            .zip(grasp.iter().copied())
+            .collect();
+        world.set_joints("wam", &at).unwrap();
+        world.settle();
+        world
+            .close_gripper_with_effort(
+                "wam",
+                "wam_gripper_left_finger_joint",
+                ["wam_gripper_left_finger", "wam_gripper_right_finger"],
+                "wam_gripper_palm",
+                effort,
+            )
+            .unwrap()
+    };
+    // 0.1 kg needs ~1 N of friction: 5 N per finger is plenty.
+    assert_eq!(held_with(0.1, Some(5.0)).as_deref(), Some("box"));
+    // 5 kg needs ~49 N: 5 N slips, and asking 500 N is capped at the joint's 20 N.
+    assert_eq!(held_with(5.0, Some(5.0)), None);
+    assert_eq!(held_with(5.0, Some(500.0)), None);
+    // Without a limit the grip holds whatever both fingers touch.
+    assert_eq!(held_with(5.0, None).as_deref(), Some("box"));
+}
