@@ -400,6 +400,10 @@ impl Teleop {
 }
 
 pub fn run(a: TeleopArgs) -> Result<()> {
+    use std::io::IsTerminal;
+    if !(std::io::stdin().is_terminal() && std::io::stdout().is_terminal()) {
+        anyhow::bail!("teleop needs an interactive terminal (its input and output a terminal)");
+    }
     let params: MoveGroupParams = load_params(a.params.as_deref())?;
     let (_, world) = load_world(&a.scene)?;
     let (robot_name, robot) = scene_robot_named(&world, a.robot.as_deref())?;
@@ -420,9 +424,10 @@ pub fn run(a: TeleopArgs) -> Result<()> {
         snapshot: a.snapshot,
     };
     t.refresh_snapshot();
-    // ratatui::init puts the terminal in raw mode on the alternate screen and restores
+    // ratatui's init puts the terminal in raw mode on the alternate screen and restores
     // it on a panic; restore() undoes it on every way out below.
-    let mut terminal = ratatui::init();
+    let mut terminal =
+        ratatui::try_init().map_err(|e| anyhow!("teleop cannot take over the terminal: {e}"))?;
     let result = (|| -> Result<()> {
         loop {
             let status = t.status();

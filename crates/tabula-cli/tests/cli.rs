@@ -223,6 +223,14 @@ fn arm_service_dry_run_matches_the_simulator() {
         "5",
     ]);
     assert_eq!(gentle["grip"][1], false, "{gentle}");
+    // Tele-operation without a terminal is an input error, not a crash.
+    let teleop = Command::new(env!("CARGO_BIN_EXE_tabula"))
+        .args(["teleop", "--scene", "../../scenes/clutter.toml"])
+        .stdin(std::process::Stdio::null())
+        .output()
+        .unwrap();
+    assert_eq!(teleop.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&teleop.stderr).contains("interactive terminal"));
     // Out of reach: no solution (status 2); a wrong arm or joint count: bad input (1).
     let far = tabula(&[
         "arm",
