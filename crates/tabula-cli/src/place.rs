@@ -464,6 +464,13 @@ pub fn bench(
     }
     progress.finish_and_clear();
     let rows: Vec<BenchRow> = rows.into_iter().collect::<Result<_>>()?;
+    // Failures by cause, for the report and the summary line.
+    let mut causes: std::collections::BTreeMap<&str, usize> = Default::default();
+    for r in &rows {
+        if let Some(c) = &r.cause {
+            *causes.entry(c.as_str()).or_default() += 1;
+        }
+    }
     if let Some(dir) = report {
         let n = rows.len();
         let k = rows.iter().filter(|r| r.success).count();
@@ -480,17 +487,11 @@ pub fn bench(
                 ),
             ),
         ];
-        for r in &rows {
-            if let Some(c) = &r.cause {
-                match numbers
-                    .iter_mut()
-                    .find(|(name, _)| name == &format!("failed: {c}"))
-                {
-                    Some(e) => e.1 = (e.1.parse::<usize>().unwrap_or(0) + 1).to_string(),
-                    None => numbers.push((format!("failed: {c}"), "1".into())),
-                }
-            }
-        }
+        numbers.extend(
+            causes
+                .iter()
+                .map(|(c, count)| (format!("failed: {c}"), count.to_string())),
+        );
         crate::report::bench_report(
             dir,
             crate::report::BenchSummary {
@@ -535,12 +536,6 @@ pub fn bench(
     let n = rows.len();
     let k = rows.iter().filter(|r| r.success).count();
     let (lo, hi) = crate::clear::wilson(k, n);
-    let mut causes: std::collections::BTreeMap<&str, usize> = Default::default();
-    for r in &rows {
-        if let Some(c) = &r.cause {
-            *causes.entry(c.as_str()).or_default() += 1;
-        }
-    }
     let decisions: Vec<f64> = rows.iter().map(|r| r.decision_ms).collect();
     let d = tabula_robot::ik::bench::Spread::of(&decisions);
     println!(

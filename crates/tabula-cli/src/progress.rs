@@ -28,7 +28,6 @@ pub fn steps(len: u64, prefix: &str) -> ProgressBar {
 /// A spinner for work of unknown length (a search, a library's benchmark loop).
 pub fn spinner(message: &str) -> ProgressBar {
     let bar = steps(0, "");
-    bar.set_length(0);
     if let Ok(style) = ProgressStyle::with_template("{spinner} {msg} ({elapsed})") {
         bar.set_style(style);
     }
