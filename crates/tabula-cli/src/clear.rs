@@ -2,7 +2,7 @@
 
 use crate::report::{Recorded, Recording, Report, Section};
 use crate::tasks::{TaskRunArgs, load_params, scene_robot_named};
-use anyhow::{Result, anyhow};
+use anyhow::{Result, anyhow, bail};
 use clap::Args;
 use serde::Serialize;
 use tabula_sim::SimWorld;
@@ -83,6 +83,9 @@ pub fn clear_in(
 }
 
 pub fn run(a: ClearArgs) -> Result<()> {
+    if a.run.dry_run {
+        bail!("clearing pushes objects and a dry run moves none: run it in the simulator");
+    }
     let params: ClearParams = load_params(a.run.params.as_deref())?;
     params.validate()?;
     let (out, world, recorded) = clear_in(

@@ -44,6 +44,8 @@ pub struct PlaceJson {
     pub error: Option<TypedError>,
     pub report: PlaceReport,
     pub verdict: StablePlaceVerdict,
+    /// Run with `--dry-run`: no physics judged the verdict.
+    pub dry_run: bool,
 }
 
 /// One placement in `world`, judged by its physics; returns the world afterwards.
@@ -56,6 +58,7 @@ pub fn place_in(
     record: bool,
 ) -> Result<(PlaceJson, SimWorld, Option<Recorded>)> {
     let (robot_name, robot) = scene_robot_named(&world, robot)?;
+    let dry_run = world.kinematic_only;
     let mut recording = Recording::new(record);
     let (outcome, verdict, world) = run_place_judged(world, &robot_name, seed, |driver| {
         recording.start(driver);
@@ -93,6 +96,7 @@ pub fn place_in(
             error,
             report: outcome.report,
             verdict,
+            dry_run,
         },
         world,
         recorded,
@@ -262,7 +266,8 @@ pub fn model_line(m: &tabula_tasks::place::ModelReport) -> String {
 fn print_summary(out: &PlaceJson) {
     let r = &out.report;
     println!(
-        "place: {} (arm {})",
+        "place{}: {} (arm {})",
+        if out.dry_run { " (dry run)" } else { "" },
         if out.success { "success" } else { "FAILED" },
         r.arm.as_deref().unwrap_or("-")
     );

@@ -35,6 +35,12 @@ pub struct TaskRunArgs {
     /// and release, plots, a 3D replay) and run.json.
     #[arg(long)]
     pub report: Option<PathBuf>,
+    /// Try the task dry (MoveIt's fake controllers with the scene kept for the
+    /// cameras): joints are set along every trajectory, a closing gripper takes what it
+    /// closes on, and nothing falls, slides or is pushed — the verdict judges where
+    /// things were left, not how they settle.
+    #[arg(long)]
+    pub dry_run: bool,
 }
 
 impl TaskRunArgs {
@@ -90,9 +96,11 @@ impl TaskRunArgs {
         }
     }
 
-    /// The world of `--scene`.
+    /// The world of `--scene` (kinematic only with `--dry-run`).
     pub fn world(&self) -> Result<SimWorld> {
-        Ok(load_world(&self.scene)?.1)
+        let mut world = load_world(&self.scene)?.1;
+        world.kinematic_only = self.dry_run;
+        Ok(world)
     }
 }
 
@@ -189,6 +197,8 @@ pub struct PickPlaceJson {
     pub report: tabula_tasks::pick_place::PickPlaceReport,
     pub verdict: PlaceVerdict,
     pub final_pose: [f64; 6],
+    /// Run with `--dry-run`: no physics judged the verdict.
+    pub dry_run: bool,
 }
 
 /// Runs one pick and place in the simulator, judges it, and saves what was asked.
@@ -303,6 +313,7 @@ pub fn pick_place_in(
     record: bool,
 ) -> Result<(PickPlaceJson, SimWorld, Option<Recorded>)> {
     let (robot_name, robot) = scene_robot_named(&world, robot)?;
+    let dry_run = world.kinematic_only;
     let mut recording = Recording::new(record);
     let (outcome, mut verdict, world) = run_judged(
         world,
@@ -325,6 +336,7 @@ pub fn pick_place_in(
             report: outcome.report,
             final_pose: verdict.final_pose,
             verdict,
+            dry_run,
         },
         world,
         recorded,
@@ -338,7 +350,8 @@ pub fn run(a: PickPlaceArgs) -> Result<()> {
     } else {
         let r = &out.report;
         println!(
-            "pick-place: {} (arm {}, {} grasp)",
+            "pick-place{}: {} (arm {}, {} grasp)",
+            if out.dry_run { " (dry run)" } else { "" },
             if out.success { "success" } else { "FAILED" },
             r.arm.as_deref().unwrap_or("-"),
             r.grasp

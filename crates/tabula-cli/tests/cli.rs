@@ -797,6 +797,61 @@ fn pick_place_moves_the_can_and_saves_the_world() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
+/// Seed 001's pick and place tried dry (joints set along the trajectories, no physics):
+/// the same phases run, the can rides in the gripper to the target, the other object
+/// and the shelves are untouched, and the output says it was dry.
+#[test]
+fn pick_place_runs_dry() {
+    let scene = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../scenes/golem_shelves.toml"
+    );
+    let v = tabula_json(&[
+        "pick-place",
+        "--scene",
+        scene,
+        "--pick",
+        "0.556",
+        "-0.663",
+        "1.07",
+        "--place",
+        "0.82",
+        "-0.2",
+        "1.01",
+        "--dry-run",
+        "--json",
+    ]);
+    assert_eq!(v["dry_run"], true, "{v}");
+    assert_eq!(v["success"], true, "{v}");
+    let phases: Vec<&str> = v["phases"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|p| p["name"].as_str().unwrap())
+        .collect();
+    for phase in [
+        "move to pre-grasp",
+        "grasp",
+        "transfer",
+        "release",
+        "return",
+    ] {
+        assert!(phases.contains(&phase), "{phases:?}");
+    }
+    let fp = v["final_pose"].as_array().unwrap();
+    assert!((fp[0].as_f64().unwrap() - 0.82).abs() < 0.02, "{fp:?}");
+    assert!((fp[1].as_f64().unwrap() + 0.2).abs() < 0.02, "{fp:?}");
+    assert_eq!(v["verdict"]["disturbed"], serde_json::json!([]), "{v}");
+    // Clearing needs pushes to move things: refused, not faked.
+    let out = tabula(&[
+        "clear",
+        "--scene",
+        concat!(env!("CARGO_MANIFEST_DIR"), "/../../scenes/clutter.toml"),
+        "--dry-run",
+    ]);
+    assert_eq!(out.status.code(), Some(1));
+}
+
 /// A scene's `joints` table copied into `perceive --joint` describes the same robot:
 /// joints not given are at mid-range, where the simulator starts them (they were set to
 /// 0, and none of the PR2's ~17k points in its own holding scene were removed).

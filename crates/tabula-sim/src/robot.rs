@@ -210,7 +210,8 @@ impl SimWorld {
         for k in 1..=steps {
             let t = (k as f64 * dt).min(duration);
             self.write_joints(ri, &at(t))?;
-            self.place_robot(ri, true)?;
+            // Without physics nothing would carry a kinematic target to the links.
+            self.place_robot(ri, !self.kinematic_only)?;
             if guarded && let Some((link, hit)) = self.robot_blocked(ri) {
                 let before = ((k - 1) as f64 * dt).min(duration);
                 self.write_joints(ri, &at(before))?;

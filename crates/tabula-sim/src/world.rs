@@ -161,6 +161,10 @@ pub struct SimWorld {
     pub steps: u64,
     /// Labels a driver was given for moments of a task, with the simulated time.
     pub notes: Vec<(f64, String)>,
+    /// A dry run (MoveIt's fake controllers, with the scene kept for the cameras):
+    /// robots move by setting their joints, objects ride in a gripper that closes on
+    /// them, and nothing falls, slides or is pushed; the clock still runs.
+    pub kinematic_only: bool,
     /// The specs the world was built from, kept up to date with spawned and deleted
     /// objects, so the world can be written back as a scene ([`Self::to_scene`]).
     source: Scene,
@@ -220,6 +224,7 @@ impl SimWorld {
             cameras: Vec::new(),
             steps: 0,
             notes: Vec::new(),
+            kinematic_only: false,
             source: Scene::default(),
             base_dir: None,
         }
@@ -720,9 +725,11 @@ impl SimWorld {
             .collect()
     }
 
-    /// One physics step.
+    /// One physics step (in a dry run, only the clock advances).
     pub fn step(&mut self) {
-        self.physics.step();
+        if !self.kinematic_only {
+            self.physics.step();
+        }
         self.steps += 1;
     }
 
@@ -749,6 +756,13 @@ impl SimWorld {
 
     /// Steps until every dynamic body sleeps or the time limit passes.
     pub fn settle(&mut self) -> SettleReport {
+        if self.kinematic_only {
+            return SettleReport {
+                steps: 0,
+                simulated_seconds: 0.0,
+                all_asleep: true,
+            };
+        }
         let dt = self.physics.integration_parameters.dt;
         let max_steps = (self.params.settle_time_limit / dt).ceil() as usize;
         let mut steps = 0;

@@ -146,3 +146,61 @@ fn an_object_held_at_an_angle_stays_so() {
     assert!((tool_from_cup.translation - Vec3::new(0.01, 0.0, 0.0)).length() < 1e-6);
     assert_eq!(w.held_objects("pr2"), vec!["cup".to_string()]);
 }
+
+/// A dry run moves the robot along its trajectories and keeps the clock, but nothing
+/// falls or is pushed: a cup left in the air stays there, one in the arm's way stays
+/// put while the arm passes through it, and settling takes no steps.
+#[test]
+fn a_dry_run_moves_the_robot_and_nothing_else() {
+    let text = r#"
+[floor]
+[[object]]
+name = "floating"
+shape = { box = [0.05, 0.05, 0.08] }
+pose = { xyz = [2.0, 2.0, 0.5] }
+mass = 0.1
+[[robot]]
+name = "wam"
+urdf = "wam"
+"#;
+    let mut w = world(text);
+    w.kinematic_only = true;
+    let lifted = w.pose("floating").unwrap();
+    let mut d = SimDriver::new(w, "wam", 0).unwrap();
+    let t0 = d.joint_state().unwrap().stamp;
+    let traj = JointTrajectory {
+        joint_names: vec!["wam_joint2".into(), "wam_joint4".into()],
+        times: vec![0.0, 1.0],
+        positions: vec![vec![0.0, 0.0], vec![0.8, 1.2]],
+    };
+    d.execute(&traj).unwrap();
+    let s = d.joint_state().unwrap();
+    assert!((s.get("wam_joint2").unwrap() - 0.8).abs() < 1e-9);
+    assert!((s.stamp - t0 - 1.0).abs() < 0.01, "{}", s.stamp - t0);
+    let tip = d.world.link_pose("wam", "wam_link7").unwrap();
+    let fk = d.world.robot("wam").unwrap().model.clone();
+    let values = s.model_values(&fk);
+    let root_from_tip = fk.forward_kinematics(&values).unwrap()[fk.link("wam_link7").unwrap()];
+    assert!((tip.translation - root_from_tip.translation).length() < 1e-9);
+    let settled = d.world.settle();
+    assert_eq!(settled.steps, 0);
+    assert!((d.world.pose("floating").unwrap().translation - lifted.translation).length() < 1e-12);
+    // The same cup where the arm sweeps: it stays; with physics it is knocked and falls.
+    let in_the_way = |dry: bool| {
+        let tip = d.world.link_pose("wam", "wam_link7").unwrap().translation;
+        let text = text.replace(
+            "[2.0, 2.0, 0.5]",
+            &format!("[{}, {}, {}]", tip.x, tip.y, tip.z),
+        );
+        let mut w = world(&text);
+        w.kinematic_only = dry;
+        w.set_joints("wam", &[("wam_joint2", 0.0), ("wam_joint4", 0.0)])
+            .unwrap();
+        let start = w.pose("floating").unwrap().translation;
+        let mut d = SimDriver::new(w, "wam", 0).unwrap();
+        d.execute(&traj).unwrap();
+        (d.world.pose("floating").unwrap().translation - start).length()
+    };
+    assert!(in_the_way(true) < 1e-12);
+    assert!(in_the_way(false) > 0.02);
+}
