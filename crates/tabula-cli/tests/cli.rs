@@ -852,6 +852,66 @@ fn pick_place_runs_dry() {
     assert_eq!(out.status.code(), Some(1));
 }
 
+/// Golem-III holding a bar in its left hand picks the can with its right: the left
+/// hand keeps its bar (it is neither opened nor used), planning carries the bar with
+/// the shared torso joint, and asking the full hand to pick is a typed refusal.
+#[test]
+fn pick_place_with_the_other_hand_full() {
+    let dir = std::env::temp_dir().join(format!("tabula-full-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let shelves = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../scenes/golem_shelves.toml"
+    ))
+    .unwrap();
+    let holding = shelves
+        .replacen(
+            "[[robot]]",
+            "[[object]]\nname = \"bar\"\nshape = { box = [0.12, 0.04, 0.04] }\npose = { xyz = [0.0, 0.0, 3.0] }\nmass = 0.1\n\n[[robot]]",
+            1,
+        )
+        .replacen(
+            "left_arm_joint4 = 0.3 }",
+            "left_arm_joint4 = 0.3 }\nhold = { object = \"bar\", tool_link = \"left_tool_link\", finger_joint = \"left_gripper_l_finger_joint\", fingers = [\"left_gripper_l_finger_link\", \"left_gripper_r_finger_link\"], palm = \"left_gripper_palm_link\", tool_from_object = { xyz = [0.03, 0.0, 0.0] } }",
+            1,
+        );
+    assert_ne!(holding, shelves);
+    let scene = dir.join("holding.toml");
+    std::fs::write(&scene, holding).unwrap();
+    let saved = dir.join("after.toml");
+    let mut args = vec![
+        "pick-place",
+        "--scene",
+        scene.to_str().unwrap(),
+        "--pick",
+        "0.556",
+        "-0.663",
+        "1.07",
+        "--place",
+        "0.82",
+        "-0.2",
+        "1.01",
+        "--json",
+    ];
+    let mut run = args.clone();
+    run.extend(["--save-scene", saved.to_str().unwrap()]);
+    let v = tabula_json(&run);
+    assert_eq!(v["success"], true, "{v}");
+    assert_eq!(v["arm"], "right");
+    assert_eq!(v["held_elsewhere"], serde_json::json!(["left_gripper"]));
+    let after = std::fs::read_to_string(&saved).unwrap();
+    assert!(
+        after.contains("[robot.hold]") && after.contains("object = \"bar\""),
+        "{after}"
+    );
+    args.extend(["--arm", "left"]);
+    let out = tabula(&args);
+    assert_eq!(out.status.code(), Some(2));
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON");
+    assert_eq!(v["error"], "hand full", "{v}");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
 /// A scene's `joints` table copied into `perceive --joint` describes the same robot:
 /// joints not given are at mid-range, where the simulator starts them (they were set to
 /// 0, and none of the PR2's ~17k points in its own holding scene were removed).

@@ -406,17 +406,29 @@ impl MoveGroup {
     ) -> Result<(), MoveError> {
         let g = self
             .gripper
-            .as_ref()
+            .clone()
             .ok_or_else(|| MoveError::World(format!("arm `{}` has no gripper", self.arm.name)))?;
+        self.attach_to_gripper(&g, name, shape, tool_from_object)
+    }
+
+    /// Attaches an object to any gripper of the robot. Held in another arm's hand it
+    /// still moves with this group where the arms share joints (Golem-III's torso
+    /// rotation θ1 turns both arms), so this group's plans keep it clear of the world.
+    pub fn attach_to_gripper(
+        &mut self,
+        g: &Gripper,
+        name: &str,
+        shape: SharedShape,
+        tool_from_object: Pose,
+    ) -> Result<(), MoveError> {
         let touch = [
             g.palm.as_str(),
             g.fingers[0].as_str(),
             g.fingers[1].as_str(),
         ];
-        let tool = g.tool_link.clone();
         Ok(self
             .world
-            .attach(name, shape, &tool, tool_from_object, &touch)?)
+            .attach(name, shape, &g.tool_link, tool_from_object, &touch)?)
     }
 
     /// The approach direction of the gripper in the world at `q`.

@@ -269,3 +269,83 @@ fn point_cloud_occupancy_and_contact_lists() {
     assert!(world.is_valid(&q));
     assert!(world.contacts(&q).unwrap().is_empty());
 }
+
+/// Golem-III's torso rotation θ1 is the first joint of both arms: planning the right
+/// arm turns the left one too, and what the left hand holds with it. An object held in
+/// the left hand, attached to it, is kept clear of the world by the right arm's plans;
+/// without it the same motion looks free.
+#[test]
+fn what_the_other_hand_holds_turns_with_the_shared_torso() {
+    use tabula_motion::{MoveGroup, MoveGroupParams};
+    use tabula_robot::driver::JointState;
+    let robot = robots::load("golem3").unwrap();
+    let mut state = JointState::default();
+    for j in &robot.model.joints {
+        if j.kind.is_single_axis() {
+            state.names.push(j.name.clone());
+            // Fingers open (closed, they touch each other), the rest at zero.
+            let finger = j.name.contains("finger");
+            state
+                .positions
+                .push(if finger { j.limits.upper } else { 0.0 });
+        }
+    }
+    let params = MoveGroupParams::default();
+    let bare = MoveGroup::new(&robot, "right", &state, Pose::IDENTITY, params).unwrap();
+    let yaw = bare
+        .joint_names()
+        .iter()
+        .position(|n| n == "torso_yaw_joint")
+        .expect("θ1 is in the right arm's chain");
+    let left = robot
+        .description
+        .grippers
+        .iter()
+        .find(|g| g.name == "left_gripper")
+        .unwrap()
+        .clone();
+    let values = state.model_values(&robot.model);
+    let fk = robot.model.forward_kinematics(&values).unwrap();
+    let world_from_left_tool = fk[robot.model.link(&left.tool_link).unwrap()];
+    // A bar held across the fingers, sticking 10–18 cm out along the approach.
+    let tool_from_bar = Pose::from_translation(left.approach() * 0.14);
+    let bar = SharedShape::cuboid(0.04, 0.02, 0.02);
+    let bar_tip = world_from_left_tool * tool_from_bar.translation + left.approach() * 0.04;
+    // A post where the bar's tip passes when θ1 turns by 0.5 rad.
+    let turned = Quat::from_rotation_z(0.5) * bar_tip;
+    let mut with_bar = bare.for_arm(&robot, "right").unwrap();
+    let mut without_bar = bare.for_arm(&robot, "right").unwrap();
+    for g in [&mut with_bar, &mut without_bar] {
+        g.add_object(
+            "post",
+            SharedShape::cuboid(0.015, 0.015, 0.3),
+            Pose::from_translation(turned),
+        )
+        .unwrap();
+    }
+    with_bar
+        .attach_to_gripper(&left, "bar", bar, tool_from_bar)
+        .unwrap();
+    let start = with_bar.arm_values(&state);
+    let mut goal = start.clone();
+    goal[yaw] = 0.9;
+    let mut middle = start.clone();
+    middle[yaw] = 0.5;
+    assert!(
+        with_bar.world.is_valid(&start),
+        "{:?}",
+        with_bar.world.contacts(&start)
+    );
+    assert!(without_bar.world.is_valid(&start));
+    assert!(
+        without_bar.world.is_valid(&middle),
+        "the bare hand misses the post"
+    );
+    assert!(
+        !with_bar.world.is_valid(&middle),
+        "the bar turns into the post"
+    );
+    // Every path from θ1 = 0 to 0.9 sweeps the bar through the post; the bare arm goes.
+    assert!(without_bar.plan_to_joints(&start, &[goal.clone()]).is_ok());
+    assert!(with_bar.plan_to_joints(&start, &[goal]).is_err());
+}

@@ -180,6 +180,10 @@ pub trait Arms {
 pub trait Grippers {
     fn open(&mut self, gripper: &str) -> Result<(), DriverError>;
     fn close(&mut self, gripper: &str) -> Result<GripState, DriverError>;
+    /// The gripper now: its gap, and whether it holds something — the fingers stopped
+    /// on an object when it last closed and it has not opened since (what a gripper
+    /// action reports as stalled rather than reached).
+    fn grip_state(&self, gripper: &str) -> Result<GripState, DriverError>;
     /// Closes squeezing with at most `effort` newtons per finger (capped at the finger
     /// joint's limit), so a gentle grip does not crush and a weak one may not hold.
     /// Drivers that cannot limit the force close as [`Self::close`] does.

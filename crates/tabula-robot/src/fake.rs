@@ -133,6 +133,29 @@ impl Grippers for FakeDriver {
             holding: false,
         })
     }
+
+    fn grip_state(&self, gripper: &str) -> Result<GripState, DriverError> {
+        Ok(GripState {
+            width: self.width(gripper)?,
+            holding: false,
+        })
+    }
+}
+
+impl FakeDriver {
+    fn width(&self, gripper: &str) -> Result<f64, DriverError> {
+        let g = self.gripper(gripper)?;
+        let j = self
+            .robot
+            .model
+            .joint(&g.finger_joint)
+            .ok_or_else(|| DriverError::UnknownJoint(g.finger_joint.clone()))?;
+        let value = self
+            .state
+            .get(&g.finger_joint)
+            .unwrap_or_else(|| self.robot.model.mid_configuration()[j]);
+        Ok(g.width_at(&self.robot.model, value))
+    }
 }
 
 impl Cameras for FakeDriver {

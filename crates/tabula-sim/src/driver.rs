@@ -154,6 +154,20 @@ impl Grippers for SimDriver {
         }
         self.close_limited(gripper, Some(effort))
     }
+
+    fn grip_state(&self, gripper: &str) -> Result<GripState, DriverError> {
+        let g = self.gripper(gripper)?;
+        let value = self.world.joint(&self.robot, &g.finger_joint)?;
+        let r = self.world.robot(&self.robot)?;
+        Ok(GripState {
+            width: g.width_at(&r.model, value),
+            holding: self
+                .world
+                .attachments
+                .iter()
+                .any(|a| a.robot == self.robot && a.link == g.palm),
+        })
+    }
 }
 
 impl SimDriver {

@@ -338,18 +338,28 @@ impl SimWorld {
         2.0 * mu * force >= mass * g
     }
 
-    /// Opens the gripper: held objects are released to the physics.
+    /// Opens the gripper: what it holds is released to the physics (what another
+    /// gripper of the robot holds stays held).
     pub fn open_gripper(&mut self, robot: &str, finger_joint: &str) -> Result<(), SimError> {
         let ri = self.robot_index(robot)?;
         let j = self.joint_index(ri, finger_joint)?;
         let upper = self.robots[ri].model.joints[j].limits.upper;
+        // Objects ride on the palm the gripper closed with: the description's gripper
+        // of this finger joint names it (a robot without one releases everything).
+        let palm = self.robots[ri]
+            .description
+            .grippers
+            .iter()
+            .find(|g| g.finger_joint == finger_joint)
+            .map(|g| g.palm.clone());
+        let mine = |a: &Attachment| a.robot == robot && palm.as_ref().is_none_or(|p| *p == a.link);
         let released: Vec<Attachment> = self
             .attachments
             .iter()
-            .filter(|a| a.robot == robot)
+            .filter(|a| mine(a))
             .cloned()
             .collect();
-        self.attachments.retain(|a| a.robot != robot);
+        self.attachments.retain(|a| !mine(a));
         for a in released {
             if let Some(i) = self.entity(&a.object) {
                 let b = &mut self.physics.bodies[self.entities[i].body];

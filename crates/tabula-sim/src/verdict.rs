@@ -465,7 +465,7 @@ pub fn run_place_judged<R>(
         .map(|(n, _)| n.clone())
         .collect();
     let furniture_contacts = watch.seen();
-    let released = released_at.is_some() && world.held_objects(robot).is_empty();
+    let released = released_at.is_some() && !world.held_objects(robot).contains(&object);
     let verdict = StablePlaceVerdict {
         success: surface.is_some()
             && inside_edges
@@ -557,7 +557,7 @@ pub fn judge_placement(
             && tilt <= tolerance.tilt
             && resting
             && furniture_contacts.is_empty()
-            && world.held_objects(robot).is_empty(),
+            && !world.held_objects(robot).iter().any(|h| h == object),
         object: object.to_string(),
         target_error,
         tilt,

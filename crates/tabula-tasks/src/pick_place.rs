@@ -72,6 +72,10 @@ pub struct PickPlaceParams {
     pub grasp_depth_offsets: Vec<f64>,
     /// Margin around the object's footprint that must be free at the target (m).
     pub place_margin: f64,
+    /// What a full gripper holds is seen up to this far from its tool point (m) …
+    pub held_reach: f64,
+    /// … and, unseen, is a ball this much wider than the finger gap (m).
+    pub held_margin: f64,
 }
 
 impl Default for PickPlaceParams {
@@ -104,6 +108,8 @@ impl Default for PickPlaceParams {
             rise_offsets: vec![0.0, 0.03, 0.06, 0.09, 0.12],
             grasp_depth_offsets: vec![0.015, -0.01],
             place_margin: 0.01,
+            held_reach: 0.3,
+            held_margin: 0.02,
         }
     }
 }
@@ -145,6 +151,8 @@ pub enum PickPlaceError {
     NoPath(String),
     #[error("grasp slipped: the gripper closed on nothing")]
     GraspSlipped,
+    #[error("the {0} arm's gripper already holds something")]
+    HandFull(String),
     #[error("robot: {0}")]
     Driver(String),
 }
@@ -160,6 +168,7 @@ impl PickPlaceError {
             Self::Unreachable => "unreachable",
             Self::NoPath(_) => "no collision-free path",
             Self::GraspSlipped => "grasp slipped",
+            Self::HandFull(_) => "hand full",
             Self::Driver(_) => "driver",
         }
     }
@@ -212,6 +221,9 @@ pub struct PickPlaceReport {
     /// Why each rejected candidate failed (arm, grasp, stage, reason), as MoveIt Task
     /// Constructor's stages explain their failures.
     pub rejected: Vec<String>,
+    /// Grippers found holding something at the start; it stays held, and planning
+    /// carries it with them.
+    pub held_elsewhere: Vec<String>,
     /// Every motion executed, in order (for replays and checks).
     #[serde(skip)]
     pub trajectories: Vec<tabula_robot::driver::JointTrajectory>,
@@ -421,6 +433,30 @@ fn run(
             tracing::debug!("{:>9.1} ms  {what}", (thread_cpu() - decision_start) * 1e3);
         }
     };
+    // ---- What the other hands hold moves with them (and with a shared torso joint):
+    // it is carried in the planning scene, not left in it as an obstacle.
+    let mut full = Vec::new();
+    for g in &robot.description.grippers {
+        if driver.grip_state(&g.name)?.holding {
+            full.push(g.clone());
+        }
+    }
+    let held_elsewhere = held_in_grippers(
+        robot,
+        &full,
+        &driver.joint_state()?,
+        driver.world_from_root()?,
+        &mut points,
+        &mut origins,
+        params,
+    );
+    for h in &held_elsewhere {
+        report.held_elsewhere.push(h.gripper.name.clone());
+        mark(&format!(
+            "{} holds something ({} points seen)",
+            h.gripper.name, h.points
+        ));
+    }
     // ---- The object, the target surface, the occupancy around them.
     let object = timed_phase(report, "perceive object", true, || {
         object_near(&points, request.pick, obs).map_err(|e| match e {
@@ -525,10 +561,13 @@ fn run(
         pick_support: support_slab(&pick_column, object.bottom),
         place_support: support_slab(&place_column, support.z),
     };
-    // ---- Arms to try, nearest first. Plans are made with every gripper open, as it
-    // will be (it opens before the first motion).
+    // ---- Arms to try, nearest first. Plans are made with every empty gripper open, as
+    // it will be (it opens before the first motion); a full one stays closed.
     let mut state = driver.joint_state()?;
-    for g in &robot.description.grippers {
+    let holding = |g: &tabula_robot::description::Gripper| {
+        held_elsewhere.iter().any(|h| h.gripper.name == g.name)
+    };
+    for g in robot.description.grippers.iter().filter(|g| !holding(g)) {
         if let (Some(j), Some(i)) = (
             robot.model.joint(&g.finger_joint),
             state.names.iter().position(|n| *n == g.finger_joint),
@@ -539,10 +578,13 @@ fn run(
     let world_from_root = driver.world_from_root()?;
     let arms: Vec<String> = match &request.arm {
         Some(a) => {
-            robot
+            let group = robot
                 .description
                 .arm(a)
                 .map_err(|e| PickPlaceError::Driver(e.to_string()))?;
+            if robot.description.gripper_of(group).is_some_and(holding) {
+                return Err(PickPlaceError::HandFull(a.clone()));
+            }
             vec![a.clone()]
         }
         None => {
@@ -550,7 +592,7 @@ fn run(
                 .description
                 .arms
                 .iter()
-                .filter(|a| a.gripper.is_some())
+                .filter(|a| robot.description.gripper_of(a).is_some_and(|g| !holding(g)))
                 .filter_map(|a| {
                     let chain = a.chain(&robot.model).ok()?;
                     let fk = robot
@@ -573,6 +615,16 @@ fn run(
     let first = arms.first().ok_or(PickPlaceError::Unreachable)?;
     let mut template = MoveGroup::new(robot, first, &state, world_from_root, params.motion.clone())
         .map_err(|e| PickPlaceError::Driver(e.to_string()))?;
+    for (k, h) in held_elsewhere.iter().enumerate() {
+        template
+            .attach_to_gripper(
+                &h.gripper,
+                &format!("held {k}"),
+                h.shape.clone(),
+                Pose::IDENTITY,
+            )
+            .map_err(motion_error)?;
+    }
     let setup_cpu = thread_cpu() - c0;
     mark("allowed collisions sampled");
     add_occupancy(&mut template.world, &occupancy, obs.voxel)
@@ -666,7 +718,7 @@ fn run(
         }
         out
     };
-    for g in &robot.description.grippers {
+    for g in robot.description.grippers.iter().filter(|g| !holding(g)) {
         driver.open(&g.name)?;
     }
     exec(report, "move to pre-grasp", &seq.to_pregrasp, &mut |t| {
@@ -698,6 +750,105 @@ fn run(
     )?;
     exec(report, "return", &seq.home, &mut |t| driver.execute(t))?;
     Ok(())
+}
+
+/// Something a gripper holds, as the planning scene carries it.
+struct HeldElsewhere {
+    gripper: tabula_robot::description::Gripper,
+    /// In the tool frame.
+    shape: SharedShape,
+    /// Points the camera saw of it.
+    points: usize,
+}
+
+/// What the grippers in `full` hold, as the camera saw it: the points between the
+/// fingers and everything joined to them (neighbours within the cluster gap) up to
+/// `held_reach` from the tool point. Those points leave `points` (and `origins`): they
+/// move with the hand, they are not scene. Unseen, the held thing is a ball a little
+/// wider than the finger gap.
+fn held_in_grippers(
+    robot: &NamedRobot,
+    full: &[tabula_robot::description::Gripper],
+    state: &tabula_robot::driver::JointState,
+    world_from_root: Pose,
+    points: &mut Vec<Vec3>,
+    origins: &mut Vec<Vec3>,
+    params: &PickPlaceParams,
+) -> Vec<HeldElsewhere> {
+    let values = state.model_values(&robot.model);
+    let Ok(fk) = robot.model.forward_kinematics(&values) else {
+        return Vec::new();
+    };
+    let gap = params.observe.cluster_gap;
+    let mut held = Vec::new();
+    for g in full {
+        let (Some(j), Some(tool)) = (
+            robot.model.joint(&g.finger_joint),
+            robot.model.link(&g.tool_link).ok(),
+        ) else {
+            continue;
+        };
+        let width = g.width_at(&robot.model, values[j]);
+        let world_from_tool = world_from_root * fk[tool];
+        let tool_from_world = world_from_tool.inverse();
+        let (approach, closing) = (g.approach(), g.closing());
+        let third = approach.cross(closing);
+        let near: Vec<usize> = (0..points.len())
+            .filter(|&i| points[i].distance(world_from_tool.translation) <= params.held_reach)
+            .collect();
+        // Flood the occupied cells from those between the fingertips.
+        let cell_of = |q: Vec3| tabula_geom::voxel_key(q, gap);
+        let cells: rustc_hash::FxHashSet<[i64; 3]> =
+            near.iter().map(|&i| cell_of(points[i])).collect();
+        let mut reached: rustc_hash::FxHashSet<[i64; 3]> = near
+            .iter()
+            .map(|&i| points[i])
+            .filter(|q| {
+                let t = tool_from_world * *q;
+                t.dot(closing).abs() <= width / 2.0 + gap
+                    && t.dot(approach).abs() <= 0.03
+                    && t.dot(third).abs() <= 0.03
+            })
+            .map(cell_of)
+            .collect();
+        let mut frontier: Vec<[i64; 3]> = reached.iter().copied().collect();
+        while let Some(c) = frontier.pop() {
+            for dx in -1..=1 {
+                for dy in -1..=1 {
+                    for dz in -1..=1 {
+                        let n = [c[0] + dx, c[1] + dy, c[2] + dz];
+                        if cells.contains(&n) && reached.insert(n) {
+                            frontier.push(n);
+                        }
+                    }
+                }
+            }
+        }
+        let mine: rustc_hash::FxHashSet<usize> = near
+            .into_iter()
+            .filter(|&i| reached.contains(&cell_of(points[i])))
+            .collect();
+        let in_tool: Vec<Vec3> = mine.iter().map(|&i| tool_from_world * points[i]).collect();
+        let hull = (in_tool.len() >= 10)
+            .then(|| SharedShape::convex_hull(&in_tool))
+            .flatten();
+        let shape = hull.unwrap_or_else(|| SharedShape::ball(width / 2.0 + params.held_margin));
+        let (kept, kept_origins): (Vec<Vec3>, Vec<Vec3>) = points
+            .iter()
+            .zip(origins.iter())
+            .enumerate()
+            .filter(|(i, _)| !mine.contains(i))
+            .map(|(_, (p, o))| (*p, *o))
+            .unzip();
+        *points = kept;
+        *origins = kept_origins;
+        held.push(HeldElsewhere {
+            gripper: g.clone(),
+            shape,
+            points: in_tool.len(),
+        });
+    }
+    held
 }
 
 fn add_occupancy(world: &mut CollisionWorld, o: &Occupancy, voxel: f64) -> Result<(), MoveError> {
@@ -1193,6 +1344,8 @@ impl Validate for PickPlaceParams {
             ("yaw_range", self.yaw_range),
             ("sweep_radius", self.sweep_radius),
             ("place_margin", self.place_margin),
+            ("held_reach", self.held_reach),
+            ("held_margin", self.held_margin),
         ] {
             check_non_negative(at, name, v)?;
         }

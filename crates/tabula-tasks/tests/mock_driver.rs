@@ -15,6 +15,8 @@ struct MockRobot {
     cloud: Vec<Vec3>,
     executed: Vec<JointTrajectory>,
     gripper_log: Vec<String>,
+    /// Grippers closed on something.
+    holding: Vec<String>,
 }
 
 impl MockRobot {
@@ -41,6 +43,7 @@ impl MockRobot {
             cloud,
             executed: Vec::new(),
             gripper_log: Vec::new(),
+            holding: Vec::new(),
         }
     }
 }
@@ -95,13 +98,22 @@ impl Arms for MockRobot {
 impl Grippers for MockRobot {
     fn open(&mut self, g: &str) -> Result<(), DriverError> {
         self.gripper_log.push(format!("open {g}"));
+        self.holding.retain(|h| h != g);
         Ok(())
     }
     fn close(&mut self, g: &str) -> Result<GripState, DriverError> {
         self.gripper_log.push(format!("close {g}"));
+        self.holding.push(g.to_string());
         Ok(GripState {
             width: 0.066,
             holding: true,
+        })
+    }
+    fn grip_state(&self, g: &str) -> Result<GripState, DriverError> {
+        let holding = self.holding.iter().any(|h| h == g);
+        Ok(GripState {
+            width: if holding { 0.066 } else { 0.09 },
+            holding,
         })
     }
 }
