@@ -70,6 +70,9 @@ enum ArmAction {
         /// joint's limit): the object is held only if friction carries it.
         #[arg(long, value_parser = crate::args::finite)]
         effort: Option<f64>,
+        /// Open gently: the finger gap grows at most this fast (m/s).
+        #[arg(long, value_parser = crate::args::finite)]
+        speed: Option<f64>,
     },
 }
 
@@ -263,6 +266,7 @@ fn act(
             gripper,
             command,
             effort,
+            speed,
         } => {
             let g = match gripper {
                 Some(g) => g.clone(),
@@ -286,16 +290,13 @@ fn act(
             );
             match command {
                 GripCommand::Open => {
-                    driver.open(&g)?;
-                    let s = driver.joint_state()?;
-                    let gr = robot
-                        .description
-                        .grippers
-                        .iter()
-                        .find(|x| x.name == g)
-                        .ok_or_else(|| anyhow!("no gripper `{g}`"))?;
-                    let v = s.get(&gr.finger_joint).unwrap_or(f64::NAN);
-                    out.grip = Some((gr.width_at(&robot.model, v), false));
+                    match speed {
+                        Some(v) if *v <= 0.0 => bail!("--speed must be positive"),
+                        Some(v) => driver.open_slowly(&g, *v)?,
+                        None => driver.open(&g)?,
+                    }
+                    let grip = driver.grip_state(&g)?;
+                    out.grip = Some((grip.width, grip.holding));
                 }
                 GripCommand::Close => {
                     let grip = match effort {

@@ -180,6 +180,15 @@ pub trait Arms {
 pub trait Grippers {
     fn open(&mut self, gripper: &str) -> Result<(), DriverError>;
     fn close(&mut self, gripper: &str) -> Result<GripState, DriverError>;
+    /// Opens with the finger gap growing at most `speed` m/s, so a released object is
+    /// not flicked by fingers snapping open. Drivers that cannot pace the fingers open
+    /// as [`Self::open`] does.
+    fn open_slowly(&mut self, gripper: &str, speed: f64) -> Result<(), DriverError> {
+        if !(speed.is_finite() && speed > 0.0) {
+            return Err(DriverError::NonFinite);
+        }
+        self.open(gripper)
+    }
     /// The gripper now: its gap, and whether it holds something — the fingers stopped
     /// on an object when it last closed and it has not opened since (what a gripper
     /// action reports as stalled rather than reached).

@@ -148,6 +148,23 @@ impl Grippers for SimDriver {
         self.close_limited(gripper, None)
     }
 
+    fn open_slowly(&mut self, gripper: &str, speed: f64) -> Result<(), DriverError> {
+        if !(speed.is_finite() && speed > 0.0) {
+            return Err(DriverError::NonFinite);
+        }
+        let g = self.gripper(gripper)?;
+        let r = self.world.robot(&self.robot)?;
+        // The gap is linear in the finger joint (see `Gripper::width_at`).
+        let j = r
+            .model
+            .joint(&g.finger_joint)
+            .ok_or_else(|| DriverError::UnknownJoint(g.finger_joint.clone()))?;
+        let l = r.model.joints[j].limits;
+        let per_joint = (g.open_width - g.closed_width).abs() / (l.upper - l.lower).max(1e-12);
+        let joint_speed = speed / per_joint.max(1e-12);
+        self.run(|w, r| w.open_gripper_at(r, &g.finger_joint, Some(joint_speed)))
+    }
+
     fn close_with_effort(&mut self, gripper: &str, effort: f64) -> Result<GripState, DriverError> {
         if !(effort.is_finite() && effort >= 0.0) {
             return Err(DriverError::NonFinite);

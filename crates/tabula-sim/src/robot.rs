@@ -341,6 +341,22 @@ impl SimWorld {
     /// Opens the gripper: what it holds is released to the physics (what another
     /// gripper of the robot holds stays held).
     pub fn open_gripper(&mut self, robot: &str, finger_joint: &str) -> Result<(), SimError> {
+        self.open_gripper_at(robot, finger_joint, None)
+    }
+
+    /// [`Self::open_gripper`] with the finger joint moving at most `speed` (its own
+    /// units per second) and the physics stepping meanwhile: what it held is free from
+    /// the first step, and the fingers part from it instead of vanishing from its sides.
+    /// `None` opens at once.
+    pub fn open_gripper_at(
+        &mut self,
+        robot: &str,
+        finger_joint: &str,
+        speed: Option<f64>,
+    ) -> Result<(), SimError> {
+        if speed.is_some_and(|v| !(v.is_finite() && v > 0.0)) {
+            return Err(SimError::NonFinite);
+        }
         let ri = self.robot_index(robot)?;
         let j = self.joint_index(ri, finger_joint)?;
         let upper = self.robots[ri].model.joints[j].limits.upper;
@@ -360,6 +376,31 @@ impl SimWorld {
             .cloned()
             .collect();
         self.attachments.retain(|a| !mine(a));
+        if speed.is_some() {
+            // The squeeze lets go at once (the fingers' own compliance): they back off
+            // until neither overlaps what they held, so a paced opening starts from
+            // touch rather than from inside the object, which the solver would eject.
+            let fingers: Vec<String> = self.robots[ri]
+                .description
+                .grippers
+                .iter()
+                .find(|g| g.finger_joint == finger_joint)
+                .map(|g| g.fingers.iter().map(|f| format!("{robot}/{f}")).collect())
+                .unwrap_or_default();
+            let lower = self.robots[ri].model.joints[j].limits.lower;
+            let step = (upper - lower).abs() / 400.0;
+            while self.robots[ri].values[j] < upper
+                && fingers.iter().any(|f| {
+                    released
+                        .iter()
+                        .any(|a| self.overlap(f, &a.object).is_some_and(|d| d < 0.0))
+                })
+            {
+                let q = (self.robots[ri].values[j] + step).min(upper);
+                self.write_joints(ri, &[(finger_joint, q)])?;
+                self.place_robot(ri, false)?;
+            }
+        }
         for a in released {
             if let Some(i) = self.entity(&a.object) {
                 let b = &mut self.physics.bodies[self.entities[i].body];
@@ -368,8 +409,21 @@ impl SimWorld {
                 b.set_angvel(Vec3::ZERO, true);
             }
         }
-        self.write_joints(ri, &[(finger_joint, upper)])?;
-        self.place_robot(ri, false)
+        match speed {
+            Some(v) => {
+                let from = self.robots[ri].values[j];
+                let motion = JointTrajectory {
+                    joint_names: vec![finger_joint.to_string()],
+                    times: vec![0.0, ((upper - from) / v).max(0.0)],
+                    positions: vec![vec![from], vec![upper]],
+                };
+                self.run_trajectory(ri, &motion, false).map(|_| ())
+            }
+            None => {
+                self.write_joints(ri, &[(finger_joint, upper)])?;
+                self.place_robot(ri, false)
+            }
+        }
     }
 
     /// The objects a robot holds.
@@ -379,6 +433,31 @@ impl SimWorld {
             .filter(|a| a.robot == robot)
             .map(|a| a.object.clone())
             .collect()
+    }
+
+    /// The signed distance between two entities' shapes (negative: they overlap by
+    /// that much), if both exist and are within a centimetre.
+    fn overlap(&self, a: &str, b: &str) -> Option<f64> {
+        let body = |name: &str| {
+            let e = self.entity(name)?;
+            self.physics.bodies.get(self.entities[e].body)
+        };
+        let (ba, bb) = (body(a)?, body(b)?);
+        let mut nearest: Option<f64> = None;
+        for &ca in ba.colliders() {
+            let ca = &self.physics.colliders[ca];
+            let pa = *ba.position() * *ca.position_wrt_parent().unwrap_or(&Pose::IDENTITY);
+            for &cb in bb.colliders() {
+                let cb = &self.physics.colliders[cb];
+                let pb = *bb.position() * *cb.position_wrt_parent().unwrap_or(&Pose::IDENTITY);
+                if let Ok(Some(k)) =
+                    rapier3d_f64::parry::query::contact(&pa, ca.shape(), &pb, cb.shape(), 0.01)
+                {
+                    nearest = Some(nearest.map_or(k.dist, |n: f64| n.min(k.dist)));
+                }
+            }
+        }
+        nearest
     }
 
     /// An object in contact with (or penetrating) the entity's shapes.

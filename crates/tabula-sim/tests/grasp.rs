@@ -157,3 +157,63 @@ fn a_gentle_grip_holds_light_objects_and_lets_heavy_ones_stay() {
     // Without a limit the grip holds whatever both fingers touch.
     assert_eq!(held_with(5.0, None).as_deref(), Some("box"));
 }
+
+/// A gentle release: the fingers let go of the squeeze at once and then part at the
+/// asked pace, taking that long; the box, held 8 mm above the table, drops straight
+/// onto it instead of being flicked.
+#[test]
+fn a_slow_release_takes_its_time_and_sets_the_box_down_straight() {
+    use tabula_robot::driver::{Grippers, JointStates};
+    let robot = tabula_robot::robots::load("wam").unwrap();
+    let chain = Chain::new(&robot.model, "base_link", "wam_tool").unwrap();
+    let names: Vec<String> = chain.joint_names.clone();
+    let at = |q: &[f64]| -> Vec<(String, f64)> {
+        names.iter().cloned().zip(q.iter().copied()).collect()
+    };
+    let grasp = ik(
+        &chain,
+        Vec3::new(0.55, 0.0, 0.425),
+        &chain.mid_configuration(),
+    );
+    let above = ik(&chain, Vec3::new(0.55, 0.0, 0.433), &grasp);
+    let scene = Scene::parse(SCENE, "grasp.toml").unwrap();
+    let mut world = SimWorld::from_scene(&scene, PhysicsParams::default()).unwrap();
+    let q: Vec<(String, f64)> = at(&grasp);
+    let q: Vec<(&str, f64)> = q.iter().map(|(n, v)| (n.as_str(), *v)).collect();
+    world.set_joints("wam", &q).unwrap();
+    world.settle();
+    let mut d = tabula_sim::SimDriver::new(world, "wam", 0).unwrap();
+    let grip = d.close("gripper").unwrap();
+    assert!(grip.holding);
+    assert!(d.grip_state("gripper").unwrap().holding);
+    let up: Vec<(String, f64)> = at(&above);
+    let up: Vec<(&str, f64)> = up.iter().map(|(n, v)| (n.as_str(), *v)).collect();
+    d.world.move_joints("wam", &up).unwrap();
+    let before = d.world.pose("box").unwrap();
+    assert!(
+        before.translation.z > 0.43,
+        "lifted: {}",
+        before.translation.z
+    );
+    let t0 = d.joint_state().unwrap().stamp;
+    let speed = 0.02;
+    d.open_slowly("gripper", speed).unwrap();
+    let took = d.joint_state().unwrap().stamp - t0;
+    let state = d.grip_state("gripper").unwrap();
+    assert!(!state.holding);
+    let widened = state.width - grip.width;
+    assert!(
+        took >= 0.8 * widened / speed && took <= widened / speed + 0.05,
+        "{took} s to widen {widened} m"
+    );
+    d.world.settle();
+    let after = d.world.pose("box").unwrap();
+    let slid = (after.translation - before.translation).truncate().length();
+    assert!(slid < 0.005, "slid {slid} m");
+    assert!(
+        (after.translation.z - 0.425).abs() < 0.003,
+        "{}",
+        after.translation.z
+    );
+    assert!(d.open_slowly("gripper", f64::NAN).is_err());
+}

@@ -100,6 +100,12 @@ pub struct PlaceParams {
     pub retreat_min: f64,
     /// Spots (with IK) planned at most before giving up.
     pub max_planned: usize,
+    /// Raise the torso fully before anything else, seed 000 §1.6 (its `torso_up`
+    /// defaults to true, following Willow Garage's advice for the PR2).
+    pub raise_torso: bool,
+    /// The finger gap grows at most this fast when releasing (m/s): a gentle release,
+    /// fingers parting from the object rather than snapping off it.
+    pub release_speed: f64,
 }
 
 impl Default for PlaceParams {
@@ -166,6 +172,8 @@ impl Default for PlaceParams {
             retreat_desired: 0.25,
             retreat_min: 0.1,
             max_planned: 12,
+            raise_torso: true,
+            release_speed: 0.02,
         }
     }
 }
@@ -452,6 +460,12 @@ impl Run<'_> {
             None => holding_arm(robot, &state).ok_or(PlaceError::NotHolding)?,
         };
         self.report.arm = Some(arm.clone());
+        if self.params.raise_torso {
+            self.phase("raise torso", |_| {
+                crate::torso::raise_torso(driver, robot)?;
+                Ok(())
+            })?;
+        }
         // ---- Object modelling (Alg. 1): scanning, not deciding.
         let c0 = self.decision_cpu;
         let modelled = self.phase("model object", |r| r.model_object(driver, &arm));
@@ -1165,7 +1179,8 @@ impl Run<'_> {
             Ok(driver.execute(&seq.to_above.trajectory)?)
         })?;
         self.phase("lower", |_| Ok(driver.execute(&seq.lower.trajectory)?))?;
-        self.phase("release", |_| Ok(driver.open(&gripper)?))?;
+        let speed = self.params.release_speed;
+        self.phase("release", |_| Ok(driver.open_slowly(&gripper, speed)?))?;
         self.phase("retreat", |_| Ok(driver.execute(&seq.retreat.trajectory)?))?;
         if let Some(aside) = &seq.aside {
             self.phase("arm aside", |_| Ok(driver.execute(&aside.trajectory)?))?;
@@ -1857,6 +1872,7 @@ impl Validate for PlaceParams {
             ("reach", self.reach),
             ("approach_desired", self.approach_desired),
             ("retreat_desired", self.retreat_desired),
+            ("release_speed", self.release_speed),
         ] {
             check_positive(at, name, v)?;
         }
