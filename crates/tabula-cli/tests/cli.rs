@@ -730,6 +730,12 @@ fn readme_examples_run() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
+/// Seed 001's integral test in scenes/golem_shelves.toml: the can on the right shelf
+/// goes to the table.
+const CAN_TO_TABLE: [&str; 8] = [
+    "--pick", "0.556", "-0.663", "1.07", "--place", "0.82", "-0.2", "1.01",
+];
+
 /// Seed 001's integral test from the command line: the can goes from the right shelf
 /// to the table, judged by physics; the final world is saved and loads again.
 #[test]
@@ -741,24 +747,14 @@ fn pick_place_moves_the_can_and_saves_the_world() {
         env!("CARGO_MANIFEST_DIR"),
         "/../../scenes/golem_shelves.toml"
     );
-    let out = tabula(&[
-        "pick-place",
-        "--scene",
-        scene,
-        "--arm",
-        "auto",
-        "--pick",
-        "0.556",
-        "-0.663",
-        "1.07",
-        "--place",
-        "0.82",
-        "-0.2",
-        "1.01",
-        "--json",
-        "--save-scene",
-        saved.to_str().unwrap(),
-    ]);
+    let out = tabula(
+        &[
+            &["pick-place", "--scene", scene, "--arm", "auto"][..],
+            &CAN_TO_TABLE,
+            &["--json", "--save-scene", saved.to_str().unwrap()],
+        ]
+        .concat(),
+    );
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON");
     assert_eq!(v["success"], true, "{v}");
     assert!(out.status.success());
@@ -806,21 +802,14 @@ fn pick_place_runs_dry() {
         env!("CARGO_MANIFEST_DIR"),
         "/../../scenes/golem_shelves.toml"
     );
-    let v = tabula_json(&[
-        "pick-place",
-        "--scene",
-        scene,
-        "--pick",
-        "0.556",
-        "-0.663",
-        "1.07",
-        "--place",
-        "0.82",
-        "-0.2",
-        "1.01",
-        "--dry-run",
-        "--json",
-    ]);
+    let v = tabula_json(
+        &[
+            &["pick-place", "--scene", scene][..],
+            &CAN_TO_TABLE,
+            &["--dry-run", "--json"],
+        ]
+        .concat(),
+    );
     assert_eq!(v["dry_run"], true, "{v}");
     assert_eq!(v["success"], true, "{v}");
     let phases: Vec<&str> = v["phases"]
@@ -879,20 +868,12 @@ fn pick_place_with_the_other_hand_full() {
     let scene = dir.join("holding.toml");
     std::fs::write(&scene, holding).unwrap();
     let saved = dir.join("after.toml");
-    let mut args = vec![
-        "pick-place",
-        "--scene",
-        scene.to_str().unwrap(),
-        "--pick",
-        "0.556",
-        "-0.663",
-        "1.07",
-        "--place",
-        "0.82",
-        "-0.2",
-        "1.01",
-        "--json",
-    ];
+    let mut args = [
+        &["pick-place", "--scene", scene.to_str().unwrap()][..],
+        &CAN_TO_TABLE,
+        &["--json"],
+    ]
+    .concat();
     let mut run = args.clone();
     run.extend(["--save-scene", saved.to_str().unwrap()]);
     let v = tabula_json(&run);

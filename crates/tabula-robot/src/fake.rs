@@ -63,16 +63,35 @@ impl FakeDriver {
             .ok_or_else(|| DriverError::Hardware(format!("no gripper `{name}`")))
     }
 
-    fn finger(&mut self, gripper: &str, open: bool) -> Result<f64, DriverError> {
-        if stop_requested() {
-            return Err(DriverError::Stopped);
-        }
+    /// A gripper's description and its finger joint's index in the model.
+    fn finger_joint(
+        &self,
+        gripper: &str,
+    ) -> Result<(crate::description::Gripper, usize), DriverError> {
         let g = self.gripper(gripper)?;
         let j = self
             .robot
             .model
             .joint(&g.finger_joint)
             .ok_or_else(|| DriverError::UnknownJoint(g.finger_joint.clone()))?;
+        Ok((g, j))
+    }
+
+    /// The finger gap now.
+    fn width(&self, gripper: &str) -> Result<f64, DriverError> {
+        let (g, j) = self.finger_joint(gripper)?;
+        let value = self
+            .state
+            .get(&g.finger_joint)
+            .unwrap_or_else(|| self.robot.model.mid_configuration()[j]);
+        Ok(g.width_at(&self.robot.model, value))
+    }
+
+    fn finger(&mut self, gripper: &str, open: bool) -> Result<f64, DriverError> {
+        if stop_requested() {
+            return Err(DriverError::Stopped);
+        }
+        let (g, j) = self.finger_joint(gripper)?;
         let l = self.robot.model.joints[j].limits;
         // The description's widths map the finger joint's limits (lower = closed).
         let value = if open { l.upper } else { l.lower };
@@ -139,22 +158,6 @@ impl Grippers for FakeDriver {
             width: self.width(gripper)?,
             holding: false,
         })
-    }
-}
-
-impl FakeDriver {
-    fn width(&self, gripper: &str) -> Result<f64, DriverError> {
-        let g = self.gripper(gripper)?;
-        let j = self
-            .robot
-            .model
-            .joint(&g.finger_joint)
-            .ok_or_else(|| DriverError::UnknownJoint(g.finger_joint.clone()))?;
-        let value = self
-            .state
-            .get(&g.finger_joint)
-            .unwrap_or_else(|| self.robot.model.mid_configuration()[j]);
-        Ok(g.width_at(&self.robot.model, value))
     }
 }
 
