@@ -362,13 +362,14 @@ impl SimWorld {
         let upper = self.robots[ri].model.joints[j].limits.upper;
         // Objects ride on the palm the gripper closed with: the description's gripper
         // of this finger joint names it (a robot without one releases everything).
-        let palm = self.robots[ri]
+        let gripper = self.robots[ri]
             .description
             .grippers
             .iter()
             .find(|g| g.finger_joint == finger_joint)
-            .map(|g| g.palm.clone());
-        let mine = |a: &Attachment| a.robot == robot && palm.as_ref().is_none_or(|p| *p == a.link);
+            .cloned();
+        let mine =
+            |a: &Attachment| a.robot == robot && gripper.as_ref().is_none_or(|g| g.palm == a.link);
         let released: Vec<Attachment> = self
             .attachments
             .iter()
@@ -380,13 +381,10 @@ impl SimWorld {
             // The squeeze lets go at once (the fingers' own compliance): they back off
             // until neither overlaps what they held, so a paced opening starts from
             // touch rather than from inside the object, which the solver would eject.
-            let fingers: Vec<String> = self.robots[ri]
-                .description
-                .grippers
+            let fingers: Vec<String> = gripper
                 .iter()
-                .find(|g| g.finger_joint == finger_joint)
-                .map(|g| g.fingers.iter().map(|f| format!("{robot}/{f}")).collect())
-                .unwrap_or_default();
+                .flat_map(|g| g.fingers.iter().map(|f| format!("{robot}/{f}")))
+                .collect();
             let lower = self.robots[ri].model.joints[j].limits.lower;
             let step = (upper - lower).abs() / 400.0;
             while self.robots[ri].values[j] < upper

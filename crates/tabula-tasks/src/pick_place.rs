@@ -362,6 +362,24 @@ fn run(
         ));
     }
     let obs = &params.observe;
+    // ---- Hands that already hold something stay closed, pick nothing, and what they
+    // hold is carried in the planning scene (with a shared torso joint it turns too).
+    let mut full = Vec::new();
+    for g in &robot.description.grippers {
+        if driver.grip_state(&g.name)?.holding {
+            full.push(g.clone());
+        }
+    }
+    let holding = |g: &tabula_robot::description::Gripper| full.iter().any(|f| f.name == g.name);
+    if let Some(a) = &request.arm {
+        let group = robot
+            .description
+            .arm(a)
+            .map_err(|e| PickPlaceError::Driver(e.to_string()))?;
+        if robot.description.gripper_of(group).is_some_and(holding) {
+            return Err(PickPlaceError::HandFull(a.clone()));
+        }
+    }
     // ---- Look at the object and at the target with the head camera.
     let mut points = Vec::new();
     // The camera each point was seen from (to give surfaces thickness behind them).
@@ -433,14 +451,8 @@ fn run(
             tracing::debug!("{:>9.1} ms  {what}", (thread_cpu() - decision_start) * 1e3);
         }
     };
-    // ---- What the other hands hold moves with them (and with a shared torso joint):
-    // it is carried in the planning scene, not left in it as an obstacle.
-    let mut full = Vec::new();
-    for g in &robot.description.grippers {
-        if driver.grip_state(&g.name)?.holding {
-            full.push(g.clone());
-        }
-    }
+    // ---- What the other hands hold moves with them: it is carried in the planning
+    // scene, not left in it as an obstacle.
     let held_elsewhere = held_in_grippers(
         robot,
         &full,
@@ -564,9 +576,6 @@ fn run(
     // ---- Arms to try, nearest first. Plans are made with every empty gripper open, as
     // it will be (it opens before the first motion); a full one stays closed.
     let mut state = driver.joint_state()?;
-    let holding = |g: &tabula_robot::description::Gripper| {
-        held_elsewhere.iter().any(|h| h.gripper.name == g.name)
-    };
     for g in robot.description.grippers.iter().filter(|g| !holding(g)) {
         if let (Some(j), Some(i)) = (
             robot.model.joint(&g.finger_joint),
@@ -577,16 +586,7 @@ fn run(
     }
     let world_from_root = driver.world_from_root()?;
     let arms: Vec<String> = match &request.arm {
-        Some(a) => {
-            let group = robot
-                .description
-                .arm(a)
-                .map_err(|e| PickPlaceError::Driver(e.to_string()))?;
-            if robot.description.gripper_of(group).is_some_and(holding) {
-                return Err(PickPlaceError::HandFull(a.clone()));
-            }
-            vec![a.clone()]
-        }
+        Some(a) => vec![a.clone()],
         None => {
             let mut v: Vec<(f64, String)> = robot
                 .description
