@@ -45,6 +45,13 @@ impl SimDriver {
         })
     }
 
+    /// The camera noise seed of the next capture (each capture takes the next one), for
+    /// whoever captures on this driver's behalf (a server publishing its frames).
+    pub fn next_noise_seed(&mut self) -> u64 {
+        self.noise_seed = self.noise_seed.wrapping_add(1);
+        self.noise_seed
+    }
+
     /// The robot's name in the world.
     pub fn robot_name(&self) -> &str {
         &self.robot
@@ -100,8 +107,8 @@ impl Cameras for SimDriver {
             return Err(DriverError::Stopped);
         }
         let cam = self.world.camera(camera)?;
-        self.noise_seed = self.noise_seed.wrapping_add(1);
-        let frame = capture(&self.world, &cam, self.noise_seed);
+        let seed = self.next_noise_seed();
+        let frame = capture(&self.world, &cam, seed);
         Ok(CameraFrame {
             cloud: frame.cloud,
             world_from_camera: frame.world_from_camera,

@@ -1,0 +1,202 @@
+//! tabula's driver service (`/tabula/driver`, type `tabula_msgs/srv/Call`): every
+//! driver-trait command as one JSON request, its answer or a typed error as the JSON
+//! response. Camera frames travel apart, as CDR `sensor_msgs/msg/PointCloud2` in
+//! `/tabula/capture` (`tabula_msgs/srv/Capture`): 5 MB of JSON per frame would not do.
+
+use serde::{Deserialize, Serialize};
+use tabula_geom::{Pose, Quat, Vec3};
+use tabula_robot::driver::{DriverError, GripState, JointState, JointTrajectory};
+
+/// The driver service's name.
+pub const DRIVER_SERVICE: &str = "/tabula/driver";
+/// The capture service's name.
+pub const CAPTURE_SERVICE: &str = "/tabula/capture";
+pub const CALL_TYPE: &str = "tabula_msgs/srv/Call";
+pub const CAPTURE_TYPE: &str = "tabula_msgs/srv/Capture";
+
+/// One command of the driver traits.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "op", rename_all = "snake_case")]
+pub enum Command {
+    /// Which robot is served, its cameras, and the clock.
+    Describe,
+    JointState,
+    WorldFromRoot,
+    Execute {
+        joint_names: Vec<String>,
+        times: Vec<f64>,
+        positions: Vec<Vec<f64>>,
+    },
+    Open {
+        gripper: String,
+    },
+    OpenSlowly {
+        gripper: String,
+        speed: f64,
+    },
+    Close {
+        gripper: String,
+        effort: Option<f64>,
+    },
+    GripState {
+        gripper: String,
+    },
+    LookAt {
+        point: [f64; 3],
+    },
+    DriveTo {
+        x: f64,
+        y: f64,
+        theta: f64,
+    },
+    Annotate {
+        label: String,
+    },
+    /// The served world as a scene file (TOML): what `--save-scene` writes.
+    Scene,
+}
+
+/// What `describe` answers.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Description {
+    pub robot: String,
+    pub cameras: Vec<String>,
+    pub time: f64,
+}
+
+/// The answers, one shape per command kind.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum Answer {
+    Done,
+    Description(Description),
+    JointState {
+        names: Vec<String>,
+        positions: Vec<f64>,
+        stamp: f64,
+    },
+    Pose {
+        pose: [f64; 7],
+    },
+    Grip {
+        width: f64,
+        holding: bool,
+    },
+    Angle {
+        rad: f64,
+    },
+    Scene {
+        toml: String,
+    },
+}
+
+/// A driver error as it crosses the wire.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "error", rename_all = "snake_case")]
+pub enum WireDriverError {
+    Blocked { by: String, link: String },
+    UnknownJoint { joint: String },
+    NonFinite,
+    BadTrajectory { message: String },
+    Unsupported { what: String },
+    Hardware { message: String },
+    Stopped,
+}
+
+impl From<&DriverError> for WireDriverError {
+    fn from(e: &DriverError) -> Self {
+        match e {
+            DriverError::Blocked { by, link } => Self::Blocked {
+                by: by.clone(),
+                link: link.clone(),
+            },
+            DriverError::UnknownJoint(j) => Self::UnknownJoint { joint: j.clone() },
+            DriverError::NonFinite => Self::NonFinite,
+            DriverError::BadTrajectory(m) => Self::BadTrajectory { message: m.clone() },
+            DriverError::Unsupported(w) => Self::Unsupported {
+                what: (*w).to_string(),
+            },
+            DriverError::Hardware(m) => Self::Hardware { message: m.clone() },
+            DriverError::Stopped => Self::Stopped,
+        }
+    }
+}
+
+impl From<WireDriverError> for DriverError {
+    fn from(e: WireDriverError) -> Self {
+        match e {
+            WireDriverError::Blocked { by, link } => DriverError::Blocked { by, link },
+            WireDriverError::UnknownJoint { joint } => DriverError::UnknownJoint(joint),
+            WireDriverError::NonFinite => DriverError::NonFinite,
+            WireDriverError::BadTrajectory { message } => DriverError::BadTrajectory(message),
+            // The trait's `Unsupported` names a static part; the few parts a robot can
+            // lack are named here so the message survives the trip.
+            WireDriverError::Unsupported { what } => {
+                DriverError::Unsupported(match what.as_str() {
+                    "head" => "head",
+                    "mobile base" => "mobile base",
+                    "camera" => "camera",
+                    _ => "such part",
+                })
+            }
+            WireDriverError::Hardware { message } => DriverError::Hardware(message),
+            WireDriverError::Stopped => DriverError::Stopped,
+        }
+    }
+}
+
+pub fn pose_to_array(p: &Pose) -> [f64; 7] {
+    let (t, q) = (p.translation, p.rotation);
+    [t.x, t.y, t.z, q.x, q.y, q.z, q.w]
+}
+
+/// A pose from `[x y z qx qy qz qw]`, the rotation normalised; `None` if not finite.
+pub fn pose_from_array(a: &[f64; 7]) -> Option<Pose> {
+    let q = Quat::from_xyzw(a[3], a[4], a[5], a[6]);
+    let len = q.length();
+    let t = Vec3::new(a[0], a[1], a[2]);
+    (len.is_finite() && len > 1e-9 && t.is_finite()).then(|| Pose::from_parts(t, q / len))
+}
+
+impl Command {
+    pub fn execute(t: &JointTrajectory) -> Self {
+        Command::Execute {
+            joint_names: t.joint_names.clone(),
+            times: t.times.clone(),
+            positions: t.positions.clone(),
+        }
+    }
+}
+
+impl Answer {
+    pub fn joint_state(s: &JointState) -> Self {
+        Answer::JointState {
+            names: s.names.clone(),
+            positions: s.positions.clone(),
+            stamp: s.stamp,
+        }
+    }
+
+    pub fn grip(g: GripState) -> Self {
+        Answer::Grip {
+            width: g.width,
+            holding: g.holding,
+        }
+    }
+}
+
+/// `tabula_msgs/srv/Capture` request.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct CaptureRequest {
+    pub camera: String,
+}
+
+/// `tabula_msgs/srv/Capture` response: the frame (optical frame, organized), where the
+/// camera was, or why there is none.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct CaptureResponse {
+    pub ok: bool,
+    pub error: String,
+    pub cloud: crate::msgs::PointCloud2,
+    pub world_from_camera: crate::msgs::Transform,
+}
