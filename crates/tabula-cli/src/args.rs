@@ -27,6 +27,16 @@ pub fn seconds(s: &str) -> Result<f64, String> {
     }
 }
 
+/// A publishing rate in Hz: 0 (off) to 1 kHz.
+pub fn rate(s: &str) -> Result<f64, String> {
+    let v = finite(s)?;
+    if (0.0..=1000.0).contains(&v) {
+        Ok(v)
+    } else {
+        Err(format!("a rate must be in [0, 1000] Hz, got {v}"))
+    }
+}
+
 /// A count of runs, poses, scenes or repetitions: 1 to 1,000,000 (each unit of work is
 /// at least microseconds, so the cap is days of work; beyond it a typo, never a wish).
 pub fn count(s: &str) -> Result<usize, String> {

@@ -6,8 +6,8 @@ use anyhow::{Result, anyhow, bail};
 use clap::Args;
 use serde::Serialize;
 use tabula_sim::SimWorld;
-use tabula_sim::verdict::{ClearVerdict, run_clear_judged};
-use tabula_tasks::clear::{ClearParams, ClearReport, ClearRequest, clear};
+use tabula_sim::verdict::{ClearSetup, ClearVerdict, run_clear_judged};
+use tabula_tasks::clear::{ClearError, ClearParams, ClearReport, ClearRequest, clear};
 
 #[derive(Args)]
 pub struct ClearArgs {
@@ -47,40 +47,77 @@ pub fn clear_in(
     let (outcome, verdict, world) = run_clear_judged(
         world,
         &robot_name,
-        ("table", "bin"),
+        (TABLE, BIN),
         seed,
         |driver, setup, hook| {
             recording.start(driver);
-            let request = ClearRequest {
-                arm: None,
-                drop_point: setup.drop_point,
-                drop_spread: setup.drop_spread,
-                obstacles: setup.obstacles.clone(),
-                max_actions,
-            };
+            let request = clear_request(setup, max_actions);
             clear(driver, &robot, &request, params, &mut |d, e| {
                 hook(d, e.judged())
             })
         },
     )?;
     let recorded = recording.finish(&world);
+    Ok((clear_json(outcome, verdict), world, recorded))
+}
+
+/// What `clear` prints, from the task's outcome and the judge's verdict.
+fn clear_json(outcome: Result<ClearReport, ClearError>, verdict: ClearVerdict) -> ClearJson {
     let (report, error) = match outcome {
         Ok(r) => (r, None),
         Err(e) => (ClearReport::default(), Some(e)),
     };
-    Ok((
-        ClearJson {
-            success: error.is_none() && verdict.in_bin == verdict.objects,
-            error: error.as_ref().map(|e| e.kind().to_string()),
-            error_message: error.as_ref().map(|e| e.to_string()),
-            report,
-            collisions: verdict.collisions.len(),
-            verdict,
-        },
-        world,
-        recorded,
-    ))
+    ClearJson {
+        success: error.is_none() && verdict.in_bin == verdict.objects,
+        error: error.as_ref().map(|e| e.kind().to_string()),
+        error_message: error.as_ref().map(|e| e.to_string()),
+        report,
+        collisions: verdict.collisions.len(),
+        verdict,
+    }
 }
+
+/// The request a clearing run makes of its workcell.
+fn clear_request(setup: &ClearSetup, max_actions: Option<usize>) -> ClearRequest {
+    ClearRequest {
+        arm: None,
+        drop_point: setup.drop_point,
+        drop_spread: setup.drop_spread,
+        obstacles: setup.obstacles.clone(),
+        max_actions,
+    }
+}
+
+/// One clearing run by the robot served at `--connect`, judged there; the workcell
+/// (bin, furniture) is read from the scene file here.
+#[cfg(feature = "ros")]
+fn clear_remote(a: &ClearArgs, params: &ClearParams) -> Result<(ClearJson, String)> {
+    let world = a.run.world()?;
+    let (robot_name, robot) = scene_robot_named(&world, a.run.robot.as_deref())?;
+    let setup = ClearSetup::of(&world, BIN)?;
+    let mut driver = crate::remote::connect(&a.run, &robot_name)?;
+    crate::remote::begin(
+        &driver,
+        tabula_ros::protocol::JudgedTask::Clear {
+            seed: a.run.seed,
+            table: TABLE.into(),
+            bin: BIN.into(),
+        },
+    )?;
+    let request = clear_request(&setup, a.max_actions);
+    let outcome = clear(&mut driver, &robot, &request, params, &mut |d, e| {
+        if let Err(err) = d.clear_event(e.judged()) {
+            tracing::warn!("the judge missed a moment: {err}");
+        }
+    });
+    let verdict = crate::remote::verdict(&driver, None)?;
+    let scene = crate::remote::scene(&driver)?;
+    Ok((clear_json(outcome, verdict), scene))
+}
+
+/// The furniture a clearing scene clears, and the bin it clears into.
+const TABLE: &str = "table";
+const BIN: &str = "bin";
 
 pub fn run(a: ClearArgs) -> Result<()> {
     if a.run.dry_run {
@@ -88,6 +125,25 @@ pub fn run(a: ClearArgs) -> Result<()> {
     }
     let params: ClearParams = load_params(a.run.params.as_deref())?;
     params.validate()?;
+    let sections = |report: &mut Report, out: &ClearJson, recorded: Option<&Recorded>| {
+        report.title = "tabula clear".into();
+        let section = report_section(report, out, recorded)?;
+        report.sections.push(section);
+        Ok(())
+    };
+    if !a.run.connect.is_empty() {
+        #[cfg(feature = "ros")]
+        {
+            let (out, scene) = clear_remote(&a, &params)?;
+            return a
+                .run
+                .finish(&scene, &out, out.success, print_summary, |r, o| {
+                    sections(r, o, None)
+                });
+        }
+        #[cfg(not(feature = "ros"))]
+        bail!("this tabula was built without ROS 2 support (feature `ros`)");
+    }
     let (out, world, recorded) = clear_in(
         a.run.world()?,
         a.run.robot.as_deref(),
@@ -98,10 +154,7 @@ pub fn run(a: ClearArgs) -> Result<()> {
     )?;
     a.run
         .finish(&world, &out, out.success, print_summary, |report, out| {
-            report.title = "tabula clear".into();
-            let section = report_section(report, out, recorded.as_ref())?;
-            report.sections.push(section);
-            Ok(())
+            sections(report, out, recorded.as_ref())
         })
 }
 

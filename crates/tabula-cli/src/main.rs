@@ -12,7 +12,11 @@ mod place;
 mod plan;
 mod plots;
 mod progress;
+#[cfg(feature = "ros")]
+mod remote;
 mod report;
+#[cfg(feature = "ros")]
+mod serve;
 mod sim;
 mod stable;
 mod tasks;
@@ -117,6 +121,11 @@ enum Command {
     Perceive(perceive::PerceiveArgs),
     /// Task planning in PDDL: plan, validate, benchmark (Fast Downward's role).
     Plan(plan::PlanArgs),
+    /// Serve the simulator as a ROS 2 robot over zenoh (rmw_zenoh's conventions): point
+    /// clouds, joint states and TF out, trajectories and gripper commands in, and the
+    /// driver services `place`/`clear`/`pick-place --connect` drive it through.
+    #[cfg(feature = "ros")]
+    Serve(serve::ServeArgs),
     /// The built-in simulator: settle scenes, capture depth frames, render snapshots.
     Sim {
         #[command(subcommand)]
@@ -181,6 +190,8 @@ fn main() {
         Command::Demo { .. } | Command::Clear(_) | Command::Place(_) | Command::PickPlace(_) => {
             true
         }
+        #[cfg(feature = "ros")]
+        Command::Serve(_) => true,
         Command::Bench { command, .. } => command.moves_robots(),
         _ => false,
     };
@@ -200,6 +211,8 @@ fn main() {
         Command::Place(args) => place::run(args),
         Command::PickPlace(args) => tasks::run(args),
         Command::Sim { command } => sim::run(command),
+        #[cfg(feature = "ros")]
+        Command::Serve(args) => serve::run(args),
         Command::StablePoses(args) => stable::run(args),
     };
     if tabula_robot::driver::stop_requested() {

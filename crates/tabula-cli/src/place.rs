@@ -9,7 +9,7 @@ use tabula_geom::{Pose, Quat, Vec3};
 use tabula_sim::SimWorld;
 use tabula_sim::verdict::{StablePlaceVerdict, run_place_judged};
 use tabula_tasks::pick_place::Phase;
-use tabula_tasks::place::{PlaceParams, PlaceReport, PlaceRequest, place};
+use tabula_tasks::place::{PlaceOutcome, PlaceParams, PlaceReport, PlaceRequest, place};
 use tabula_tasks::stable::StablePose;
 
 #[derive(clap::Args)]
@@ -48,6 +48,43 @@ pub struct PlaceJson {
     pub dry_run: bool,
 }
 
+/// Where the task expects the object to rest: the tool's planned pose lowered by the
+/// release height (none when the task failed).
+fn planned_rest(out: &PlaceOutcome, params: &PlaceParams) -> Option<Pose> {
+    out.report.planned_world_from_tool.and_then(|p| {
+        let q = Quat::from_xyzw(p[3], p[4], p[5], p[6]);
+        let pose = Pose::from_parts(Vec3::new(p[0], p[1], p[2]), q);
+        out.error.is_none().then(|| {
+            Pose::from_parts(
+                pose.translation - Vec3::Z * params.release_height,
+                pose.rotation,
+            )
+        })
+    })
+}
+
+/// What `place` prints, from the task's outcome and the judge's verdict.
+fn place_json(outcome: PlaceOutcome, verdict: StablePlaceVerdict, dry_run: bool) -> PlaceJson {
+    let error = outcome.error.as_ref().map(|e| TypedError {
+        kind: e.kind().into(),
+        message: e.to_string(),
+    });
+    PlaceJson {
+        success: verdict.success && error.is_none(),
+        surface: verdict.surface.clone(),
+        stable_pose: outcome.report.stable_pose.clone(),
+        predicted_pose: verdict.predicted_pose,
+        final_pose: verdict.final_pose,
+        orientation_error_deg: verdict.orientation_error_deg,
+        phases: outcome.report.phases.clone(),
+        decision_ms: outcome.report.decision_ms,
+        error,
+        report: outcome.report,
+        verdict,
+        dry_run,
+    }
+}
+
 /// One placement in `world`, judged by its physics; returns the world afterwards.
 pub fn place_in(
     world: SimWorld,
@@ -63,44 +100,31 @@ pub fn place_in(
     let (outcome, verdict, world) = run_place_judged(world, &robot_name, seed, |driver| {
         recording.start(driver);
         let out = place(driver, &robot, request, params);
-        let planned = out.report.planned_world_from_tool.and_then(|p| {
-            let q = Quat::from_xyzw(p[3], p[4], p[5], p[6]);
-            let pose = Pose::from_parts(Vec3::new(p[0], p[1], p[2]), q);
-            // The prediction is the object resting: the tool's pose lowered by the
-            // release height.
-            out.error.is_none().then(|| {
-                Pose::from_parts(
-                    pose.translation - Vec3::Z * params.release_height,
-                    pose.rotation,
-                )
-            })
-        });
+        let planned = planned_rest(&out, params);
         (out, planned)
     })?;
     let recorded = recording.finish(&world);
-    let error = outcome.error.as_ref().map(|e| TypedError {
-        kind: e.kind().into(),
-        message: e.to_string(),
-    });
-    let success = verdict.success && error.is_none();
-    Ok((
-        PlaceJson {
-            success,
-            surface: verdict.surface.clone(),
-            stable_pose: outcome.report.stable_pose.clone(),
-            predicted_pose: verdict.predicted_pose,
-            final_pose: verdict.final_pose,
-            orientation_error_deg: verdict.orientation_error_deg,
-            phases: outcome.report.phases.clone(),
-            decision_ms: outcome.report.decision_ms,
-            error,
-            report: outcome.report,
-            verdict,
-            dry_run,
-        },
-        world,
-        recorded,
-    ))
+    Ok((place_json(outcome, verdict, dry_run), world, recorded))
+}
+
+/// One placement by the robot served at `--connect`, judged there.
+#[cfg(feature = "ros")]
+fn place_remote(
+    a: &PlaceArgs,
+    world: &SimWorld,
+    request: &PlaceRequest,
+    params: &PlaceParams,
+) -> Result<(PlaceJson, String)> {
+    let (robot_name, robot) = scene_robot_named(world, a.run.robot.as_deref())?;
+    let mut driver = crate::remote::connect(&a.run, &robot_name)?;
+    crate::remote::begin(
+        &driver,
+        tabula_ros::protocol::JudgedTask::Place { seed: a.run.seed },
+    )?;
+    let outcome = place(&mut driver, &robot, request, params);
+    let verdict = crate::remote::verdict(&driver, planned_rest(&outcome, params))?;
+    let scene = crate::remote::scene(&driver)?;
+    Ok((place_json(outcome, verdict, false), scene))
 }
 
 pub fn run(a: PlaceArgs) -> Result<()> {
@@ -115,6 +139,25 @@ pub fn run(a: PlaceArgs) -> Result<()> {
             Some(a.arm.clone())
         },
     };
+    let sections = |report: &mut Report, out: &PlaceJson, recorded: Option<&Recorded>| {
+        report.title = "tabula place".into();
+        let section = report_section(report, out, &params, recorded)?;
+        report.sections.push(section);
+        Ok(())
+    };
+    if !a.run.connect.is_empty() {
+        #[cfg(feature = "ros")]
+        {
+            let (out, scene) = place_remote(&a, &world, &request, &params)?;
+            return a
+                .run
+                .finish(&scene, &out, out.success, print_summary, |r, o| {
+                    sections(r, o, None)
+                });
+        }
+        #[cfg(not(feature = "ros"))]
+        anyhow::bail!("this tabula was built without ROS 2 support (feature `ros`)");
+    }
     let (out, world, recorded) = place_in(
         world,
         Some(&robot),
@@ -125,10 +168,7 @@ pub fn run(a: PlaceArgs) -> Result<()> {
     )?;
     a.run
         .finish(&world, &out, out.success, print_summary, |report, out| {
-            report.title = "tabula place".into();
-            let section = report_section(report, out, &params, recorded.as_ref())?;
-            report.sections.push(section);
-            Ok(())
+            sections(report, out, recorded.as_ref())
         })
 }
 

@@ -41,6 +41,34 @@ pub struct TaskRunArgs {
     /// things were left, not how they settle.
     #[arg(long)]
     pub dry_run: bool,
+    /// Drive the robot served at this zenoh endpoint (`tabula serve`, e.g.
+    /// `tcp/127.0.0.1:7447`; repeat for several) instead of simulating the scene here.
+    /// The scene file still names the robot and its workcell; the served world is
+    /// judged where it runs.
+    #[arg(long, value_name = "ENDPOINT")]
+    pub connect: Vec<String>,
+    /// The served robot's ROS_DOMAIN_ID (with --connect).
+    #[arg(long, default_value_t = 0, value_parser = clap::value_parser!(u32).range(0..=232))]
+    pub domain: u32,
+}
+
+/// What `--save-scene` writes: a world here, or a served world's scene text.
+pub trait SavedScene {
+    fn scene_toml(&self) -> Result<String>;
+}
+
+impl SavedScene for SimWorld {
+    fn scene_toml(&self) -> Result<String> {
+        self.to_scene()
+            .to_toml()
+            .map_err(|e| anyhow::anyhow!("cannot write the scene: {e}"))
+    }
+}
+
+impl SavedScene for String {
+    fn scene_toml(&self) -> Result<String> {
+        Ok(self.clone())
+    }
 }
 
 impl TaskRunArgs {
@@ -53,15 +81,12 @@ impl TaskRunArgs {
     /// sections `sections` adds, and the run's numbers as run.json).
     pub fn save<T: Serialize>(
         &self,
-        world: &SimWorld,
+        world: &dyn SavedScene,
         out: &T,
         sections: impl FnOnce(&mut Report, &T) -> Result<()>,
     ) -> Result<()> {
         if let Some(path) = &self.save_scene {
-            let text = world
-                .to_scene()
-                .to_toml()
-                .map_err(|e| anyhow::anyhow!("cannot write the scene: {e}"))?;
+            let text = world.scene_toml()?;
             std::fs::write(path, text)
                 .with_context(|| format!("cannot write {}", path.display()))?;
         }
@@ -78,7 +103,7 @@ impl TaskRunArgs {
     /// the summary, and exit with status 2 when the task failed.
     pub fn finish<T: Serialize>(
         &self,
-        world: &SimWorld,
+        world: &dyn SavedScene,
         out: &T,
         success: bool,
         summary: impl FnOnce(&T),
@@ -206,14 +231,29 @@ pub fn run_pick_place(a: &PickPlaceArgs) -> Result<PickPlaceJson> {
     let pick = vec3(&a.pick, "pick")?;
     let place = vec3(&a.place, "place")?;
     let params: PickPlaceParams = load_params(a.run.params.as_deref())?;
-    let world = a.run.world()?;
-    let robot = scene_robot(&world, a.run.robot.as_deref())?;
-    check_arm(&world, &robot, &a.arm)?;
     let request = PickPlaceRequest {
         arm: (a.arm != "auto").then(|| a.arm.clone()),
         pick,
         place,
     };
+    if !a.run.connect.is_empty() {
+        #[cfg(feature = "ros")]
+        {
+            let (out, scene) = pick_place_remote(a, &request, &params)?;
+            a.run.save(&scene, &out, |report, out| {
+                report.title = "tabula pick-place".into();
+                let section = pick_place_section(report, out, None)?;
+                report.sections.push(section);
+                Ok(())
+            })?;
+            return Ok(out);
+        }
+        #[cfg(not(feature = "ros"))]
+        bail!("this tabula was built without ROS 2 support (feature `ros`)");
+    }
+    let world = a.run.world()?;
+    let robot = scene_robot(&world, a.run.robot.as_deref())?;
+    check_arm(&world, &robot, &a.arm)?;
     let (out, world, recorded) = pick_place_in(
         world,
         a.run.robot.as_deref(),
@@ -315,7 +355,7 @@ pub fn pick_place_in(
     let (robot_name, robot) = scene_robot_named(&world, robot)?;
     let dry_run = world.kinematic_only;
     let mut recording = Recording::new(record);
-    let (outcome, mut verdict, world) = run_judged(
+    let (outcome, verdict, world) = run_judged(
         world,
         &robot_name,
         request.pick,
@@ -327,20 +367,50 @@ pub fn pick_place_in(
         },
     )?;
     let recorded = recording.finish(&world);
+    Ok((pick_place_json(outcome, verdict, dry_run), world, recorded))
+}
+
+/// What `pick-place` prints, from the task's outcome and the judge's verdict.
+fn pick_place_json(
+    outcome: tabula_tasks::pick_place::PickPlaceOutcome,
+    mut verdict: PlaceVerdict,
+    dry_run: bool,
+) -> PickPlaceJson {
     verdict.success &= outcome.error.is_none();
-    Ok((
-        PickPlaceJson {
-            success: verdict.success,
-            error: outcome.error.as_ref().map(|e| e.kind().to_string()),
-            error_message: outcome.error.as_ref().map(|e| e.to_string()),
-            report: outcome.report,
-            final_pose: verdict.final_pose,
-            verdict,
-            dry_run,
+    PickPlaceJson {
+        success: verdict.success,
+        error: outcome.error.as_ref().map(|e| e.kind().to_string()),
+        error_message: outcome.error.as_ref().map(|e| e.to_string()),
+        report: outcome.report,
+        final_pose: verdict.final_pose,
+        verdict,
+        dry_run,
+    }
+}
+
+/// One pick and place by the robot served at `--connect`, judged there.
+#[cfg(feature = "ros")]
+fn pick_place_remote(
+    a: &PickPlaceArgs,
+    request: &PickPlaceRequest,
+    params: &PickPlaceParams,
+) -> Result<(PickPlaceJson, String)> {
+    let world = load_world(&a.run.scene)?.1;
+    let (robot_name, robot) = scene_robot_named(&world, a.run.robot.as_deref())?;
+    check_arm(&world, &robot_name, &a.arm)?;
+    let mut driver = crate::remote::connect(&a.run, &robot_name)?;
+    crate::remote::begin(
+        &driver,
+        tabula_ros::protocol::JudgedTask::PickPlace {
+            seed: a.run.seed,
+            pick: request.pick.to_array(),
+            place: request.place.to_array(),
         },
-        world,
-        recorded,
-    ))
+    )?;
+    let outcome = pick_place(&mut driver, &robot, request, params);
+    let verdict = crate::remote::verdict(&driver, None)?;
+    let scene = crate::remote::scene(&driver)?;
+    Ok((pick_place_json(outcome, verdict, false), scene))
 }
 
 pub fn run(a: PickPlaceArgs) -> Result<()> {

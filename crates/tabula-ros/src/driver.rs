@@ -7,7 +7,7 @@ use crate::msgs::{CallRequest, CallResponse};
 use crate::node::{Client, Node, NodeConfig, RosError};
 use crate::protocol::{
     Answer, CALL_TYPE, CAPTURE_SERVICE, CAPTURE_TYPE, CaptureRequest, CaptureResponse, Command,
-    DRIVER_SERVICE, Description, WireDriverError, pose_from_array,
+    DRIVER_SERVICE, Description, JudgedTask, WireDriverError, pose_from_array,
 };
 use std::sync::Arc;
 use std::time::Duration;
@@ -71,6 +71,35 @@ impl ZenohDriver {
     pub fn scene(&self) -> Result<String, DriverError> {
         match self.send(&Command::Scene, Duration::ZERO)? {
             Answer::Scene { toml } => Ok(toml),
+            other => Err(unexpected(other)),
+        }
+    }
+
+    /// Starts a run the server judges from its ground truth (see [`JudgedTask`]).
+    pub fn begin(&self, task: JudgedTask) -> Result<(), DriverError> {
+        match self.send(&Command::Begin { task }, Duration::ZERO)? {
+            Answer::Begun => Ok(()),
+            other => Err(unexpected(other)),
+        }
+    }
+
+    /// Tells a clearing run's judge what the task is about to do (`Some`: the target
+    /// and what it shoves, as seen) or that it did it (`None`).
+    pub fn clear_event(&self, event: Option<(Vec3, Vec<Vec3>)>) -> Result<(), DriverError> {
+        let (target, shoved) = match event {
+            Some((t, s)) => (Some(t.to_array()), s.iter().map(|p| p.to_array()).collect()),
+            None => (None, Vec::new()),
+        };
+        self.done(&Command::ClearEvent { target, shoved }, Duration::ZERO)
+    }
+
+    /// Ends the judged run (a placing task gives the object's planned resting pose);
+    /// the verdict, as the task's verdict type in JSON.
+    pub fn finish(&self, planned: Option<Pose>) -> Result<serde_json::Value, DriverError> {
+        let planned = planned.map(|p| crate::protocol::pose_to_array(&p));
+        // The judge lets the world settle first.
+        match self.send(&Command::Finish { planned }, Duration::from_secs(60))? {
+            Answer::Verdict { verdict } => Ok(verdict),
             other => Err(unexpected(other)),
         }
     }

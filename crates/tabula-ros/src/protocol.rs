@@ -54,6 +54,42 @@ pub enum Command {
     },
     /// The served world as a scene file (TOML): what `--save-scene` writes.
     Scene,
+    /// Starts a run the server judges from its ground truth, as a run in one process
+    /// is judged: the commands that follow are the task's, until `finish`.
+    Begin {
+        task: JudgedTask,
+    },
+    /// A clearing task's moment for its judge: before an action (where the target and
+    /// what it shoves were seen) or, with no target, after it.
+    ClearEvent {
+        target: Option<[f64; 3]>,
+        shoved: Vec<[f64; 3]>,
+    },
+    /// Ends the judged run; a placing task gives the object's planned resting pose
+    /// (x y z qx qy qz qw). The answer is the verdict.
+    Finish {
+        planned: Option<[f64; 7]>,
+    },
+}
+
+/// The judged runs a server knows, with what each judge needs from the task.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "task", rename_all = "snake_case")]
+pub enum JudgedTask {
+    /// Placing what the robot holds (seed 000).
+    Place { seed: u64 },
+    /// Pick at `pick`, place at `place` (seed 001).
+    PickPlace {
+        seed: u64,
+        pick: [f64; 3],
+        place: [f64; 3],
+    },
+    /// Clearing furniture `table` into `bin` (seed 002).
+    Clear {
+        seed: u64,
+        table: String,
+        bin: String,
+    },
 }
 
 /// What `describe` answers.
@@ -87,6 +123,12 @@ pub enum Answer {
     },
     Scene {
         toml: String,
+    },
+    /// A judged run began.
+    Begun,
+    /// A judged run's verdict (the task's verdict type, as JSON).
+    Verdict {
+        verdict: serde_json::Value,
     },
 }
 

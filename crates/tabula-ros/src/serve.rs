@@ -17,17 +17,19 @@ use crate::msgs::{
 use crate::node::{Node, NodeConfig, Publisher, Request, RosError, Service, Subscription};
 use crate::protocol::{
     Answer, CALL_TYPE, CAPTURE_SERVICE, CAPTURE_TYPE, CaptureRequest, CaptureResponse, Command,
-    DRIVER_SERVICE, Description, WireDriverError, pose_to_array,
+    DRIVER_SERVICE, Description, JudgedTask, WireDriverError, pose_from_array, pose_to_array,
 };
 use crate::wire::Qos;
 use std::sync::Arc;
 use std::sync::mpsc::{Receiver, Sender, channel};
 use std::time::{Duration, Instant};
+use tabula_geom::Vec2;
 use tabula_geom::Vec3;
 use tabula_robot::driver::{
     Annotations, Arms, BaseControl, DriverError, Grippers, HeadControl, JointStates,
 };
-use tabula_sim::{SimDriver, SimWorld};
+use tabula_sim::verdict::{run_clear_judged, run_judged, run_place_judged};
+use tabula_sim::{PhysicsParams, SimDriver, SimWorld};
 
 /// How often the server publishes on its own (0: only after commands).
 #[derive(Debug, Clone, Copy)]
@@ -57,13 +59,48 @@ enum Work {
 /// A served simulator.
 pub struct Server {
     pub node: Arc<Node>,
-    driver: SimDriver,
+    robot: String,
+    /// Camera noise seed of commands outside judged runs (judged runs bring theirs).
+    seed: u64,
+    /// Noise seeds of the frames published on the server's own schedule: apart from
+    /// the driver's, so that publishing never changes what a task's captures see.
+    frame_seed: u64,
     work: Receiver<Work>,
     joint_states: Publisher<JointStateMsg>,
     tf: Publisher<TfMessage>,
     clouds: Vec<(String, Publisher<PointCloud2>)>,
     _endpoints: (Vec<Service>, Vec<Subscription>),
     rates: Rates,
+    next_state: Instant,
+    next_camera: Instant,
+}
+
+/// Why the command loop handed control back.
+enum End {
+    Stopped,
+    Begin(Request<CallRequest>, JudgedTask),
+    Finish(Request<CallRequest>, Option<[f64; 7]>),
+}
+
+/// A clearing judge's hook, or none.
+type Hook<'a> = dyn FnMut(&mut SimDriver, Option<(Vec3, Vec<Vec3>)>) + 'a;
+
+fn reply_ok(r: Request<CallRequest>, answer: &Answer) {
+    r.reply(&CallResponse {
+        ok: true,
+        response: serde_json::to_string(answer).unwrap_or_default(),
+    });
+}
+
+fn reply_err(r: Request<CallRequest>, e: &DriverError) {
+    r.reply(&CallResponse {
+        ok: false,
+        response: serde_json::to_string(&WireDriverError::from(e)).unwrap_or_default(),
+    });
+}
+
+fn sim_err(e: tabula_sim::SimError) -> RosError {
+    RosError::Zenoh(e.to_string())
 }
 
 fn header(stamp: f64, frame: &str) -> Header {
@@ -74,28 +111,17 @@ fn header(stamp: f64, frame: &str) -> Header {
 }
 
 impl Server {
-    /// Serves robot `robot` of `world` (settled first, as every judged run starts);
-    /// camera noise starts from `seed`.
+    /// A server for robot `robot` of `world` (its arms, grippers and cameras become
+    /// topics); camera noise outside judged runs starts from `seed`.
     pub fn new(
-        mut world: SimWorld,
+        world: &SimWorld,
         robot: &str,
         seed: u64,
         config: NodeConfig,
         rates: Rates,
     ) -> Result<Self, RosError> {
-        world.settle();
-        let description = world
-            .robot(robot)
-            .map_err(|e| RosError::Zenoh(e.to_string()))?
-            .description
-            .clone();
+        let description = world.robot(robot).map_err(sim_err)?.description.clone();
         let cameras: Vec<String> = world.cameras.iter().map(|c| c.name.to_string()).collect();
-        let mut driver =
-            SimDriver::new(world, robot, seed).map_err(|e| RosError::Zenoh(e.to_string()))?;
-        // Step trajectories one physics step at a time, as every judged run in one
-        // process does (its contact watch is an observer), so that a task driven from
-        // another process meets the same physics.
-        driver.observe(|_| {});
         let node = Node::open(config)?;
         let (tx, work) = channel::<Work>();
         let mut services = Vec::new();
@@ -155,72 +181,203 @@ impl Server {
             .collect::<Result<Vec<_>, _>>()?;
         Ok(Self {
             node,
-            driver,
+            robot: robot.into(),
+            seed,
+            frame_seed: seed ^ 0x5EED_F4A3_E5u64,
             work,
             joint_states,
             tf,
             clouds,
             _endpoints: (services, subscriptions),
             rates,
+            next_state: Instant::now(),
+            next_camera: Instant::now(),
         })
     }
 
-    /// The served world now.
-    pub fn world(&self) -> &SimWorld {
-        &self.driver.world
+    /// The driver of the served robot, stepping trajectories one physics step at a
+    /// time as every judged run does (its watch is an observer), so that a task
+    /// driven from another process meets the same physics as in one.
+    fn driver(&self, world: SimWorld, seed: u64) -> Result<SimDriver, RosError> {
+        let mut driver = SimDriver::new(world, &self.robot, seed).map_err(sim_err)?;
+        driver.observe(|_| {});
+        Ok(driver)
     }
 
-    /// Serves until `stop()` says so (checked at least every 50 ms).
-    pub fn run(&mut self, stop: impl Fn() -> bool) {
-        let period = |hz: f64| (hz > 0.0).then(|| Duration::from_secs_f64(1.0 / hz));
-        let (state_period, camera_period) =
-            (period(self.rates.state_hz), period(self.rates.camera_hz));
-        let mut next_state = Instant::now();
-        let mut next_camera = Instant::now();
-        while !stop() {
-            match self.work.recv_timeout(Duration::from_millis(50)) {
-                Ok(work) => self.handle(work),
-                Err(std::sync::mpsc::RecvTimeoutError::Timeout) => {}
-                Err(std::sync::mpsc::RecvTimeoutError::Disconnected) => break,
-            }
-            let now = Instant::now();
-            if let Some(p) = state_period
-                && now >= next_state
-            {
-                self.publish_state();
-                next_state = now + p;
-            }
-            if let Some(p) = camera_period
-                && now >= next_camera
-            {
-                for k in 0..self.clouds.len() {
-                    let camera = self.clouds[k].0.clone();
-                    let _ = self.capture(&camera);
+    /// Serves `world` until `stop()` says so (checked at least every 50 ms); judged
+    /// runs begin and end as clients ask. Returns the world as it is then.
+    pub fn serve(
+        &mut self,
+        world: SimWorld,
+        stop: &dyn Fn() -> bool,
+    ) -> Result<SimWorld, RosError> {
+        let mut world = world;
+        loop {
+            let mut driver = self.driver(world, self.seed)?;
+            let end = self.run_loop(&mut driver, false, None, stop);
+            world = driver.world;
+            match end {
+                End::Stopped => return Ok(world),
+                End::Finish(r, _) => {
+                    reply_err(r, &DriverError::Hardware("no judged run has begun".into()))
                 }
-                next_camera = now + p;
+                End::Begin(r, task) => world = self.judged(world, task, r, stop)?,
             }
         }
     }
 
-    fn handle(&mut self, work: Work) {
-        match work {
-            Work::Call(r) => {
-                let answer = match self.command(&r.request) {
-                    Ok(a) => CallResponse {
-                        ok: true,
-                        response: serde_json::to_string(&a).unwrap_or_default(),
-                    },
-                    Err(e) => CallResponse {
-                        ok: false,
-                        response: serde_json::to_string(&WireDriverError::from(&e))
-                            .unwrap_or_default(),
-                    },
-                };
-                r.reply(&answer);
-                self.publish_state();
+    /// One judged run: the runner the CLI uses in one process wraps the command loop,
+    /// so the same judge watches the same physics; `finish` gets the verdict.
+    fn judged(
+        &mut self,
+        world: SimWorld,
+        task: JudgedTask,
+        begin: Request<CallRequest>,
+        stop: &dyn Fn() -> bool,
+    ) -> Result<SimWorld, RosError> {
+        // A runner that refuses the world (a hand holding nothing, an unknown bin)
+        // consumes it: keep the scene to rebuild it.
+        let backup = world.to_scene();
+        let robot = self.robot.clone();
+        let mut begin = Some(begin);
+        let mut finish: Option<Request<CallRequest>> = None;
+        let mut serve_task =
+            |server: &mut Self, driver: &mut SimDriver, hook: Option<&mut Hook<'_>>| {
+                if let Some(r) = begin.take() {
+                    reply_ok(r, &Answer::Begun);
+                }
+                match server.run_loop(driver, true, hook, stop) {
+                    End::Finish(r, planned) => {
+                        finish = Some(r);
+                        planned.and_then(|p| pose_from_array(&p))
+                    }
+                    _ => None,
+                }
+            };
+        let judged = match task {
+            JudgedTask::Place { seed } => {
+                run_place_judged(world, &robot, seed, |d| ((), serve_task(self, d, None)))
+                    .map(|((), v, w)| (serde_json::to_value(v), w))
             }
+            JudgedTask::PickPlace { seed, pick, place } => run_judged(
+                world,
+                &robot,
+                Vec3::from_array(pick),
+                Vec2::new(place[0], place[1]),
+                seed,
+                |d| {
+                    serve_task(self, d, None);
+                },
+            )
+            .map(|((), v, w)| (serde_json::to_value(v), w)),
+            JudgedTask::Clear { seed, table, bin } => {
+                run_clear_judged(world, &robot, (&table, &bin), seed, |d, _, hook| {
+                    serve_task(self, d, Some(hook));
+                })
+                .map(|((), v, w)| (serde_json::to_value(v), w))
+            }
+        };
+        match judged {
+            Ok((verdict, world)) => {
+                if let Some(r) = finish {
+                    match verdict {
+                        Ok(verdict) => reply_ok(r, &Answer::Verdict { verdict }),
+                        Err(e) => reply_err(r, &DriverError::Hardware(e.to_string())),
+                    }
+                }
+                Ok(world)
+            }
+            Err(e) => {
+                let e = DriverError::Hardware(format!("cannot judge this run: {e}"));
+                if let Some(r) = begin.take().or(finish) {
+                    reply_err(r, &e);
+                }
+                SimWorld::from_scene(&backup, PhysicsParams::default()).map_err(sim_err)
+            }
+        }
+    }
+
+    /// Does the work that arrives, in order, until `stop()`, or a judged run begins
+    /// (outside one) or finishes (inside one: `hook` is then its clearing judge, if
+    /// any).
+    fn run_loop(
+        &mut self,
+        driver: &mut SimDriver,
+        judged: bool,
+        mut hook: Option<&mut Hook<'_>>,
+        stop: &dyn Fn() -> bool,
+    ) -> End {
+        let period = |hz: f64| (hz > 0.0).then(|| Duration::from_secs_f64(1.0 / hz));
+        let (state_period, camera_period) =
+            (period(self.rates.state_hz), period(self.rates.camera_hz));
+        while !stop() {
+            match self.work.recv_timeout(Duration::from_millis(50)) {
+                Ok(Work::Call(r)) => match serde_json::from_str::<Command>(&r.request.request) {
+                    Ok(Command::Begin { task }) if !judged => return End::Begin(r, task),
+                    Ok(Command::Finish { planned }) if judged => return End::Finish(r, planned),
+                    Ok(Command::Begin { .. }) => reply_err(
+                        r,
+                        &DriverError::Hardware("a judged run is already under way".into()),
+                    ),
+                    Ok(Command::ClearEvent { target, shoved }) => {
+                        if let Some(h) = hook.as_mut() {
+                            h(
+                                driver,
+                                target.map(|t| {
+                                    (
+                                        Vec3::from_array(t),
+                                        shoved.iter().map(|s| Vec3::from_array(*s)).collect(),
+                                    )
+                                }),
+                            );
+                        }
+                        reply_ok(r, &Answer::Done);
+                    }
+                    Ok(command) => {
+                        match self.command(driver, command) {
+                            Ok(a) => reply_ok(r, &a),
+                            Err(e) => reply_err(r, &e),
+                        }
+                        self.publish_state(driver);
+                    }
+                    Err(e) => reply_err(
+                        r,
+                        &DriverError::Hardware(format!("not a driver command: {e}")),
+                    ),
+                },
+                Ok(work) => self.handle(driver, work),
+                Err(std::sync::mpsc::RecvTimeoutError::Timeout) => {}
+                Err(std::sync::mpsc::RecvTimeoutError::Disconnected) => return End::Stopped,
+            }
+            let now = Instant::now();
+            if let Some(p) = state_period
+                && now >= self.next_state
+            {
+                self.publish_state(driver);
+                self.next_state = now + p;
+            }
+            if let Some(p) = camera_period
+                && now >= self.next_camera
+            {
+                for k in 0..self.clouds.len() {
+                    let camera = self.clouds[k].0.clone();
+                    self.frame_seed = self.frame_seed.wrapping_add(1);
+                    let _ = self.capture(driver, &camera, self.frame_seed);
+                }
+                self.next_camera = now + p;
+            }
+        }
+        End::Stopped
+    }
+
+    /// The ROS-facing topics' commands (fire and forget, as joint_trajectory_controller
+    /// and the gripper controllers take them) and frame requests.
+    fn handle(&mut self, driver: &mut SimDriver, work: Work) {
+        match work {
+            Work::Call(r) => reply_err(r, &DriverError::Hardware("unexpected call".into())),
             Work::Capture(r) => {
-                let answer = match self.capture(&r.request.camera) {
+                let seed = driver.next_noise_seed();
+                let answer = match self.capture(driver, &r.request.camera, seed) {
                     Ok((cloud, world_from_camera)) => CaptureResponse {
                         ok: true,
                         error: String::new(),
@@ -245,50 +402,22 @@ impl Server {
                 let result = msg
                     .to_trajectory()
                     .map_err(|e| DriverError::BadTrajectory(e.to_string()))
-                    .and_then(|t| self.driver.execute(&t));
+                    .and_then(|t| driver.execute(&t));
                 if let Err(e) = result {
                     tracing::warn!("joint_trajectory: {e}");
                 }
-                self.publish_state();
+                self.publish_state(driver);
             }
             Work::Gripper(name, cmd) => {
-                let result = self.gripper_command(&name, cmd);
-                if let Err(e) = result {
+                if let Err(e) = gripper_command(driver, &name, cmd) {
                     tracing::warn!("{name}/gripper_command: {e}");
                 }
-                self.publish_state();
+                self.publish_state(driver);
             }
         }
     }
 
-    /// control_msgs' gripper command: a gap at least half open opens, else closes
-    /// (with the effort limit when one is given).
-    fn gripper_command(&mut self, name: &str, cmd: GripperCommand) -> Result<(), DriverError> {
-        if !(cmd.position.is_finite() && cmd.max_effort.is_finite()) {
-            return Err(DriverError::NonFinite);
-        }
-        let r = self.driver.world.robot(self.driver.robot_name())?;
-        let g = r
-            .description
-            .grippers
-            .iter()
-            .find(|g| g.name == name)
-            .ok_or_else(|| DriverError::Hardware(format!("no gripper `{name}`")))?;
-        if cmd.position >= 0.5 * (g.open_width + g.closed_width) {
-            self.driver.open(name)
-        } else if cmd.max_effort > 0.0 {
-            self.driver
-                .close_with_effort(name, cmd.max_effort)
-                .map(|_| ())
-        } else {
-            self.driver.close(name).map(|_| ())
-        }
-    }
-
-    fn command(&mut self, request: &CallRequest) -> Result<Answer, DriverError> {
-        let command: Command = serde_json::from_str(&request.request)
-            .map_err(|e| DriverError::Hardware(format!("not a driver command: {e}")))?;
-        let d = &mut self.driver;
+    fn command(&self, d: &mut SimDriver, command: Command) -> Result<Answer, DriverError> {
         Ok(match command {
             Command::Describe => Answer::Description(Description {
                 robot: d.robot_name().to_string(),
@@ -339,6 +468,9 @@ impl Server {
                 d.annotate(&label);
                 Answer::Done
             }
+            Command::Begin { .. } | Command::Finish { .. } | Command::ClearEvent { .. } => {
+                return Err(DriverError::Hardware("not a plain command".into()));
+            }
             Command::Scene => {
                 Answer::Scene {
                     toml: d.world.to_scene().to_toml().map_err(|e| {
@@ -348,20 +480,23 @@ impl Server {
             }
         })
     }
-
     /// Captures `camera` (the next noise seed, as the simulator's own driver does),
     /// publishes the frame on `/<camera>/points` and returns it.
-    fn capture(&mut self, camera: &str) -> Result<(PointCloud2, Transform), DriverError> {
-        let cam = self.driver.world.camera(camera)?;
-        let seed = self.driver.next_noise_seed();
-        let frame = tabula_sim::camera::capture(&self.driver.world, &cam, seed);
+    fn capture(
+        &self,
+        driver: &SimDriver,
+        camera: &str,
+        seed: u64,
+    ) -> Result<(PointCloud2, Transform), DriverError> {
+        let cam = driver.world.camera(camera)?;
+        let frame = tabula_sim::camera::capture(&driver.world, &cam, seed);
         let colors: Vec<[u8; 3]> = frame
             .labels
             .iter()
             .map(|&l| {
                 let c = l
                     .checked_sub(1)
-                    .and_then(|i| self.driver.world.entities.get(i as usize))
+                    .and_then(|i| driver.world.entities.get(i as usize))
                     .map_or([0.7; 3], |e| e.color);
                 c.map(|v| (v * 255.0).clamp(0.0, 255.0) as u8)
             })
@@ -369,7 +504,7 @@ impl Server {
         let msg = PointCloud2::from_cloud(
             &frame.cloud,
             Some(&colors),
-            header(self.driver.world.time(), &format!("{camera}_optical_frame")),
+            header(driver.world.time(), &format!("{camera}_optical_frame")),
         );
         if let Some((_, publisher)) = self.clouds.iter().find(|(c, _)| c == camera)
             && let Err(e) = publisher.publish(&msg)
@@ -381,8 +516,7 @@ impl Server {
 
     /// `/joint_states`, and `/tf` with the world → root transform and every link's
     /// pose in the world (a flat tree: each link a child of `world`).
-    fn publish_state(&self) {
-        let d = &self.driver;
+    fn publish_state(&self, d: &SimDriver) {
         let Ok(state) = d.joint_state() else {
             return;
         };
@@ -415,5 +549,27 @@ impl Server {
         if let Err(e) = self.tf.publish(&TfMessage { transforms }) {
             tracing::warn!("tf: {e}");
         }
+    }
+}
+
+/// control_msgs' gripper command: a gap at least half open opens, else closes (with the
+/// effort limit when one is given).
+fn gripper_command(d: &mut SimDriver, name: &str, cmd: GripperCommand) -> Result<(), DriverError> {
+    if !(cmd.position.is_finite() && cmd.max_effort.is_finite()) {
+        return Err(DriverError::NonFinite);
+    }
+    let r = d.world.robot(d.robot_name())?;
+    let g = r
+        .description
+        .grippers
+        .iter()
+        .find(|g| g.name == name)
+        .ok_or_else(|| DriverError::Hardware(format!("no gripper `{name}`")))?;
+    if cmd.position >= 0.5 * (g.open_width + g.closed_width) {
+        d.open(name)
+    } else if cmd.max_effort > 0.0 {
+        d.close_with_effort(name, cmd.max_effort).map(|_| ())
+    } else {
+        d.close(name).map(|_| ())
     }
 }

@@ -9,7 +9,7 @@ use tabula_geom::parry::shape::SharedShape;
 use tabula_geom::{Pose, Vec2, Vec3};
 
 /// What physics says about a placement.
-#[derive(Debug, Clone, serde::Serialize)]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct PlaceVerdict {
     /// Within `tolerance` of the target, upright, resting, nothing held, no furniture
     /// touched.
@@ -101,7 +101,7 @@ pub struct ClearJudge {
 }
 
 /// The judged outcome of a clearing run.
-#[derive(Debug, Clone, Default, serde::Serialize)]
+#[derive(Debug, Clone, Default, serde::Serialize, serde::Deserialize)]
 pub struct ClearVerdict {
     /// Objects on the table at the start (above the table top, inside its outline).
     pub objects: usize,
@@ -249,6 +249,21 @@ pub struct ClearSetup {
     pub obstacles: Vec<(String, SharedShape, Pose)>,
 }
 
+impl ClearSetup {
+    /// What a clearing task is told of `world`'s workcell: where over `bin` to let
+    /// go, and the furniture as known obstacles.
+    pub fn of(world: &SimWorld, bin: &str) -> Result<Self, SimError> {
+        let b = furniture_bounds(world, bin).ok_or_else(|| SimError::UnknownEntity(bin.into()))?;
+        let (c, half) = (b.center(), b.half_extents());
+        Ok(Self {
+            drop_point: Vec3::new(c.x, c.y, b.maxs.z),
+            // A hand's width inside the walls.
+            drop_spread: (half.x.min(half.y) - 0.1).max(0.0),
+            obstacles: world.furniture_shapes(),
+        })
+    }
+}
+
 /// The judge's hook handed to a clearing task: `Some((target, shoved))` before an
 /// action (where the object it acts on and those it shoves along were seen), `None`
 /// after it.
@@ -266,14 +281,7 @@ pub fn run_clear_judged<R>(
     task: impl FnOnce(&mut crate::SimDriver, &ClearSetup, &mut ClearHook<'_>) -> R,
 ) -> Result<(R, ClearVerdict, SimWorld), SimError> {
     world.settle();
-    let b = furniture_bounds(&world, bin).ok_or_else(|| SimError::UnknownEntity(bin.into()))?;
-    let (c, half) = (b.center(), b.half_extents());
-    let setup = ClearSetup {
-        drop_point: Vec3::new(c.x, c.y, b.maxs.z),
-        // A hand's width inside the walls.
-        drop_spread: (half.x.min(half.y) - 0.1).max(0.0),
-        obstacles: world.furniture_shapes(),
-    };
+    let setup = ClearSetup::of(&world, bin)?;
     let start = world.object_poses();
     let mut judge = ClearJudge::new(&world, table)?;
     let mut driver = crate::SimDriver::new(world, robot, seed)?;
@@ -290,7 +298,7 @@ pub fn run_clear_judged<R>(
 
 /// What physics says about placing a held object stably (seed 000): SPEC §1's
 /// outcome, judged from ground truth.
-#[derive(Debug, Clone, Default, serde::Serialize)]
+#[derive(Debug, Clone, Default, serde::Serialize, serde::Deserialize)]
 pub struct StablePlaceVerdict {
     /// Resting on a surface, inside its edges, within 5° of the planned pose, moved
     /// < 1 cm after release, nothing else moved > 1 cm, nothing held, no furniture hit.
