@@ -111,17 +111,27 @@ pub const DEFINITIONS: &[(&str, &str)] = &[
 
 /// A field's type as `type_description_interfaces/FieldType` numbers it.
 #[derive(Debug, Clone, PartialEq, Eq)]
-struct FieldType {
-    type_id: u32,
-    capacity: u64,
-    string_capacity: u64,
-    nested_type_name: String,
+pub struct FieldType {
+    pub type_id: u32,
+    pub capacity: u64,
+    pub string_capacity: u64,
+    pub nested_type_name: String,
 }
 
+/// One field of a type description.
 #[derive(Debug, Clone, PartialEq, Eq)]
-struct Field {
-    name: String,
-    ty: FieldType,
+pub struct Field {
+    pub name: String,
+    pub ty: FieldType,
+}
+
+/// A type's description as REP-2016 hashes it: the type, then every type it refers
+/// to, sorted by name.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct TypeDescription {
+    pub type_name: String,
+    pub fields: Vec<Field>,
+    pub referenced: Vec<(String, Vec<Field>)>,
 }
 
 /// Why a definition could not be read or hashed.
@@ -265,8 +275,8 @@ fn describe(name: &str, fields: &[Field]) -> String {
     )
 }
 
-/// The RIHS01 hash of a message or service type (`RIHS01_` and 64 hex digits).
-pub fn type_hash(ros_type: &str) -> Result<String, TypeError> {
+/// The description of a message or service type.
+pub fn description(ros_type: &str) -> Result<TypeDescription, TypeError> {
     let types = all_types()?;
     let top = types
         .get(ros_type)
@@ -280,15 +290,26 @@ pub fn type_hash(ros_type: &str) -> Result<String, TypeError> {
             let n = f.ty.nested_type_name.as_str();
             if !n.is_empty() && !referenced.contains_key(n) {
                 let nf = types.get(n).ok_or_else(|| TypeError::Unknown(n.into()))?;
-                referenced.insert(n.to_string(), describe(n, nf));
+                referenced.insert(n.to_string(), nf.clone());
                 stack.push(n);
             }
         }
     }
+    Ok(TypeDescription {
+        type_name: ros_type.into(),
+        fields: top.clone(),
+        referenced: referenced.into_iter().collect(),
+    })
+}
+
+/// The RIHS01 hash of a message or service type (`RIHS01_` and 64 hex digits).
+pub fn type_hash(ros_type: &str) -> Result<String, TypeError> {
+    let d = description(ros_type)?;
+    let referenced: Vec<String> = d.referenced.iter().map(|(n, f)| describe(n, f)).collect();
     let json = format!(
         "{{\"type_description\": {}, \"referenced_type_descriptions\": [{}]}}",
-        describe(ros_type, top),
-        referenced.into_values().collect::<Vec<_>>().join(", ")
+        describe(&d.type_name, &d.fields),
+        referenced.join(", ")
     );
     let digest = Sha256::digest(json.as_bytes());
     let hex: String = digest.iter().map(|b| format!("{b:02x}")).collect();
