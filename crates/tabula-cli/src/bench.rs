@@ -76,6 +76,8 @@ pub enum BenchCommand {
         save_failures: Option<std::path::PathBuf>,
         #[arg(long)]
         json: bool,
+        #[command(flatten)]
+        spread: crate::trials::TrialArgs,
     },
     /// Seed 000's placing on a generated suite: success by physics with 95 % intervals,
     /// failures by cause, decision CPU time.
@@ -97,6 +99,8 @@ pub enum BenchCommand {
         save_failures: Option<std::path::PathBuf>,
         #[arg(long)]
         json: bool,
+        #[command(flatten)]
+        spread: crate::trials::TrialArgs,
     },
     /// Stable poses of the test objects (written as OBJ files for the side-by-side with
     /// trimesh: `scripts/trimesh_stable_poses.py DIR`): median CPU ms, most likely pose.
@@ -142,6 +146,7 @@ pub fn run(c: BenchCommand, report: Option<&std::path::Path>) -> Result<()> {
             params,
             save_failures,
             json,
+            spread,
         } => crate::clear::bench(
             &suite,
             scenes,
@@ -150,6 +155,7 @@ pub fn run(c: BenchCommand, report: Option<&std::path::Path>) -> Result<()> {
             save_failures.as_deref(),
             json,
             report,
+            &spread,
         ),
         BenchCommand::Place {
             suite,
@@ -158,6 +164,7 @@ pub fn run(c: BenchCommand, report: Option<&std::path::Path>) -> Result<()> {
             params,
             save_failures,
             json,
+            spread,
         } => crate::place::bench(
             &suite,
             trials,
@@ -166,6 +173,7 @@ pub fn run(c: BenchCommand, report: Option<&std::path::Path>) -> Result<()> {
             save_failures.as_deref(),
             json,
             report,
+            &spread,
         ),
         BenchCommand::StablePoses { dir, reps, json } => {
             crate::stable::bench(&dir, reps, json, report)

@@ -6,6 +6,7 @@ use anyhow::{Result, anyhow, bail};
 use clap::Args;
 use serde::Serialize;
 use tabula_sim::SimWorld;
+use tabula_sim::generate::{ClearSuite, clearing_scene};
 use tabula_sim::verdict::{ClearSetup, ClearVerdict, run_clear_judged};
 use tabula_tasks::clear::{ClearError, ClearParams, ClearReport, ClearRequest, clear};
 
@@ -289,8 +290,8 @@ fn summary_lines(out: &ClearJson) -> Vec<String> {
     lines
 }
 
-#[derive(Serialize)]
-struct BenchRow {
+#[derive(Serialize, serde::Deserialize)]
+pub struct BenchRow {
     seed: u64,
     objects: usize,
     in_bin: usize,
@@ -305,6 +306,8 @@ struct BenchRow {
     disturbed: usize,
     decision_median_ms: f64,
     stop: String,
+    /// Cleared without error (every object on the table in the bin).
+    success: bool,
 }
 
 /// Wilson score interval (95 %) of `k` successes in `n`.
@@ -320,83 +323,116 @@ pub fn wilson(k: usize, n: usize) -> (f64, f64) {
     ((c - h).max(0.0), (c + h).min(1.0))
 }
 
+/// One scene of a clearing suite, cleared in the simulator and judged by physics: its
+/// row and each frame's decision time and its parts.
+#[derive(Serialize, serde::Deserialize)]
+pub struct Trial {
+    row: BenchRow,
+    frames: Vec<[f64; 5]>,
+}
+
+fn trial(which: ClearSuite, s: u64, params: &ClearParams) -> Result<Trial> {
+    let text = clearing_scene(which, s);
+    let scene = tabula_sim::Scene::parse(&text, "generated")?;
+    let world = SimWorld::from_scene(&scene, Default::default())?;
+    let (out, _, _) = clear_in(world, None, params, None, s, false)?;
+    let r = &out.report;
+    let v = &out.verdict;
+    let frames = r
+        .frames
+        .iter()
+        .map(|f| {
+            [
+                f.decision_ms,
+                f.perception_ms,
+                f.predicates_ms,
+                f.planning_ms,
+                f.ik_ms,
+            ]
+        })
+        .collect();
+    Ok(Trial {
+        row: BenchRow {
+            seed: s,
+            objects: v.objects,
+            in_bin: v.in_bin,
+            actions: r.actions,
+            grasps: r.grasps,
+            failed_grasps: r.failed_grasps,
+            pushes: r.pushes,
+            no_plan_frames: r.no_plan_frames,
+            ik_backtracks: r.ik_backtracks,
+            push_loops: r.push_loops,
+            collisions: out.collisions,
+            disturbed: v.disturbed.len(),
+            decision_median_ms: r.decision_ms.median,
+            stop: match &out.error_message {
+                Some(e) => e.clone(),
+                None => r.stop.clone(),
+            },
+            success: out.success,
+        },
+        frames,
+    })
+}
+
+/// A clearing trial as a worker runs it.
+pub fn trial_of(spec: &crate::trials::TrialSpec) -> Result<Trial> {
+    let which: ClearSuite = spec.suite.parse().map_err(|e: String| anyhow!(e))?;
+    let params: ClearParams = match &spec.params {
+        Some(text) => crate::tasks::parse_params(text, "the bench's parameters")?,
+        None => ClearParams::default(),
+    };
+    trial(which, spec.seed, &params)
+}
+
 /// `tabula bench clear`: every scene of a suite cleared in the simulator (both cores,
-/// one scene each), judged by physics.
+/// one scene each, or spread over workers), judged by physics.
+#[allow(clippy::too_many_arguments)]
 pub fn bench(
     suite: &str,
     scenes: u64,
     seed: u64,
-    params: Option<&std::path::Path>,
+    params_path: Option<&std::path::Path>,
     save_failures: Option<&std::path::Path>,
     json: bool,
     report: Option<&std::path::Path>,
+    spread: &crate::trials::TrialArgs,
 ) -> Result<()> {
-    use rayon::prelude::*;
-    use tabula_sim::generate::{ClearSuite, clearing_scene};
     let which: ClearSuite = suite.parse().map_err(|e: String| anyhow!(e))?;
-    let params: ClearParams = load_params(params)?;
+    let params: ClearParams = load_params(params_path)?;
     params.validate()?;
+    let params_text = crate::trials::params_text(params_path)?;
     let progress = crate::progress::steps(scenes, suite);
-    let runs: Vec<Result<(BenchRow, Vec<[f64; 5]>)>> = (seed..seed.saturating_add(scenes))
-        .into_par_iter()
-        .map(|s| {
-            let _tick = crate::progress::Tick(&progress);
-            let text = clearing_scene(which, s);
-            let scene = tabula_sim::Scene::parse(&text, "generated")?;
-            let world = SimWorld::from_scene(&scene, Default::default())?;
-            let (out, _, _) = clear_in(world, None, &params, None, s, false)?;
-            let r = &out.report;
-            let v = &out.verdict;
-            if let Some(dir) = save_failures
-                && (!out.success || out.collisions > 0)
-            {
+    let runs = crate::trials::run(
+        spread,
+        seed..seed.saturating_add(scenes),
+        |s| crate::trials::TrialSpec {
+            bench: "clear".into(),
+            suite: suite.into(),
+            params: params_text.clone(),
+            seed: s,
+        },
+        |s| trial(which, s, &params),
+        &progress,
+    )?;
+    if let Some(dir) = save_failures {
+        for t in &runs {
+            if !t.row.success || t.row.collisions > 0 {
                 std::fs::create_dir_all(dir)?;
-                std::fs::write(dir.join(format!("{suite}-{s}.toml")), &text)?;
+                std::fs::write(
+                    dir.join(format!("{suite}-{}.toml", t.row.seed)),
+                    clearing_scene(which, t.row.seed),
+                )?;
             }
-            let frames = r
-                .frames
-                .iter()
-                .map(|f| {
-                    [
-                        f.decision_ms,
-                        f.perception_ms,
-                        f.predicates_ms,
-                        f.planning_ms,
-                        f.ik_ms,
-                    ]
-                })
-                .collect();
-            Ok((
-                BenchRow {
-                    seed: s,
-                    objects: v.objects,
-                    in_bin: v.in_bin,
-                    actions: r.actions,
-                    grasps: r.grasps,
-                    failed_grasps: r.failed_grasps,
-                    pushes: r.pushes,
-                    no_plan_frames: r.no_plan_frames,
-                    ik_backtracks: r.ik_backtracks,
-                    push_loops: r.push_loops,
-                    collisions: out.collisions,
-                    disturbed: v.disturbed.len(),
-                    decision_median_ms: r.decision_ms.median,
-                    stop: match &out.error_message {
-                        Some(e) => e.clone(),
-                        None => r.stop.clone(),
-                    },
-                },
-                frames,
-            ))
-        })
-        .collect();
+        }
+    }
     progress.finish_and_clear();
     let mut rows = Vec::new();
     let mut frames: Vec<[f64; 5]> = Vec::new();
-    for r in runs {
-        let (row, f) = r?;
-        rows.push(row);
-        frames.extend(f);
+    for t in runs {
+        rows.push(t.row);
+        frames.extend(t.frames);
     }
     let sum = |f: fn(&BenchRow) -> usize| rows.iter().map(f).sum::<usize>();
     let (objects, in_bin, actions) = (sum(|r| r.objects), sum(|r| r.in_bin), sum(|r| r.actions));

@@ -21,6 +21,9 @@ mod sim;
 mod stable;
 mod tasks;
 mod teleop;
+mod trials;
+#[cfg(feature = "ros")]
+mod worker;
 
 use clap::{Parser, Subcommand};
 
@@ -134,6 +137,9 @@ enum Command {
     /// Tele-operate the gripper from the keyboard in a terminal UI: steps in the base or
     /// the tool frame, checked and executed in the simulator (seed 000's Module 0).
     Teleop(teleop::TeleopArgs),
+    /// Serve benchmark trials to `tabula bench place|clear --workers N` over zenoh.
+    #[cfg(feature = "ros")]
+    Worker(worker::WorkerArgs),
     /// How an object rests on a table (seed 000): stable poses of a mesh or a scanned
     /// cloud with their stability margins and landing probabilities.
     StablePoses(stable::StablePosesArgs),
@@ -191,7 +197,7 @@ fn main() {
             true
         }
         #[cfg(feature = "ros")]
-        Command::Serve(_) => true,
+        Command::Serve(_) | Command::Worker(_) => true,
         Command::Bench { command, .. } => command.moves_robots(),
         _ => false,
     };
@@ -213,6 +219,8 @@ fn main() {
         Command::Sim { command } => sim::run(command),
         #[cfg(feature = "ros")]
         Command::Serve(args) => serve::run(args),
+        #[cfg(feature = "ros")]
+        Command::Worker(args) => worker::run(args),
         Command::StablePoses(args) => stable::run(args),
     };
     if tabula_robot::driver::stop_requested() {

@@ -394,8 +394,8 @@ fn held_by(world: &SimWorld, robot: &str) -> Option<String> {
         .map(|(_, n)| n)
 }
 
-#[derive(Serialize)]
-struct BenchRow {
+#[derive(Serialize, serde::Deserialize)]
+pub struct BenchRow {
     seed: u64,
     object: String,
     layout: tabula_sim::generate::PlaceLayout,
@@ -409,24 +409,99 @@ struct BenchRow {
     wall_s: f64,
 }
 
+/// One task of the placing suite (`simple` or complex objects), placed in the
+/// simulator and judged by physics; complex objects' meshes go to `mesh_dir`.
+fn trial(
+    s: u64,
+    simple: bool,
+    params: &PlaceParams,
+    mesh_dir: &std::path::Path,
+) -> Result<BenchRow> {
+    let task = tabula_sim::generate::place_task(s, simple, mesh_dir)?;
+    let scene = tabula_sim::Scene::parse(&task.scene, "generated")
+        .map_err(|e| anyhow::anyhow!("task {s}: {e}"))?;
+    let world = SimWorld::from_scene(&scene, Default::default())
+        .map_err(|e| anyhow::anyhow!("task {s}: {e}"))?;
+    let t0 = std::time::Instant::now();
+    let request = PlaceRequest {
+        arm: Some(task.arm.clone()),
+    };
+    let (out, _, _) = place_in(world, None, &request, params, s, false)?;
+    let cause = if out.success {
+        None
+    } else if let Some(e) = &out.error {
+        Some(e.kind.clone())
+    } else {
+        let v = &out.verdict;
+        Some(
+            if v.surface.is_none() {
+                "fell off"
+            } else if !v.inside_edges {
+                "over the edge"
+            } else if v.orientation_error_deg > 5.0 {
+                "toppled or turned"
+            } else if v.moved_after_release_m >= 0.01 {
+                "slid after release"
+            } else if !v.disturbed.is_empty() {
+                "disturbed others"
+            } else if !v.furniture_contacts.is_empty() {
+                "hit furniture"
+            } else {
+                "not released"
+            }
+            .to_string(),
+        )
+    };
+    Ok(BenchRow {
+        seed: s,
+        object: task.object,
+        layout: task.layout,
+        clutter: task.clutter,
+        arm: task.arm,
+        success: out.success,
+        cause,
+        orientation_error_deg: out.orientation_error_deg,
+        moved_after_release_mm: out.verdict.moved_after_release_m * 1e3,
+        decision_ms: out.decision_ms,
+        wall_s: t0.elapsed().as_secs_f64(),
+    })
+}
+
+fn is_simple(suite: &str) -> Result<bool> {
+    match suite {
+        "simple" => Ok(true),
+        "complex" => Ok(false),
+        other => anyhow::bail!("--suite is `simple` or `complex`, not `{other}`"),
+    }
+}
+
+/// A placing trial as a worker runs it (meshes in the worker's own temporary folder).
+pub fn trial_of(spec: &crate::trials::TrialSpec) -> Result<BenchRow> {
+    let params: PlaceParams = match &spec.params {
+        Some(text) => crate::tasks::parse_params(text, "the bench's parameters")?,
+        None => PlaceParams::default(),
+    };
+    let mesh_dir =
+        std::env::temp_dir().join(format!("tabula-worker-meshes-{}", std::process::id()));
+    trial(spec.seed, is_simple(&spec.suite)?, &params, &mesh_dir)
+}
+
 /// `tabula bench place`: the generated suite, each task placed in the simulator (both
-/// cores, one task each) and judged by physics.
+/// cores, one task each, or spread over workers) and judged by physics.
+#[allow(clippy::too_many_arguments)]
 pub fn bench(
     suite: &str,
     trials: u64,
     seed: u64,
-    params: Option<&std::path::Path>,
+    params_path: Option<&std::path::Path>,
     save_failures: Option<&std::path::Path>,
     json: bool,
     report: Option<&std::path::Path>,
+    spread: &crate::trials::TrialArgs,
 ) -> Result<()> {
-    use rayon::prelude::*;
-    let simple = match suite {
-        "simple" => true,
-        "complex" => false,
-        other => anyhow::bail!("--suite is `simple` or `complex`, not `{other}`"),
-    };
-    let params: PlaceParams = load_params(params)?;
+    let simple = is_simple(suite)?;
+    let params: PlaceParams = load_params(params_path)?;
+    let params_text = crate::trials::params_text(params_path)?;
     // Saved failures keep their meshes beside them.
     let mesh_dir = match save_failures {
         Some(d) => d.join("meshes"),
@@ -436,79 +511,35 @@ pub fn bench(
         std::fs::create_dir_all(d)?;
     }
     let progress = crate::progress::steps(trials, suite);
-    let rows: Vec<Result<BenchRow>> = (seed..seed.saturating_add(trials))
-        .into_par_iter()
-        .map(|s| {
-            let _tick = crate::progress::Tick(&progress);
-            let task = tabula_sim::generate::place_task(s, simple, &mesh_dir)?;
-            let world = tabula_sim::Scene::parse(&task.scene, "generated")
-                .map_err(anyhow::Error::from)
-                .and_then(|scene| Ok(SimWorld::from_scene(&scene, Default::default())?));
-            let world = match world {
-                Ok(w) => w,
-                Err(e) => {
-                    if let Some(d) = save_failures {
-                        std::fs::write(d.join(format!("place-{suite}-{s}.toml")), &task.scene)?;
-                    }
-                    anyhow::bail!("task {s}: {e:#}");
-                }
-            };
-            let t0 = std::time::Instant::now();
-            let request = PlaceRequest {
-                arm: Some(task.arm.clone()),
-            };
-            let (out, _, _) = place_in(world, None, &request, &params, s, false)?;
-            let cause = if out.success {
-                None
-            } else if let Some(e) = &out.error {
-                Some(e.kind.clone())
-            } else {
-                let v = &out.verdict;
-                Some(
-                    if v.surface.is_none() {
-                        "fell off"
-                    } else if !v.inside_edges {
-                        "over the edge"
-                    } else if v.orientation_error_deg > 5.0 {
-                        "toppled or turned"
-                    } else if v.moved_after_release_m >= 0.01 {
-                        "slid after release"
-                    } else if !v.disturbed.is_empty() {
-                        "disturbed others"
-                    } else if !v.furniture_contacts.is_empty() {
-                        "hit furniture"
-                    } else {
-                        "not released"
-                    }
-                    .to_string(),
-                )
-            };
-            // Failures are kept; so are slow decisions (over a second), to look into.
-            if let Some(d) = save_failures
-                && (cause.is_some() || out.decision_ms > 1000.0)
-            {
-                std::fs::write(d.join(format!("place-{suite}-{s}.toml")), &task.scene)?;
+    let rows = crate::trials::run(
+        spread,
+        seed..seed.saturating_add(trials),
+        |s| crate::trials::TrialSpec {
+            bench: "place".into(),
+            suite: suite.into(),
+            params: params_text.clone(),
+            seed: s,
+        },
+        |s| trial(s, simple, &params, &mesh_dir),
+        &progress,
+    );
+    // Failures are kept; so are slow decisions (over a second), to look into.
+    if let (Some(d), Ok(rows)) = (save_failures, &rows) {
+        for r in rows {
+            if r.cause.is_some() || r.decision_ms > 1000.0 {
+                let task = tabula_sim::generate::place_task(r.seed, simple, &mesh_dir)?;
+                std::fs::write(
+                    d.join(format!("place-{suite}-{}.toml", r.seed)),
+                    &task.scene,
+                )?;
             }
-            Ok(BenchRow {
-                seed: s,
-                object: task.object,
-                layout: task.layout,
-                clutter: task.clutter,
-                arm: task.arm,
-                success: out.success,
-                cause,
-                orientation_error_deg: out.orientation_error_deg,
-                moved_after_release_mm: out.verdict.moved_after_release_m * 1e3,
-                decision_ms: out.decision_ms,
-                wall_s: t0.elapsed().as_secs_f64(),
-            })
-        })
-        .collect();
+        }
+    }
     if save_failures.is_none() {
         let _ = std::fs::remove_dir_all(&mesh_dir);
     }
     progress.finish_and_clear();
-    let rows: Vec<BenchRow> = rows.into_iter().collect::<Result<_>>()?;
+    let rows: Vec<BenchRow> = rows?;
     // Failures by cause, for the report and the summary line.
     let mut causes: std::collections::BTreeMap<&str, usize> = Default::default();
     for r in &rows {

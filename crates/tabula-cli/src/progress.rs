@@ -47,16 +47,33 @@ impl Drop for Tick<'_> {
 
 /// Logs behind `-v`: warnings by default, then info, debug, trace; on stderr.
 pub fn init_logging(verbosity: u8) {
+    use tracing_subscriber::layer::SubscriberExt;
+    use tracing_subscriber::util::SubscriberInitExt;
     let level = match verbosity {
         0 => tracing::Level::WARN,
         1 => tracing::Level::INFO,
         2 => tracing::Level::DEBUG,
         _ => tracing::Level::TRACE,
     };
-    let _ = tracing_subscriber::fmt()
-        .with_max_level(level)
-        .with_writer(std::io::stderr)
-        .with_ansi(std::io::stderr().is_terminal())
-        .with_target(true)
+    // zenoh warns of every connection attempt it retries; tabula says once what failed,
+    // so its own logs show only with -vv.
+    let network = if verbosity >= 2 {
+        level
+    } else {
+        tracing::Level::ERROR
+    };
+    let targets = tracing_subscriber::filter::Targets::new()
+        .with_default(level)
+        .with_target("zenoh", network)
+        .with_target("zenoh_transport", network)
+        .with_target("zenoh_link_tcp", network);
+    let _ = tracing_subscriber::registry()
+        .with(
+            tracing_subscriber::fmt::layer()
+                .with_writer(std::io::stderr)
+                .with_ansi(std::io::stderr().is_terminal())
+                .with_target(true),
+        )
+        .with(targets)
         .try_init();
 }

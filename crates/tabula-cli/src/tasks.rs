@@ -191,18 +191,24 @@ pub fn check_arm(world: &SimWorld, robot: &str, arm: &str) -> Result<()> {
 pub fn load_params<T: serde::de::DeserializeOwned + Default + Validate>(
     path: Option<&Path>,
 ) -> Result<T> {
-    Ok(match path {
-        Some(p) => {
-            let text = read_text(p, Format::Params)?;
-            check_toml_numbers(&text).map_err(|e| anyhow::anyhow!("{}: {e}", p.display()))?;
-            let params: T = toml::from_str(&text).with_context(|| format!("{}", p.display()))?;
-            params
-                .validate()
-                .map_err(|e| anyhow::anyhow!("{}: {e}", p.display()))?;
-            params
-        }
-        None => T::default(),
-    })
+    match path {
+        Some(p) => parse_params(&read_text(p, Format::Params)?, &p.display().to_string()),
+        None => Ok(T::default()),
+    }
+}
+
+/// A module's `Params` from TOML text (`origin` names it in errors), checked as
+/// [`load_params`] checks a file.
+pub fn parse_params<T: serde::de::DeserializeOwned + Validate>(
+    text: &str,
+    origin: &str,
+) -> Result<T> {
+    check_toml_numbers(text).map_err(|e| anyhow::anyhow!("{origin}: {e}"))?;
+    let params: T = toml::from_str(text).with_context(|| origin.to_string())?;
+    params
+        .validate()
+        .map_err(|e| anyhow::anyhow!("{origin}: {e}"))?;
+    Ok(params)
 }
 
 fn vec3(v: &[f64], what: &str) -> Result<Vec3> {

@@ -34,10 +34,11 @@ fn hardware(e: RosError) -> DriverError {
 impl ZenohDriver {
     /// Connects as `config` says and waits up to `wait` for the robot's services.
     pub fn connect(config: NodeConfig, wait: Duration) -> Result<Self, RosError> {
+        let domain = config.domain;
         let node = Node::open(config)?;
         let call = node.client(DRIVER_SERVICE, CALL_TYPE)?;
         let capture = node.client(CAPTURE_SERVICE, CAPTURE_TYPE)?;
-        call.wait_for_server(wait)?;
+        call.wait_for_server(domain, wait)?;
         let mut driver = Self {
             node,
             call,

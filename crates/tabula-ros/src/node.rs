@@ -57,6 +57,9 @@ pub struct NodeConfig {
     pub connect: Vec<String>,
     /// A zenoh configuration file (JSON5), read first; the fields above then apply.
     pub config_file: Option<std::path::PathBuf>,
+    /// Keep trying to reach `connect` in the background (a worker waiting for its
+    /// router) rather than failing at once (a task that needs its robot now).
+    pub keep_trying: bool,
 }
 
 impl NodeConfig {
@@ -69,6 +72,7 @@ impl NodeConfig {
             listen: Vec::new(),
             connect: Vec::new(),
             config_file: None,
+            keep_trying: false,
         }
     }
 
@@ -90,6 +94,11 @@ impl NodeConfig {
         }
         if self.config_file.is_none() || !self.connect.is_empty() {
             c.insert_json5("connect/endpoints", &list(&self.connect))
+                .map_err(zerr)?;
+        }
+        if self.keep_trying {
+            c.insert_json5("connect/timeout_ms", "-1").map_err(zerr)?;
+            c.insert_json5("connect/exit_on_failure", "false")
                 .map_err(zerr)?;
         }
         if self.config_file.is_none() {
@@ -186,6 +195,12 @@ impl Node {
         let mut gid = [0u8; 16];
         gid.copy_from_slice(&digest[..16]);
         Ok((key, token, gid))
+    }
+
+    /// The ROS 2 graph of this node's domain as the liveliness tokens tell it (what
+    /// `ros2 node list` and `ros2 topic list` show).
+    pub fn graph(&self, timeout: Duration) -> Result<Vec<crate::wire::TokenInfo>, RosError> {
+        graph(&self.session, self.config.domain, timeout)
     }
 
     /// A publisher of `ros_type` messages on `topic`.
@@ -442,21 +457,17 @@ impl<Req: Serialize, Resp: DeserializeOwned> Client<Req, Resp> {
         }
     }
 
-    /// Waits until a server answers on this service (or `timeout` passes).
-    pub fn wait_for_server(&self, timeout: Duration) -> Result<(), RosError> {
+    /// Waits until a server of this service is in the graph (or `timeout` passes).
+    pub fn wait_for_server(&self, domain: u32, timeout: Duration) -> Result<(), RosError> {
         let deadline = std::time::Instant::now() + timeout;
+        let name = format!("/{}", self.name.trim_matches('/'));
         loop {
-            let found = self
-                .session
-                .liveliness()
-                .get(format!(
-                    "@ros2_lv/**/SS/**/{}/**",
-                    crate::wire::mangle(&format!("/{}", self.name.trim_matches('/')))
-                ))
-                .timeout(Duration::from_millis(500))
-                .wait()
-                .map_err(zerr)?;
-            if found.recv().is_ok() {
+            let found = graph(&self.session, domain, Duration::from_millis(500))?
+                .into_iter()
+                .any(|t| {
+                    t.kind == EntityKind::ServiceServer && t.topic.as_deref() == Some(name.as_str())
+                });
+            if found {
                 return Ok(());
             }
             if std::time::Instant::now() > deadline {
@@ -465,4 +476,26 @@ impl<Req: Serialize, Resp: DeserializeOwned> Client<Req, Resp> {
             std::thread::sleep(Duration::from_millis(100));
         }
     }
+}
+
+fn graph(
+    session: &zenoh::Session,
+    domain: u32,
+    timeout: Duration,
+) -> Result<Vec<crate::wire::TokenInfo>, RosError> {
+    let replies = session
+        .liveliness()
+        .get(format!("{}/{domain}/**", crate::wire::ADMIN_SPACE))
+        .timeout(timeout)
+        .wait()
+        .map_err(zerr)?;
+    let mut tokens = Vec::new();
+    while let Ok(reply) = replies.recv() {
+        if let Ok(sample) = reply.result()
+            && let Some(t) = crate::wire::parse_token(sample.key_expr().as_str())
+        {
+            tokens.push(t);
+        }
+    }
+    Ok(tokens)
 }

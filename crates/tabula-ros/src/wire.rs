@@ -194,6 +194,56 @@ pub fn endpoint_token(
     ))
 }
 
+/// What a liveliness token says of its entity.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct TokenInfo {
+    pub domain: u32,
+    pub zid: String,
+    pub kind: EntityKind,
+    pub namespace: String,
+    pub node: String,
+    /// Endpoints only: the topic or service (with its leading `/`) and its DDS type.
+    pub topic: Option<String>,
+    pub dds_type: Option<String>,
+}
+
+/// Reads an rmw_zenoh liveliness token (the graph as `ros2 node list` builds it);
+/// `None` for anything else.
+pub fn parse_token(key: &str) -> Option<TokenInfo> {
+    let parts: Vec<&str> = key.split('/').collect();
+    if parts.len() < 9 || parts[0] != ADMIN_SPACE {
+        return None;
+    }
+    let kind = match parts[5] {
+        "NN" => EntityKind::Node,
+        "MP" => EntityKind::Publisher,
+        "MS" => EntityKind::Subscription,
+        "SS" => EntityKind::ServiceServer,
+        "SC" => EntityKind::ServiceClient,
+        _ => return None,
+    };
+    let unmangle = |s: &str| {
+        if s == "%" {
+            String::new()
+        } else {
+            s.replace('%', "/")
+        }
+    };
+    let endpoint = kind != EntityKind::Node;
+    if endpoint && parts.len() < 13 {
+        return None;
+    }
+    Some(TokenInfo {
+        domain: parts[1].parse().ok()?,
+        zid: parts[2].into(),
+        kind,
+        namespace: unmangle(parts[7]),
+        node: unmangle(parts[8]),
+        topic: endpoint.then(|| unmangle(parts[9])),
+        dds_type: endpoint.then(|| parts[10].to_string()),
+    })
+}
+
 /// What rmw_zenoh attaches to every sample and query.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Attachment {
@@ -322,6 +372,38 @@ mod tests {
             depth: Some(1),
         };
         assert_eq!(tf_static.encode(), ":1:,1:,:,:,,");
+    }
+
+    #[test]
+    fn tokens_read_back() {
+        let t = endpoint_token(
+            3,
+            "abc",
+            0,
+            4,
+            EntityKind::ServiceServer,
+            ("", "tabula_worker"),
+            (
+                "/tabula/workers/w1/trial",
+                "tabula_msgs/srv/Call",
+                "RIHS01_x",
+            ),
+            Qos::services(),
+        )
+        .unwrap();
+        let info = parse_token(&t).unwrap();
+        assert_eq!(info.domain, 3);
+        assert_eq!(info.kind, EntityKind::ServiceServer);
+        assert_eq!(info.node, "tabula_worker");
+        assert_eq!(info.topic.as_deref(), Some("/tabula/workers/w1/trial"));
+        assert_eq!(
+            info.dds_type.as_deref(),
+            Some("tabula_msgs::srv::dds_::Call_")
+        );
+        let n = parse_token(&node_token(0, "abc", 0, "", "n")).unwrap();
+        assert_eq!((n.kind, n.topic), (EntityKind::Node, None));
+        assert!(parse_token("0/chatter/x/y").is_none());
+        assert!(parse_token("@ros2_lv/0/abc/0/1/MP/%/%/n").is_none());
     }
 
     #[test]

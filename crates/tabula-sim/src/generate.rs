@@ -898,7 +898,7 @@ fn pile(rng: &mut ChaCha8Rng) -> Vec<Placed> {
 }
 
 /// Where the surface stands relative to the robot in a placing task.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum PlaceLayout {
     Front,
