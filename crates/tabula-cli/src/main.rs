@@ -17,6 +17,8 @@ mod remote;
 mod report;
 #[cfg(feature = "ros")]
 mod serve;
+#[cfg(feature = "ros")]
+mod services;
 mod sim;
 mod stable;
 mod tasks;

@@ -131,35 +131,26 @@ pub fn run(a: PerceiveArgs) -> Result<()> {
         None => None,
     };
     let params: TabletopParams = crate::tasks::load_params(a.params.as_deref())?;
-    let t0 = Instant::now();
-    let framing = frame_cloud(
-        &file.cloud,
-        &file.viewpoint,
-        world_from_camera,
-        up,
-        &SupportParams::default(),
-    )?;
-
-    let mut cloud = to_world(&framing.world_from_cloud, &file.cloud);
-    let mut removed = 0;
-    if let Some(robot) = &a.robot {
-        let base = match &a.robot_base {
-            Some(v) => pose_arg(v, "robot-base")?,
-            None => Pose::IDENTITY,
-        };
-        let solids = robot_solids(robot, base, &a.joints)?;
-        let keep = self_filter(&cloud.points, &solids, &SelfFilterParams::default());
-        for (p, k) in cloud.points.iter_mut().zip(&keep) {
-            if !k && p.is_finite() {
-                *p = Vec3::NAN;
-                removed += 1;
-            }
+    let solids = match &a.robot {
+        Some(robot) => {
+            let base = match &a.robot_base {
+                Some(v) => pose_arg(v, "robot-base")?,
+                None => Pose::IDENTITY,
+            };
+            robot_solids(robot, base, &a.joints)?
         }
-    }
-    let result = extract_framed(&cloud, &framing, &params)?;
-    let ms = t0.elapsed().as_secs_f64() * 1e3;
-    let surfaces = find_surfaces(&cloud, None, &params.surfaces, false);
-    let map = FreeSpaceMap::from_tabletop(&result, &cloud.points, &FreeSpaceParams::default())?;
+        None => Vec::new(),
+    };
+    let perceived = perceive(&file, world_from_camera, up, &solids, &params)?;
+    let Perceived {
+        framing,
+        cloud,
+        result,
+        surfaces,
+        map,
+        removed,
+        ms,
+    } = &perceived;
     let placement = match &a.place {
         Some(size) => {
             if !(size.iter().all(|s| s.is_finite() && *s > 0.0)) {
@@ -192,23 +183,7 @@ pub fn run(a: PerceiveArgs) -> Result<()> {
     // A footprint that fits nowhere is "no solution": exit status 2 after the report.
     let no_place = matches!(placement, Some(None));
     let colors = file.colors.as_deref();
-    let json = || {
-        let mut v = to_json(
-            &result,
-            &surfaces.surfaces,
-            &map,
-            placement,
-            removed,
-            ms,
-            colors,
-        );
-        v["frame"] = serde_json::json!({
-            "source": framing.source,
-            "world_from_cloud": pose_json(&framing.world_from_cloud),
-            "sensor": arr(framing.eye),
-        });
-        v
-    };
+    let json = || perceived.to_json(placement, colors);
     if let Some(dir) = &a.report {
         let footprint = placement.flatten().zip(a.place.as_deref());
         write_report(
@@ -261,7 +236,7 @@ pub fn run(a: PerceiveArgs) -> Result<()> {
         result.table.hull.len(),
         map.free_area()
     );
-    if removed > 0 {
+    if *removed > 0 {
         println!("self-filter: {removed} robot points removed");
     }
     println!("surfaces (all horizontal surfaces in reach):");
@@ -364,6 +339,89 @@ fn pose_json(p: &Pose) -> [f64; 7] {
 
 fn arr(v: Vec3) -> [f64; 3] {
     v.to_array()
+}
+
+/// What perception makes of one frame: how it was framed, the cloud in that frame
+/// (robot removed), the tabletop, every surface, the support's free space.
+pub struct Perceived {
+    pub framing: tabula_perception::support::Framing,
+    pub cloud: PointCloud,
+    pub result: Tabletop,
+    pub surfaces: tabula_perception::surfaces::SurfaceSearch,
+    pub map: FreeSpaceMap,
+    /// Points the robot's self-filter removed.
+    pub removed: usize,
+    /// Wall time of framing and the tabletop pipeline.
+    pub ms: f64,
+}
+
+/// Frames `file` (a given pose, `up`, its VIEWPOINT or the optical frame), removes the
+/// robot's `solids`, and runs the tabletop pipeline, the surface search and the free
+/// space map.
+pub fn perceive(
+    file: &CloudFile,
+    world_from_camera: Option<Pose>,
+    up: Option<Vec3>,
+    solids: &[PlacedSolid],
+    params: &TabletopParams,
+) -> Result<Perceived> {
+    let t0 = Instant::now();
+    let framing = frame_cloud(
+        &file.cloud,
+        &file.viewpoint,
+        world_from_camera,
+        up,
+        &SupportParams::default(),
+    )?;
+    let mut cloud = to_world(&framing.world_from_cloud, &file.cloud);
+    let mut removed = 0;
+    if !solids.is_empty() {
+        let keep = self_filter(&cloud.points, solids, &SelfFilterParams::default());
+        for (p, k) in cloud.points.iter_mut().zip(&keep) {
+            if !k && p.is_finite() {
+                *p = Vec3::NAN;
+                removed += 1;
+            }
+        }
+    }
+    let result = extract_framed(&cloud, &framing, params)?;
+    let ms = t0.elapsed().as_secs_f64() * 1e3;
+    let surfaces = find_surfaces(&cloud, None, &params.surfaces, false);
+    let map = FreeSpaceMap::from_tabletop(&result, &cloud.points, &FreeSpaceParams::default())?;
+    Ok(Perceived {
+        framing,
+        cloud,
+        result,
+        surfaces,
+        map,
+        removed,
+        ms,
+    })
+}
+
+impl Perceived {
+    /// What `perceive --json` prints (`placement`: the answer to `--place`, if asked).
+    pub fn to_json(
+        &self,
+        placement: Option<Option<Placement>>,
+        colors: Option<&[[u8; 3]]>,
+    ) -> serde_json::Value {
+        let mut v = to_json(
+            &self.result,
+            &self.surfaces.surfaces,
+            &self.map,
+            placement,
+            self.removed,
+            self.ms,
+            colors,
+        );
+        v["frame"] = serde_json::json!({
+            "source": self.framing.source,
+            "world_from_cloud": pose_json(&self.framing.world_from_cloud),
+            "sensor": arr(self.framing.eye),
+        });
+        v
+    }
 }
 
 fn to_json(

@@ -61,6 +61,13 @@ pub fn run(a: ServeArgs) -> Result<()> {
     };
     let mut server = Server::new(&world, &robot, a.seed, config, rates)
         .map_err(|e| anyhow!("cannot serve on {}: {e}", a.listen.join(", ")))?;
+    let served = world.robot(&robot)?;
+    let _services = crate::services::declare(
+        &server.node,
+        served.model.clone(),
+        served.description.clone(),
+    )
+    .map_err(|e| anyhow!("{e}"))?;
     eprintln!(
         "serving `{robot}` as ROS 2 node /tabula_sim (domain {}) on {}; Ctrl+C stops",
         a.domain,

@@ -182,3 +182,142 @@ fn connecting_to_nothing_is_a_clear_error() {
         .unwrap();
     assert_eq!(out.status.code(), Some(1));
 }
+
+/// A JSON service of the served robot, called as any ROS 2 node would.
+fn call(node: &tabula_ros::node::Node, name: &str, request: Value) -> (bool, Value) {
+    use tabula_ros::msgs::{CallRequest, CallResponse};
+    let client = node
+        .client::<CallRequest, CallResponse>(name, "tabula_msgs/srv/Call")
+        .unwrap();
+    client
+        .wait_for_server(0, std::time::Duration::from_secs(10))
+        .unwrap();
+    let r = client
+        .call(
+            &CallRequest {
+                request: request.to_string(),
+            },
+            std::time::Duration::from_secs(30),
+        )
+        .unwrap();
+    let v = serde_json::from_str(&r.response).unwrap_or(Value::String(r.response));
+    (r.ok, v)
+}
+
+#[test]
+fn the_served_robot_answers_ik_stable_poses_plans_and_perception() {
+    use tabula_ros::node::{Mode, Node, NodeConfig};
+    let served = Served::start(&scene("pr2_holding.toml"), &tmp("services_end.toml"));
+    let mut config = NodeConfig::new("tabula_test", Mode::Client);
+    config.connect = vec![served.endpoint.clone()];
+    let node = Node::open(config).unwrap();
+
+    // IK of a pose the right arm reaches (its FK at mid-range), in its base frame.
+    let pr2 = tabula_robot::robots::load("pr2").unwrap();
+    let chain = pr2
+        .description
+        .arm("right")
+        .unwrap()
+        .chain(&pr2.model)
+        .unwrap();
+    let target = chain.fk(&chain.mid_configuration()).unwrap();
+    let (t, q) = (target.translation, target.rotation);
+    let (ok, ik) = call(
+        &node,
+        "/tabula/ik",
+        serde_json::json!({"arm": "right", "pose": [t.x, t.y, t.z, q.x, q.y, q.z, q.w]}),
+    );
+    assert!(ok, "{ik}");
+    let best = &ik["solutions"][0];
+    assert!(best["position_error_m"].as_f64().unwrap() < 1e-3, "{ik}");
+    let joints = pose(&best["joints"]);
+    let reached = chain.fk(&joints).unwrap();
+    assert!(reached.translation.distance(t) < 1e-3);
+    let (ok, bad) = call(
+        &node,
+        "/tabula/ik",
+        serde_json::json!({"arm": "tail", "pose": [0, 0, 0, 0, 0, 0, 1]}),
+    );
+    assert!(!ok && bad.to_string().contains("no arm `tail`"), "{bad}");
+
+    // Stable poses of a 4 × 2 × 1 cm box's corners: six faces, most likely the largest.
+    let mut corners = Vec::new();
+    for x in [-0.02, 0.02] {
+        for y in [-0.01, 0.01] {
+            for z in [-0.005, 0.005] {
+                corners.push([x, y, z]);
+            }
+        }
+    }
+    let (ok, poses) = call(
+        &node,
+        "/tabula/stable_poses",
+        serde_json::json!({"points": corners}),
+    );
+    assert!(ok, "{poses}");
+    let list = poses["poses"].as_array().unwrap();
+    assert_eq!(list.len(), 6);
+    let sum: f64 = list
+        .iter()
+        .map(|p| p["probability"].as_f64().unwrap())
+        .sum();
+    assert!((sum - 1.0).abs() < 1e-6);
+    let (ok, _) = call(
+        &node,
+        "/tabula/stable_poses",
+        serde_json::json!({"points": [[0, 0, 0]]}),
+    );
+    assert!(!ok);
+
+    // A plan for the seed's first problem, with its domain.
+    let pddl = |f: &str| {
+        std::fs::read_to_string(format!("{}/../../pddl/{f}", env!("CARGO_MANIFEST_DIR"))).unwrap()
+    };
+    let (ok, plan) = call(
+        &node,
+        "/tabula/plan",
+        serde_json::json!({"domain": pddl("tablewclear-domain-fixed.pddl"), "problem": pddl("thesis6-a.pddl")}),
+    );
+    assert!(ok, "{plan}");
+    assert_eq!(plan["status"], "solved");
+    assert!(!plan["plan"].as_array().unwrap().is_empty());
+    let (ok, _) = call(
+        &node,
+        "/tabula/plan",
+        serde_json::json!({"domain": "(define", "problem": ""}),
+    );
+    assert!(!ok);
+
+    // Perception of a frame the served camera took, sent back as a PointCloud2.
+    use tabula_ros::msgs::CallResponse;
+    use tabula_ros::protocol::{CaptureRequest, CaptureResponse, PerceiveRequest};
+    let capture = node
+        .client::<CaptureRequest, CaptureResponse>("/tabula/capture", "tabula_msgs/srv/Capture")
+        .unwrap();
+    let frame = capture
+        .call(
+            &CaptureRequest {
+                camera: "head".into(),
+            },
+            std::time::Duration::from_secs(30),
+        )
+        .unwrap();
+    assert!(frame.ok, "{}", frame.error);
+    let perceive = node
+        .client::<PerceiveRequest, CallResponse>("/tabula/perceive", "tabula_msgs/srv/Perceive")
+        .unwrap();
+    let r = perceive
+        .call(
+            &PerceiveRequest {
+                cloud: frame.cloud,
+                has_pose: true,
+                world_from_cloud: frame.world_from_camera,
+            },
+            std::time::Duration::from_secs(30),
+        )
+        .unwrap();
+    assert!(r.ok, "{}", r.response);
+    let seen: Value = serde_json::from_str(&r.response).unwrap();
+    let height = seen["table"]["height"].as_f64().unwrap();
+    assert!((height - 0.74).abs() < 0.03, "table at {height}");
+}

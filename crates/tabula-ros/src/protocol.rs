@@ -13,6 +13,7 @@ pub const DRIVER_SERVICE: &str = "/tabula/driver";
 pub const CAPTURE_SERVICE: &str = "/tabula/capture";
 pub const CALL_TYPE: &str = "tabula_msgs/srv/Call";
 pub const CAPTURE_TYPE: &str = "tabula_msgs/srv/Capture";
+pub const PERCEIVE_TYPE: &str = "tabula_msgs/srv/Perceive";
 
 /// One command of the driver traits.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -241,4 +242,13 @@ pub struct CaptureResponse {
     pub error: String,
     pub cloud: crate::msgs::PointCloud2,
     pub world_from_camera: crate::msgs::Transform,
+}
+
+/// `tabula_msgs/srv/Perceive` request: a cloud, and where it was taken when known
+/// (else its frame is found from the cloud: an optical frame's support plane).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct PerceiveRequest {
+    pub cloud: crate::msgs::PointCloud2,
+    pub has_pose: bool,
+    pub world_from_cloud: crate::msgs::Transform,
 }

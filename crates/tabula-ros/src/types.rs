@@ -103,6 +103,11 @@ pub const DEFINITIONS: &[(&str, &str)] = &[
         "string request\n---\nbool ok\nstring response",
     ),
     (
+        "tabula_msgs/srv/Perceive",
+        "sensor_msgs/msg/PointCloud2 cloud\nbool has_pose\n\
+         geometry_msgs/msg/Transform world_from_cloud\n---\nbool ok\nstring response",
+    ),
+    (
         "tabula_msgs/srv/Capture",
         "string camera\n---\nbool ok\nstring error\nsensor_msgs/msg/PointCloud2 cloud\n\
          geometry_msgs/msg/Transform world_from_camera",
