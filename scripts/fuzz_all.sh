@@ -9,7 +9,7 @@ cd "$(dirname "$0")/../fuzz"
 secs=${1:-600}
 shift || true
 targets=("$@")
-[ ${#targets[@]} -eq 0 ] && targets=(cloud mesh urdf scene params pddl)
+[ ${#targets[@]} -eq 0 ] && targets=(cloud mesh urdf scene params pddl ros)
 H=../target/hostile-corpus  # written by the hostile-corpus test (cargo test --test hostile)
 seed() { mkdir -p "corpus/$1"; shift; for f in "$@"; do [ -f "$f" ] && cp "$f" "corpus/${dir}/"; done; true; }
 for t in "${targets[@]}"; do

@@ -102,6 +102,15 @@ pub enum BenchCommand {
         #[command(flatten)]
         spread: crate::trials::TrialArgs,
     },
+    /// ROS 2 over zenoh: a 640×480 camera frame from publish (message built, CDR
+    /// encoded) to decoded into a tabula cloud by a subscriber, on TCP loopback.
+    #[cfg(feature = "ros")]
+    Ros {
+        #[arg(long, default_value_t = 100, value_parser = crate::args::count)]
+        frames: usize,
+        #[arg(long)]
+        json: bool,
+    },
     /// Stable poses of the test objects (written as OBJ files for the side-by-side with
     /// trimesh: `scripts/trimesh_stable_poses.py DIR`): median CPU ms, most likely pose.
     StablePoses {
@@ -175,6 +184,8 @@ pub fn run(c: BenchCommand, report: Option<&std::path::Path>) -> Result<()> {
             report,
             &spread,
         ),
+        #[cfg(feature = "ros")]
+        BenchCommand::Ros { frames, json } => ros_latency(frames, json),
         BenchCommand::StablePoses { dir, reps, json } => {
             crate::stable::bench(&dir, reps, json, report)
         }
@@ -767,6 +778,56 @@ fn perception(
             "suite: {recovered} of {objects} objects ({:.1} %), table found in all {scenes} frames, table precision ≥ {min_precision:.4}, recall ≥ {min_recall:.4}; pipeline CPU median {:.1} ms, max {worst_cpu:.1} ms",
             100.0 * recovered as f64 / objects.max(1) as f64,
             median(cpu)
+        );
+    }
+    Ok(())
+}
+
+/// `tabula bench ros`: the frame of scenes/pr2_holding.toml's head camera, published
+/// and received `frames` times.
+#[cfg(feature = "ros")]
+fn ros_latency(frames: usize, json: bool) -> Result<()> {
+    let scene = tabula_sim::Scene::parse(
+        include_str!("../../../scenes/pr2_holding.toml"),
+        "pr2_holding.toml",
+    )?;
+    let world = tabula_sim::SimWorld::from_scene(&scene, Default::default())?;
+    let camera = world.camera("head")?;
+    let frame = tabula_sim::camera::capture(&world, &camera, 1);
+    let port = std::net::TcpListener::bind("127.0.0.1:0")?
+        .local_addr()?
+        .port();
+    let endpoint = format!("tcp/127.0.0.1:{port}");
+    let mut ms: Vec<f64> = tabula_ros::bench::cloud_latency(&frame.cloud, frames, &endpoint)
+        .map_err(|e| anyhow::anyhow!("{e}"))?
+        .into_iter()
+        .map(|s| s * 1e3)
+        .collect();
+    ms.sort_by(f64::total_cmp);
+    let at = |q: f64| ms[((ms.len() - 1) as f64 * q).round() as usize];
+    let bytes = frame.cloud.points.len() * 16;
+    let summary = serde_json::json!({
+        "frames": ms.len(),
+        "width": frame.cloud.width,
+        "height": frame.cloud.height,
+        "bytes": bytes,
+        "median_ms": at(0.5),
+        "p95_ms": at(0.95),
+        "max_ms": at(1.0),
+        "mb_per_s_at_median": bytes as f64 / 1e6 / (at(0.5) / 1e3),
+    });
+    if json {
+        println!("{}", serde_json::to_string_pretty(&summary)?);
+    } else {
+        println!(
+            "{}×{} PointCloud2 ({:.1} MB) publish → decoded, TCP loopback, {} frames: median {:.2} ms, p95 {:.2} ms, max {:.2} ms",
+            frame.cloud.width,
+            frame.cloud.height,
+            bytes as f64 / 1e6,
+            ms.len(),
+            at(0.5),
+            at(0.95),
+            at(1.0)
         );
     }
     Ok(())

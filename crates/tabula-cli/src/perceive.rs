@@ -186,14 +186,7 @@ pub fn run(a: PerceiveArgs) -> Result<()> {
     let json = || perceived.to_json(placement, colors);
     if let Some(dir) = &a.report {
         let footprint = placement.flatten().zip(a.place.as_deref());
-        write_report(
-            dir,
-            &result,
-            &map,
-            footprint,
-            Some((&cloud, colors)),
-            &json(),
-        )?;
+        write_report(dir, result, map, footprint, Some((cloud, colors)), &json())?;
         eprintln!("report: {}", dir.join("index.html").display());
     }
     if a.json {

@@ -321,3 +321,58 @@ fn the_served_robot_answers_ik_stable_poses_plans_and_perception() {
     let height = seen["table"]["height"].as_f64().unwrap();
     assert!((height - 0.74).abs() < 0.03, "table at {height}");
 }
+
+/// `tabula worker` processes joined to a bench that listens: the rows are the ones the
+/// same seeds give in one process.
+#[test]
+fn trials_spread_over_workers_give_the_single_process_rows() {
+    let port = TcpListener::bind("127.0.0.1:0")
+        .and_then(|l| l.local_addr())
+        .unwrap()
+        .port();
+    let endpoint = format!("tcp/127.0.0.1:{port}");
+    let workers: Vec<Child> = (0..2)
+        .map(|_| {
+            Command::new(env!("CARGO_BIN_EXE_tabula"))
+                .args(["worker", "--connect", &endpoint, "--duration", "120"])
+                .stderr(Stdio::null())
+                .spawn()
+                .unwrap()
+        })
+        .collect();
+    let bench = [
+        "bench", "clear", "--suite", "random", "--scenes", "3", "--seed", "40",
+    ];
+    let spread: Vec<&str> = bench
+        .iter()
+        .copied()
+        .chain(["--workers", "2", "--listen", &endpoint])
+        .collect();
+    let (status, remote) = run_json(&spread);
+    let (_, local) = run_json(&bench);
+    for mut w in workers {
+        let _ = w.kill();
+        let _ = w.wait();
+    }
+    assert_eq!(status, Some(0), "{remote}");
+    for key in [
+        "objects",
+        "removed",
+        "actions",
+        "grasps",
+        "pushes",
+        "collisions",
+    ] {
+        assert_eq!(remote[key], local[key], "{key}");
+    }
+    let seeds = |v: &Value| -> Vec<u64> {
+        v["rows"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|r| r["seed"].as_u64().unwrap())
+            .collect()
+    };
+    assert_eq!(seeds(&remote), [40, 41, 42]);
+    assert_eq!(seeds(&remote), seeds(&local));
+}

@@ -11,6 +11,7 @@
 //! * [`serve`]: the simulator served as a ROS 2 robot;
 //! * [`driver`]: the driver traits over zenoh, for a robot served elsewhere.
 
+pub mod bench;
 pub mod driver;
 pub mod msgs;
 pub mod node;

@@ -183,7 +183,7 @@ impl Server {
             node,
             robot: robot.into(),
             seed,
-            frame_seed: seed ^ 0x5EED_F4A3_E5u64,
+            frame_seed: seed ^ 0x005E_EDF4_A3E5_u64,
             work,
             joint_states,
             tf,
