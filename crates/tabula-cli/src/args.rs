@@ -28,6 +28,7 @@ pub fn seconds(s: &str) -> Result<f64, String> {
 }
 
 /// A publishing rate in Hz: 0 (off) to 1 kHz.
+#[cfg(feature = "ros")]
 pub fn rate(s: &str) -> Result<f64, String> {
     let v = finite(s)?;
     if (0.0..=1000.0).contains(&v) {

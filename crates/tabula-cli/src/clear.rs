@@ -377,6 +377,7 @@ fn trial(which: ClearSuite, s: u64, params: &ClearParams) -> Result<Trial> {
 }
 
 /// A clearing trial as a worker runs it.
+#[cfg(feature = "ros")]
 pub fn trial_of(spec: &crate::trials::TrialSpec) -> Result<Trial> {
     let which: ClearSuite = spec.suite.parse().map_err(|e: String| anyhow!(e))?;
     let params: ClearParams = match &spec.params {

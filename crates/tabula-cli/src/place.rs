@@ -476,6 +476,7 @@ fn is_simple(suite: &str) -> Result<bool> {
 }
 
 /// A placing trial as a worker runs it (meshes in the worker's own temporary folder).
+#[cfg(feature = "ros")]
 pub fn trial_of(spec: &crate::trials::TrialSpec) -> Result<BenchRow> {
     let params: PlaceParams = match &spec.params {
         Some(text) => crate::tasks::parse_params(text, "the bench's parameters")?,

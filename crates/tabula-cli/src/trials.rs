@@ -78,6 +78,7 @@ where
 }
 
 /// One trial of a benchmark, as its row in JSON: what a worker answers.
+#[cfg(feature = "ros")]
 pub fn trial(spec: &TrialSpec) -> Result<serde_json::Value> {
     Ok(match spec.bench.as_str() {
         "place" => serde_json::to_value(crate::place::trial_of(spec)?)?,
