@@ -26,20 +26,26 @@ fn json_service(
     answer: impl Fn(Value) -> Result<Value> + Send + Sync + 'static,
 ) -> Result<Service, RosError> {
     node.service(name, CALL_TYPE, move |r: CallRequest| {
-        let out = serde_json::from_str(&r.request)
-            .map_err(|e| anyhow!("not JSON: {e}"))
-            .and_then(&answer);
-        match out {
-            Ok(v) => CallResponse {
-                ok: true,
-                response: v.to_string(),
-            },
-            Err(e) => CallResponse {
-                ok: false,
-                response: tabula_geom::input::clip(&format!("{e:#}"), 1000),
-            },
-        }
+        response(
+            serde_json::from_str(&r.request)
+                .map_err(|e| anyhow!("not JSON: {e}"))
+                .and_then(&answer),
+        )
     })
+}
+
+/// An answer as the response says it: the JSON, or the error in one line.
+fn response(out: Result<Value>) -> CallResponse {
+    match out {
+        Ok(v) => CallResponse {
+            ok: true,
+            response: v.to_string(),
+        },
+        Err(e) => CallResponse {
+            ok: false,
+            response: tabula_geom::input::clip(&format!("{e:#}"), 1000),
+        },
+    }
 }
 
 #[derive(Deserialize)]
@@ -217,20 +223,10 @@ pub fn declare(
     model: RobotModel,
     description: RobotDescription,
 ) -> Result<Vec<Service>, RosError> {
-    let perceive_service = node.service(
-        "/tabula/perceive",
-        PERCEIVE_TYPE,
-        |r: PerceiveRequest| match perceive(r) {
-            Ok(v) => CallResponse {
-                ok: true,
-                response: v.to_string(),
-            },
-            Err(e) => CallResponse {
-                ok: false,
-                response: tabula_geom::input::clip(&format!("{e:#}"), 1000),
-            },
-        },
-    )?;
+    let perceive_service =
+        node.service("/tabula/perceive", PERCEIVE_TYPE, |r: PerceiveRequest| {
+            response(perceive(r))
+        })?;
     Ok(vec![
         json_service(node, "/tabula/ik", move |v| ik(&model, &description, v))?,
         json_service(node, "/tabula/stable_poses", stable_poses)?,

@@ -202,6 +202,21 @@ pub fn pose_from_array(a: &[f64; 7]) -> Option<Pose> {
 }
 
 impl Command {
+    /// Whether the command moves the robot (refused once the operator stopped it;
+    /// reading state, annotating and ending a judged run still go through).
+    pub fn moves(&self) -> bool {
+        matches!(
+            self,
+            Command::Execute { .. }
+                | Command::Open { .. }
+                | Command::OpenSlowly { .. }
+                | Command::Close { .. }
+                | Command::LookAt { .. }
+                | Command::DriveTo { .. }
+                | Command::Begin { .. }
+        )
+    }
+
     pub fn execute(t: &JointTrajectory) -> Self {
         Command::Execute {
             joint_names: t.joint_names.clone(),

@@ -78,9 +78,15 @@ pub struct Server {
 /// Why the command loop handed control back.
 enum End {
     Stopped,
+    /// A judged run's client went quiet for [`ABANDONED_AFTER`]: it crashed or lost
+    /// the network, and the robot must not wait for it forever.
+    Abandoned,
     Begin(Request<CallRequest>, JudgedTask),
     Finish(Request<CallRequest>, Option<[f64; 7]>),
 }
+
+/// How long a judged run waits for its client's next command.
+const ABANDONED_AFTER: Duration = Duration::from_secs(300);
 
 /// A clearing judge's hook, or none.
 type Hook<'a> = dyn FnMut(&mut SimDriver, Option<(Vec3, Vec<Vec3>)>) + 'a;
@@ -218,6 +224,7 @@ impl Server {
             world = driver.world;
             match end {
                 End::Stopped => return Ok(world),
+                End::Abandoned => {}
                 End::Finish(r, _) => {
                     reply_err(r, &DriverError::Hardware("no judged run has begun".into()))
                 }
@@ -310,8 +317,17 @@ impl Server {
         let period = |hz: f64| (hz > 0.0).then(|| Duration::from_secs_f64(1.0 / hz));
         let (state_period, camera_period) =
             (period(self.rates.state_hz), period(self.rates.camera_hz));
+        let mut last_work = Instant::now();
         while !stop() {
-            match self.work.recv_timeout(Duration::from_millis(50)) {
+            if judged && last_work.elapsed() > ABANDONED_AFTER {
+                tracing::warn!("the judged run's client went quiet: run abandoned");
+                return End::Abandoned;
+            }
+            let work = self.work.recv_timeout(Duration::from_millis(50));
+            if work.is_ok() {
+                last_work = Instant::now();
+            }
+            match work {
                 Ok(Work::Call(r)) => match serde_json::from_str::<Command>(&r.request.request) {
                     Ok(Command::Begin { task }) if !judged => return End::Begin(r, task),
                     Ok(Command::Finish { planned }) if judged => return End::Finish(r, planned),
