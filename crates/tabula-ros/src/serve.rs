@@ -530,8 +530,8 @@ impl Server {
         Ok((msg, Transform::from_pose(&frame.world_from_camera)))
     }
 
-    /// `/joint_states`, and `/tf` with the world → root transform and every link's
-    /// pose in the world (a flat tree: each link a child of `world`).
+    /// `/joint_states`, and `/tf` as robot_state_publisher gives it: `world` → the
+    /// URDF's root (where the base stands), then every joint's parent → child link.
     fn publish_state(&self, d: &SimDriver) {
         let Ok(state) = d.joint_state() else {
             return;
@@ -549,19 +549,26 @@ impl Server {
         let Ok(robot) = d.world.robot(d.robot_name()) else {
             return;
         };
-        let transforms = robot
-            .model
-            .links
+        let model = &robot.model;
+        let pose = |link: usize| d.world.link_pose(d.robot_name(), &model.links[link].name);
+        let stamped = |parent: &str, child: &str, p: &tabula_geom::Pose| TransformStamped {
+            header: header(state.stamp, parent),
+            child_frame_id: child.into(),
+            transform: Transform::from_pose(p),
+        };
+        let mut transforms: Vec<TransformStamped> = model
+            .roots
             .iter()
-            .filter_map(|l| {
-                let pose = d.world.link_pose(d.robot_name(), &l.name).ok()?;
-                Some(TransformStamped {
-                    header: header(state.stamp, "world"),
-                    child_frame_id: l.name.clone(),
-                    transform: Transform::from_pose(&pose),
-                })
-            })
+            .filter_map(|&r| Some(stamped("world", &model.links[r].name, &pose(r).ok()?)))
             .collect();
+        transforms.extend(model.joints.iter().filter_map(|j| {
+            let parent_from_child = pose(j.parent).ok()?.inverse() * pose(j.child).ok()?;
+            Some(stamped(
+                &model.links[j.parent].name,
+                &model.links[j.child].name,
+                &parent_from_child,
+            ))
+        }));
         if let Err(e) = self.tf.publish(&TfMessage { transforms }) {
             tracing::warn!("tf: {e}");
         }

@@ -193,6 +193,63 @@ fn a_ros2_peer_sees_the_served_robot_and_decodes_its_cloud() {
     let attachment = Attachment::decode(&sample.attachment().unwrap().to_bytes()).unwrap();
     assert!(attachment.sequence_number >= 1);
 
+    // /tf as robot_state_publisher gives it: world → the root, then parent → child
+    // for every joint; decoded by hiroz's CDR into the test's own declaration.
+    #[derive(Deserialize)]
+    struct Vector3 {
+        _x: f64,
+        _y: f64,
+        _z: f64,
+    }
+    #[derive(Deserialize)]
+    struct Quaternion {
+        x: f64,
+        y: f64,
+        z: f64,
+        w: f64,
+    }
+    #[derive(Deserialize)]
+    struct TransformStamped {
+        header: Header,
+        child_frame_id: String,
+        _translation: Vector3,
+        rotation: Quaternion,
+    }
+    #[derive(Deserialize)]
+    struct TfMessage {
+        transforms: Vec<TransformStamped>,
+    }
+    let tf_key = format!(
+        "7/tf/tf2_msgs::msg::dds_::TFMessage_/{}",
+        type_hash("tf2_msgs/msg/TFMessage").unwrap()
+    );
+    let tf = session.declare_subscriber(tf_key).wait().unwrap();
+    let sample = tf
+        .recv_timeout(Duration::from_secs(10))
+        .unwrap()
+        .expect("a TF message within 10 s");
+    let (msg, _) = hiroz_cdr::from_bytes::<TfMessage, byteorder::LittleEndian>(
+        &sample.payload().to_bytes()[4..],
+    )
+    .unwrap();
+    let roots: Vec<&TransformStamped> = msg
+        .transforms
+        .iter()
+        .filter(|t| t.header.frame_id == "world")
+        .collect();
+    assert_eq!(roots.len(), 1, "one root under `world`");
+    let pr2 = tabula_robot::robots::load("pr2").unwrap();
+    assert_eq!(msg.transforms.len(), pr2.model.joints.len() + 1);
+    assert!(msg.transforms.iter().all(|t| {
+        let q = &t.rotation;
+        ((q.x * q.x + q.y * q.y + q.z * q.z + q.w * q.w) - 1.0).abs() < 1e-9
+    }));
+    assert!(
+        msg.transforms
+            .iter()
+            .any(|t| t.child_frame_id == "head_camera_optical_frame")
+    );
+
     stop.store(true, Ordering::SeqCst);
     serving.join().unwrap().unwrap();
 }
