@@ -5,6 +5,8 @@ mod arm;
 mod bench;
 mod clear;
 mod demo;
+#[cfg(feature = "ros")]
+mod graph;
 mod ik;
 mod motion;
 mod perceive;
@@ -105,6 +107,10 @@ enum Command {
     /// Clear a cluttered table into the bin by grasps and pushes, replanning after every
     /// action (seed 002), in the simulator, judged by its physics.
     Clear(clear::ClearArgs),
+    /// The ROS 2 graph of a zenoh network (nodes, topics, services with their types),
+    /// from rmw_zenoh's liveliness tokens: `ros2 node list` without ROS.
+    #[cfg(feature = "ros")]
+    Graph(graph::GraphArgs),
     /// Inverse and forward kinematics: solve, benchmark, inspect robots.
     Ik {
         #[command(subcommand)]
@@ -213,6 +219,8 @@ fn main() {
         Command::Bench { command, report } => bench::run(command, report.as_deref()),
         Command::Clear(args) => clear::run(args),
         Command::Ik { command } => ik::run(command),
+        #[cfg(feature = "ros")]
+        Command::Graph(args) => graph::run(args),
         Command::Plan(args) => plan::run(args),
         Command::Motion { command } => motion::run(command),
         Command::Perceive(args) => perceive::run(args),

@@ -320,6 +320,63 @@ fn the_served_robot_answers_ik_stable_poses_plans_and_perception() {
     let seen: Value = serde_json::from_str(&r.response).unwrap();
     let height = seen["table"]["height"].as_f64().unwrap();
     assert!((height - 0.74).abs() < 0.03, "table at {height}");
+
+    // A ROS 2 controller's way in: a JointTrajectory on /right/joint_trajectory moves
+    // the arm (as joint_trajectory_controller's topic does).
+    let joint = |node: &tabula_ros::node::Node| -> f64 {
+        let (ok, state) = call(
+            node,
+            "/tabula/driver",
+            serde_json::json!({"op": "joint_state"}),
+        );
+        assert!(ok, "{state}");
+        let names = state["names"].as_array().unwrap();
+        let k = names
+            .iter()
+            .position(|n| n == "r_shoulder_pan_joint")
+            .unwrap();
+        state["positions"][k].as_f64().unwrap()
+    };
+    let before = joint(&node);
+    let publisher = node
+        .publisher::<tabula_ros::msgs::JointTrajectory>(
+            "/right/joint_trajectory",
+            "trajectory_msgs/msg/JointTrajectory",
+            tabula_ros::wire::Qos::default(),
+        )
+        .unwrap();
+    let trajectory = tabula_robot::driver::JointTrajectory {
+        joint_names: vec!["r_shoulder_pan_joint".into()],
+        times: vec![0.0, 0.5],
+        positions: vec![vec![before], vec![before + 0.2]],
+    };
+    let msg = tabula_ros::msgs::JointTrajectory::from_trajectory(&trajectory, Default::default());
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(10);
+    while (joint(&node) - (before + 0.2)).abs() > 1e-3 {
+        assert!(std::time::Instant::now() < deadline, "the arm never moved");
+        publisher.publish(&msg).unwrap();
+        std::thread::sleep(std::time::Duration::from_millis(300));
+    }
+
+    // `tabula graph` lists what is served, as `ros2 node list` / `topic list -t` would.
+    let out = Command::new(env!("CARGO_BIN_EXE_tabula"))
+        .args(["graph", "--json", "--connect", &served.endpoint])
+        .output()
+        .unwrap();
+    let graph: Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert!(
+        graph["nodes"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .any(|n| n == "/tabula_sim"),
+        "{graph}"
+    );
+    assert_eq!(
+        graph["topics"]["/head/points"]["types"][0],
+        "sensor_msgs/msg/PointCloud2"
+    );
+    assert_eq!(graph["services"]["/tabula/ik"]["servers"], 1);
 }
 
 /// `tabula worker` processes joined to a bench that listens: the rows are the ones the

@@ -45,6 +45,24 @@ pub fn dds_type_name(ros_type: &str) -> Result<String, WireError> {
     }
 }
 
+/// `sensor_msgs::msg::dds_::PointCloud2_` → `sensor_msgs/msg/PointCloud2` (`None` for
+/// names that are not a ROS type's DDS name).
+pub fn ros_type_name(dds: &str) -> Option<String> {
+    let mut parts = dds.split("::");
+    match (
+        parts.next(),
+        parts.next(),
+        parts.next(),
+        parts.next(),
+        parts.next(),
+    ) {
+        (Some(pkg), Some(kind), Some("dds_"), Some(name), None) => {
+            Some(format!("{pkg}/{kind}/{}", name.strip_suffix('_')?))
+        }
+        _ => None,
+    }
+}
+
 /// `/a/b` → `a%b`: how names sit in liveliness tokens (one key chunk each).
 pub fn mangle(name: &str) -> String {
     name.replace('/', "%")
@@ -334,6 +352,11 @@ mod tests {
         assert!(topic_key(0, "/", "a/msg/B", "h").is_err());
         assert!(topic_key(0, "/a b", "a/msg/B", "h").is_err());
         assert!(dds_type_name("PointCloud2").is_err());
+        assert_eq!(
+            ros_type_name("sensor_msgs::msg::dds_::PointCloud2_").as_deref(),
+            Some("sensor_msgs/msg/PointCloud2")
+        );
+        assert_eq!(ros_type_name("PointCloud2"), None);
     }
 
     #[test]
