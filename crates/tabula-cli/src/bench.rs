@@ -794,27 +794,38 @@ fn ros_latency(frames: usize, json: bool) -> Result<()> {
     let world = tabula_sim::SimWorld::from_scene(&scene, Default::default())?;
     let camera = world.camera("head")?;
     let frame = tabula_sim::camera::capture(&world, &camera, 1);
-    let port = std::net::TcpListener::bind("127.0.0.1:0")?
-        .local_addr()?
-        .port();
-    let endpoint = format!("tcp/127.0.0.1:{port}");
-    let mut ms: Vec<f64> = tabula_ros::bench::cloud_latency(&frame.cloud, frames, &endpoint)
-        .map_err(|e| anyhow::anyhow!("{e}"))?
-        .into_iter()
-        .map(|s| s * 1e3)
-        .collect();
-    ms.sort_by(f64::total_cmp);
-    let at = |q: f64| ms[((ms.len() - 1) as f64 * q).round() as usize];
+    let endpoint = || -> Result<String> {
+        let port = std::net::TcpListener::bind("127.0.0.1:0")?
+            .local_addr()?
+            .port();
+        Ok(format!("tcp/127.0.0.1:{port}"))
+    };
+    let in_ms = |v: Vec<f64>| -> Vec<f64> {
+        let mut ms: Vec<f64> = v.into_iter().map(|s| s * 1e3).collect();
+        ms.sort_by(f64::total_cmp);
+        ms
+    };
+    let ms = in_ms(
+        tabula_ros::bench::cloud_latency(&frame.cloud, frames, &endpoint()?)
+            .map_err(|e| anyhow::anyhow!("{e}"))?,
+    );
     let bytes = frame.cloud.points.len() * 16;
+    let raw = in_ms(
+        tabula_ros::bench::raw_latency(bytes, frames, &endpoint()?)
+            .map_err(|e| anyhow::anyhow!("{e}"))?,
+    );
+    let at = |v: &[f64], q: f64| v[((v.len() - 1) as f64 * q).round() as usize];
     let summary = serde_json::json!({
         "frames": ms.len(),
         "width": frame.cloud.width,
         "height": frame.cloud.height,
         "bytes": bytes,
-        "median_ms": at(0.5),
-        "p95_ms": at(0.95),
-        "max_ms": at(1.0),
-        "mb_per_s_at_median": bytes as f64 / 1e6 / (at(0.5) / 1e3),
+        "median_ms": at(&ms, 0.5),
+        "p95_ms": at(&ms, 0.95),
+        "max_ms": at(&ms, 1.0),
+        "raw_median_ms": at(&raw, 0.5),
+        "raw_p95_ms": at(&raw, 0.95),
+        "mb_per_s_at_median": bytes as f64 / 1e6 / (at(&ms, 0.5) / 1e3),
     });
     if json {
         println!("{}", serde_json::to_string_pretty(&summary)?);
@@ -825,9 +836,14 @@ fn ros_latency(frames: usize, json: bool) -> Result<()> {
             frame.cloud.height,
             bytes as f64 / 1e6,
             ms.len(),
-            at(0.5),
-            at(0.95),
-            at(1.0)
+            at(&ms, 0.5),
+            at(&ms, 0.95),
+            at(&ms, 1.0)
+        );
+        println!(
+            "the same bytes put and received raw (zenoh alone): median {:.2} ms, p95 {:.2} ms",
+            at(&raw, 0.5),
+            at(&raw, 0.95)
         );
     }
     Ok(())

@@ -9,6 +9,68 @@ use std::sync::mpsc::channel;
 use std::time::{Duration, Instant};
 use tabula_geom::PointCloud;
 
+/// A router listening on `endpoint` and a client connected to it.
+fn pair(endpoint: &str) -> Result<(std::sync::Arc<Node>, std::sync::Arc<Node>), RosError> {
+    let mut router = NodeConfig::new("tabula_bench_pub", Mode::Router);
+    router.listen = vec![endpoint.into()];
+    let publisher_node = Node::open(router)?;
+    let mut client = NodeConfig::new("tabula_bench_sub", Mode::Client);
+    client.connect = vec![endpoint.into()];
+    Ok((publisher_node, Node::open(client)?))
+}
+
+/// The floor under [`cloud_latency`]: `bytes` bytes put and received as they are, no
+/// message built, encoded or decoded (seconds per frame).
+pub fn raw_latency(bytes: usize, frames: usize, endpoint: &str) -> Result<Vec<f64>, RosError> {
+    use zenoh::Wait;
+    let (a, b) = pair(endpoint)?;
+    let key = "bench/raw";
+    let (tx, rx) = channel::<Instant>();
+    let _sub = b
+        .session()
+        .declare_subscriber(key)
+        .callback(move |sample| {
+            if sample.payload().len() == bytes {
+                let _ = tx.send(Instant::now());
+            }
+        })
+        .wait()
+        .map_err(|e| RosError::Zenoh(e.to_string()))?;
+    let publisher = a
+        .session()
+        .declare_publisher(key)
+        .wait()
+        .map_err(|e| RosError::Zenoh(e.to_string()))?;
+    let payload = vec![7u8; bytes];
+    let put = || {
+        publisher
+            .put(payload.clone())
+            .wait()
+            .map_err(|e| RosError::Zenoh(e.to_string()))
+    };
+    let deadline = Instant::now() + Duration::from_secs(10);
+    loop {
+        put()?;
+        if rx.recv_timeout(Duration::from_millis(200)).is_ok() {
+            break;
+        }
+        if Instant::now() > deadline {
+            return Err(RosError::Timeout(key.into(), 10.0));
+        }
+    }
+    while rx.try_recv().is_ok() {}
+    let mut latencies = Vec::with_capacity(frames);
+    for _ in 0..frames {
+        let sent = Instant::now();
+        put()?;
+        let arrived = rx
+            .recv_timeout(Duration::from_secs(10))
+            .map_err(|_| RosError::Timeout(key.into(), 10.0))?;
+        latencies.push(arrived.duration_since(sent).as_secs_f64());
+    }
+    Ok(latencies)
+}
+
 /// Latency of each of `frames` publications of `cloud` (seconds), one frame in flight
 /// at a time, the router listening on `endpoint`.
 pub fn cloud_latency(
@@ -16,12 +78,7 @@ pub fn cloud_latency(
     frames: usize,
     endpoint: &str,
 ) -> Result<Vec<f64>, RosError> {
-    let mut router = NodeConfig::new("tabula_bench_pub", Mode::Router);
-    router.listen = vec![endpoint.into()];
-    let publisher_node = Node::open(router)?;
-    let mut client = NodeConfig::new("tabula_bench_sub", Mode::Client);
-    client.connect = vec![endpoint.into()];
-    let subscriber_node = Node::open(client)?;
+    let (publisher_node, subscriber_node) = pair(endpoint)?;
     let topic = "/bench/points";
     let ros_type = "sensor_msgs/msg/PointCloud2";
     let publisher = publisher_node.publisher::<PointCloud2>(topic, ros_type, Qos::default())?;

@@ -159,40 +159,32 @@ impl PointCloud2 {
             }
             axes[k] = (f.offset as usize, f.datatype);
         }
-        let big = self.is_bigendian;
-        let read = |at: usize, datatype: u8| -> f64 {
-            let d = &self.data[at..];
-            if datatype == FLOAT32 {
-                let b = [d[0], d[1], d[2], d[3]];
-                f64::from(if big {
-                    f32::from_be_bytes(b)
-                } else {
-                    f32::from_le_bytes(b)
-                })
-            } else {
-                let b = [d[0], d[1], d[2], d[3], d[4], d[5], d[6], d[7]];
-                if big {
-                    f64::from_be_bytes(b)
-                } else {
-                    f64::from_le_bytes(b)
+        // One reader per axis, chosen once: the loop below runs 307,200 times a frame.
+        let reader = |datatype: u8| -> fn(&[u8]) -> f64 {
+            match (datatype, self.is_bigendian) {
+                (FLOAT32, false) => |b| f64::from(f32::from_le_bytes([b[0], b[1], b[2], b[3]])),
+                (FLOAT32, true) => |b| f64::from(f32::from_be_bytes([b[0], b[1], b[2], b[3]])),
+                (_, false) => {
+                    |b| f64::from_le_bytes([b[0], b[1], b[2], b[3], b[4], b[5], b[6], b[7]])
+                }
+                (_, true) => {
+                    |b| f64::from_be_bytes([b[0], b[1], b[2], b[3], b[4], b[5], b[6], b[7]])
                 }
             }
         };
+        let read = axes.map(|(offset, datatype)| (offset, reader(datatype)));
         let mut points = Vec::with_capacity(n);
         for v in 0..h {
-            for u in 0..w {
-                let base = v * row + u * step;
-                let p = Vec3::new(
-                    read(base + axes[0].0, axes[0].1),
-                    read(base + axes[1].0, axes[1].1),
-                    read(base + axes[2].0, axes[2].1),
-                );
-                points.push(if p.is_finite() {
-                    p
+            let line = &self.data[v * row..v * row + w * step];
+            points.extend(line.chunks_exact(step).map(|p| {
+                let [x, y, z] = read.map(|(o, f)| f(&p[o..]));
+                let q = Vec3::new(x, y, z);
+                if q.is_finite() {
+                    q
                 } else {
                     Vec3::splat(f64::NAN)
-                });
-            }
+                }
+            }));
         }
         Ok(PointCloud {
             width: w,
