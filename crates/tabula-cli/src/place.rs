@@ -482,9 +482,18 @@ pub fn trial_of(spec: &crate::trials::TrialSpec) -> Result<BenchRow> {
         Some(text) => crate::tasks::parse_params(text, "the bench's parameters")?,
         None => PlaceParams::default(),
     };
-    let mesh_dir =
-        std::env::temp_dir().join(format!("tabula-worker-meshes-{}", std::process::id()));
-    trial(spec.seed, is_simple(&spec.suite)?, &params, &mesh_dir)
+    trial(
+        spec.seed,
+        is_simple(&spec.suite)?,
+        &params,
+        &worker_mesh_dir(),
+    )
+}
+
+/// Where a worker process writes the complex objects' meshes.
+#[cfg(feature = "ros")]
+pub fn worker_mesh_dir() -> std::path::PathBuf {
+    std::env::temp_dir().join(format!("tabula-worker-meshes-{}", std::process::id()))
 }
 
 /// `tabula bench place`: the generated suite, each task placed in the simulator (both

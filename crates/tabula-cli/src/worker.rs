@@ -70,6 +70,7 @@ pub fn run(a: WorkerArgs) -> Result<()> {
             },
         });
     }
+    let _ = std::fs::remove_dir_all(crate::place::worker_mesh_dir());
     Ok(())
 }
 

@@ -8,8 +8,11 @@
 //! * [`msgs`]: the ROS 2 messages tabula sends, with their conversions;
 //! * [`node`]: a zenoh session as a ROS 2 node (publishers, subscriptions, services with
 //!   their liveliness tokens);
-//! * [`serve`]: the simulator served as a ROS 2 robot;
-//! * [`driver`]: the driver traits over zenoh, for a robot served elsewhere.
+//! * [`protocol`]: tabula's driver and capture services (what a task asks a robot);
+//! * [`serve`]: the simulator served as a ROS 2 robot, judging runs from its ground
+//!   truth;
+//! * [`driver`]: the driver traits over zenoh, for a robot served elsewhere;
+//! * [`bench`]: what a camera frame costs on the wire.
 
 pub mod bench;
 pub mod driver;

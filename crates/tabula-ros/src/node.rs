@@ -30,8 +30,11 @@ pub enum RosError {
     Remote(String, String),
 }
 
+/// zenoh's error, without the source location its messages end with.
 fn zerr(e: impl std::fmt::Display) -> RosError {
-    RosError::Zenoh(e.to_string())
+    let text = e.to_string();
+    let text = text.split(" at /").next().unwrap_or(&text).trim();
+    RosError::Zenoh(text.to_string())
 }
 
 /// How a node joins the network (zenoh's modes): a router accepts ROS 2 nodes that
