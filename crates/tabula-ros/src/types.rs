@@ -325,22 +325,80 @@ pub fn type_hash(ros_type: &str) -> Result<String, TypeError> {
 mod tests {
     use super::*;
 
-    /// Hashes a ROS 2 installation (Jazzy) gives, as rmw_zenoh's own examples and
-    /// ZettaScale's test suite quote them.
+    /// Hashes ROS 2 gives (rmw_zenoh's own examples, and the `EXPECTED_HASH` tables
+    /// rosidl_generator_c writes into every package's `*__description.c`).
     #[test]
     fn hashes_match_ros2() {
-        assert_eq!(
-            type_hash("sensor_msgs/msg/PointCloud2").unwrap(),
-            "RIHS01_9198cabf7da3796ae6fe19c4cb3bdd3525492988c70522628af5daa124bae2b5"
-        );
-        assert_eq!(
-            type_hash("tf2_msgs/msg/TFMessage").unwrap(),
-            "RIHS01_e369d0f05a23ae52508854b66f6aa0437f3449d652e8cbf22d5abe85d020f087"
-        );
-        assert_eq!(
-            type_hash("std_msgs/msg/String").unwrap(),
-            "RIHS01_df668c740482bbd48fb39d76a70dfd4bd59db1288021743503259e948f6b1a18"
-        );
+        let hex = |bytes: &[u8; 32]| -> String {
+            format!(
+                "RIHS01_{}",
+                bytes.iter().map(|b| format!("{b:02x}")).collect::<String>()
+            )
+        };
+        for (name, expected) in [
+            (
+                "sensor_msgs/msg/PointCloud2",
+                "RIHS01_9198cabf7da3796ae6fe19c4cb3bdd3525492988c70522628af5daa124bae2b5".into(),
+            ),
+            (
+                "tf2_msgs/msg/TFMessage",
+                "RIHS01_e369d0f05a23ae52508854b66f6aa0437f3449d652e8cbf22d5abe85d020f087".into(),
+            ),
+            (
+                "std_msgs/msg/String",
+                "RIHS01_df668c740482bbd48fb39d76a70dfd4bd59db1288021743503259e948f6b1a18".into(),
+            ),
+            (
+                "sensor_msgs/msg/JointState",
+                hex(&[
+                    0xa1, 0x3e, 0xe3, 0xa3, 0x30, 0xe3, 0x46, 0xc9, 0xd8, 0x7b, 0x5a, 0xa1, 0x8d,
+                    0x24, 0xe1, 0x16, 0x90, 0x75, 0x2b, 0xd3, 0x3a, 0x03, 0x50, 0xf1, 0x1c, 0x58,
+                    0x82, 0xbc, 0x91, 0x79, 0x26, 0x0e,
+                ]),
+            ),
+            (
+                "trajectory_msgs/msg/JointTrajectory",
+                hex(&[
+                    0x17, 0x9b, 0x33, 0xeb, 0xa5, 0x9d, 0x67, 0x6f, 0x6d, 0x96, 0x7a, 0xc7, 0x1f,
+                    0xe3, 0x5e, 0x7c, 0xa2, 0xf6, 0x4b, 0x2f, 0x39, 0x28, 0xf4, 0xa0, 0x18, 0xce,
+                    0xc1, 0x15, 0xe2, 0x13, 0x79, 0x6e,
+                ]),
+            ),
+            (
+                "trajectory_msgs/msg/JointTrajectoryPoint",
+                hex(&[
+                    0xde, 0x89, 0x07, 0x03, 0x6d, 0x8b, 0xd4, 0x5a, 0xac, 0x6f, 0x30, 0xcc, 0x90,
+                    0x44, 0xa3, 0xd4, 0xa3, 0x29, 0xc4, 0x2c, 0xbf, 0x71, 0x9a, 0xff, 0x7d, 0x95,
+                    0xa5, 0x84, 0xcf, 0xa5, 0x32, 0xd7,
+                ]),
+            ),
+            (
+                "std_msgs/msg/Header",
+                hex(&[
+                    0xf4, 0x9f, 0xb3, 0xae, 0x2c, 0xf0, 0x70, 0xf7, 0x93, 0x64, 0x5f, 0xf7, 0x49,
+                    0x68, 0x3a, 0xc6, 0xb0, 0x62, 0x03, 0xe4, 0x1c, 0x89, 0x1e, 0x17, 0x70, 0x1b,
+                    0x1c, 0xb5, 0x97, 0xce, 0x6a, 0x01,
+                ]),
+            ),
+            (
+                "builtin_interfaces/msg/Duration",
+                hex(&[
+                    0xe8, 0xd0, 0x09, 0xf6, 0x59, 0x81, 0x6f, 0x75, 0x8b, 0x75, 0x33, 0x4e, 0xe1,
+                    0xa9, 0xca, 0x5b, 0x5c, 0x0b, 0x85, 0x98, 0x43, 0x26, 0x1f, 0x14, 0xc7, 0xf9,
+                    0x37, 0x34, 0x95, 0x99, 0xd9, 0x3b,
+                ]),
+            ),
+            (
+                "geometry_msgs/msg/Transform",
+                hex(&[
+                    0xbe, 0xb8, 0x3f, 0xbe, 0x69, 0x86, 0x36, 0x35, 0x14, 0x61, 0xf6, 0xf3, 0x5d,
+                    0x1a, 0xbb, 0x20, 0x01, 0x0c, 0x43, 0xd5, 0x53, 0x74, 0xd8, 0x1b, 0xd0, 0x41,
+                    0xf1, 0xba, 0x25, 0x81, 0xfd, 0xdc,
+                ]),
+            ),
+        ] {
+            assert_eq!(type_hash(name).unwrap(), expected, "{name}");
+        }
     }
 
     #[test]
