@@ -10,6 +10,7 @@ use tabula_ros::serve::{Rates, Server};
 
 #[derive(clap::Args)]
 pub struct ServeArgs {
+    /// The scene to serve (its robot, furniture, objects and cameras).
     #[arg(long)]
     pub scene: PathBuf,
     /// The robot to serve when the scene has several.
