@@ -80,6 +80,14 @@ impl NodeConfig {
     }
 
     fn zenoh_config(&self) -> Result<zenoh::Config, RosError> {
+        for e in self.listen.iter().chain(&self.connect) {
+            if e.parse::<zenoh::config::EndPoint>().is_err() {
+                return Err(RosError::Zenoh(format!(
+                    "`{}` is not a zenoh endpoint (protocol/address, like tcp/127.0.0.1:7447)",
+                    tabula_geom::input::clip(e, 80)
+                )));
+            }
+        }
         let mut c = match &self.config_file {
             Some(path) => zenoh::Config::from_file(path).map_err(zerr)?,
             None => zenoh::Config::default(),
