@@ -1,7 +1,7 @@
 //! tabula's ROS 2 side checked by an independent implementation of rmw_zenoh's
 //! conventions (ZettaScale's hiroz: its liveliness-token parser and key formatter, its
-//! CDR decoder, its RIHS01 hasher), over a real zenoh session on loopback: what a
-//! ROS 2 node under rmw_zenoh would see of `tabula serve`.
+//! RIHS01 hasher) and another CDR implementation (the `cdr` crate), over a real zenoh
+//! session on loopback: what a ROS 2 node under rmw_zenoh would see of `tabula serve`.
 
 use hiroz_protocol::entity::{EndpointKind, Entity};
 use hiroz_protocol::format::KeyExprFormatter;
@@ -163,7 +163,8 @@ fn a_ros2_peer_sees_the_served_robot_and_decodes_its_cloud() {
         "RIHS01_9198cabf7da3796ae6fe19c4cb3bdd3525492988c70522628af5daa124bae2b5"
     );
 
-    // Subscribe where hiroz says the samples are, and decode one with hiroz's CDR.
+    // Subscribe where hiroz says the samples are, and decode one with the `cdr` crate
+    // (its own encapsulation-header reader).
     let key = RmwZenohFormatter::topic_key_expr(&cloud_endpoint).unwrap();
     let subscriber = session.declare_subscriber(key.to_string()).wait().unwrap();
     let sample = subscriber
@@ -172,8 +173,7 @@ fn a_ros2_peer_sees_the_served_robot_and_decodes_its_cloud() {
         .expect("a point cloud within 10 s");
     let bytes = sample.payload().to_bytes();
     assert_eq!(&bytes[..4], &[0, 1, 0, 0], "plain little-endian CDR");
-    let (cloud, _) =
-        hiroz_cdr::from_bytes::<PointCloud2, byteorder::LittleEndian>(&bytes[4..]).unwrap();
+    let cloud: PointCloud2 = cdr::deserialize(&bytes).unwrap();
     assert_eq!((cloud.width, cloud.height), (640, 480));
     assert!(!cloud.is_bigendian);
     assert_eq!(cloud.header.frame_id, "head_optical_frame");
@@ -194,7 +194,7 @@ fn a_ros2_peer_sees_the_served_robot_and_decodes_its_cloud() {
     assert!(attachment.sequence_number >= 1);
 
     // /tf as robot_state_publisher gives it: world → the root, then parent → child
-    // for every joint; decoded by hiroz's CDR into the test's own declaration.
+    // for every joint; decoded by the `cdr` crate into the test's own declaration.
     #[derive(Deserialize)]
     struct Vector3 {
         _x: f64,
@@ -228,10 +228,7 @@ fn a_ros2_peer_sees_the_served_robot_and_decodes_its_cloud() {
         .recv_timeout(Duration::from_secs(10))
         .unwrap()
         .expect("a TF message within 10 s");
-    let (msg, _) = hiroz_cdr::from_bytes::<TfMessage, byteorder::LittleEndian>(
-        &sample.payload().to_bytes()[4..],
-    )
-    .unwrap();
+    let msg: TfMessage = cdr::deserialize(&sample.payload().to_bytes()).unwrap();
     let roots: Vec<&TransformStamped> = msg
         .transforms
         .iter()
