@@ -5,7 +5,7 @@
 use crate::msgs::{Header, PointCloud2};
 use crate::node::{Mode, Node, NodeConfig, RosError};
 use crate::wire::Qos;
-use std::sync::mpsc::channel;
+use std::sync::mpsc::{Receiver, channel};
 use std::time::{Duration, Instant};
 use tabula_geom::PointCloud;
 
@@ -48,27 +48,7 @@ pub fn raw_latency(bytes: usize, frames: usize, endpoint: &str) -> Result<Vec<f6
             .wait()
             .map_err(|e| RosError::Zenoh(e.to_string()))
     };
-    let deadline = Instant::now() + Duration::from_secs(10);
-    loop {
-        put()?;
-        if rx.recv_timeout(Duration::from_millis(200)).is_ok() {
-            break;
-        }
-        if Instant::now() > deadline {
-            return Err(RosError::Timeout(key.into(), 10.0));
-        }
-    }
-    while rx.try_recv().is_ok() {}
-    let mut latencies = Vec::with_capacity(frames);
-    for _ in 0..frames {
-        let sent = Instant::now();
-        put()?;
-        let arrived = rx
-            .recv_timeout(Duration::from_secs(10))
-            .map_err(|_| RosError::Timeout(key.into(), 10.0))?;
-        latencies.push(arrived.duration_since(sent).as_secs_f64());
-    }
-    Ok(latencies)
+    round_trips(put, &rx, frames, key)
 }
 
 /// Latency of each of `frames` publications of `cloud` (seconds), one frame in flight
@@ -82,39 +62,50 @@ pub fn cloud_latency(
     let topic = "/bench/points";
     let ros_type = "sensor_msgs/msg/PointCloud2";
     let publisher = publisher_node.publisher::<PointCloud2>(topic, ros_type, Qos::default())?;
-    let (tx, rx) = channel::<(i64, Instant)>();
+    let (tx, rx) = channel::<Instant>();
     let _subscription = subscriber_node.subscribe(
         topic,
         ros_type,
         Qos::default(),
-        move |msg: PointCloud2, attachment| {
+        move |msg: PointCloud2, _| {
             // Decoded to tabula's cloud, as a task would use it.
             if msg.to_cloud().is_ok() {
-                let seq = attachment.map_or(-1, |a| a.sequence_number);
-                let _ = tx.send((seq, Instant::now()));
+                let _ = tx.send(Instant::now());
             }
         },
     )?;
-    let msg = || PointCloud2::from_cloud(cloud, None, Header::default());
-    // Until the subscription is matched, samples go nowhere: publish until one arrives.
+    // Built from tabula's cloud each time, as a driver publishing frames does.
+    let publish = || publisher.publish(&PointCloud2::from_cloud(cloud, None, Header::default()));
+    round_trips(publish, &rx, frames, topic)
+}
+
+/// Sends until the first sample arrives (before the subscription is matched, samples go
+/// nowhere), then times `frames` sends one at a time: from `send` to the arrival the
+/// receiver reports on `arrivals`.
+fn round_trips(
+    send: impl Fn() -> Result<(), RosError>,
+    arrivals: &Receiver<Instant>,
+    frames: usize,
+    what: &str,
+) -> Result<Vec<f64>, RosError> {
     let deadline = Instant::now() + Duration::from_secs(10);
     loop {
-        publisher.publish(&msg())?;
-        if rx.recv_timeout(Duration::from_millis(200)).is_ok() {
+        send()?;
+        if arrivals.recv_timeout(Duration::from_millis(200)).is_ok() {
             break;
         }
         if Instant::now() > deadline {
-            return Err(RosError::Timeout(topic.into(), 10.0));
+            return Err(RosError::Timeout(what.into(), 10.0));
         }
     }
-    while rx.try_recv().is_ok() {}
+    while arrivals.try_recv().is_ok() {}
     let mut latencies = Vec::with_capacity(frames);
     for _ in 0..frames {
         let sent = Instant::now();
-        publisher.publish(&msg())?;
-        let (_, arrived) = rx
+        send()?;
+        let arrived = arrivals
             .recv_timeout(Duration::from_secs(10))
-            .map_err(|_| RosError::Timeout(topic.into(), 10.0))?;
+            .map_err(|_| RosError::Timeout(what.into(), 10.0))?;
         latencies.push(arrived.duration_since(sent).as_secs_f64());
     }
     Ok(latencies)
