@@ -520,7 +520,7 @@ impl Server {
         let msg = PointCloud2::from_cloud(
             &frame.cloud,
             Some(&colors),
-            header(driver.world.time(), &format!("{camera}_optical_frame")),
+            header(driver.world.time(), &camera_frame(driver, camera)),
         );
         if let Some((_, publisher)) = self.clouds.iter().find(|(c, _)| c == camera)
             && let Err(e) = publisher.publish(&msg)
@@ -561,6 +561,15 @@ impl Server {
             .iter()
             .filter_map(|&r| Some(stamped("world", &model.links[r].name, &pose(r).ok()?)))
             .collect();
+        // Cameras not on the robot's links: their optical frames, fixed in the world.
+        transforms.extend(self.clouds.iter().filter_map(|(camera, _)| {
+            let frame = camera_frame(d, camera);
+            if model.link(&frame).is_ok() {
+                return None;
+            }
+            let cam = d.world.camera(camera).ok()?;
+            Some(stamped("world", &frame, &cam.world_from_camera))
+        }));
         transforms.extend(model.joints.iter().filter_map(|j| {
             let parent_from_child = pose(j.parent).ok()?.inverse() * pose(j.child).ok()?;
             Some(stamped(
@@ -573,6 +582,21 @@ impl Server {
             tracing::warn!("tf: {e}");
         }
     }
+}
+
+/// The TF frame a camera's clouds are in: the link it is mounted on (its optical
+/// frame: z forward, x right, y down), or `<camera>_optical_frame` for a camera fixed in
+/// the world (published under `world`).
+fn camera_frame(d: &SimDriver, camera: &str) -> String {
+    d.world
+        .cameras
+        .iter()
+        .find(|c| c.name.get_ref() == camera)
+        .and_then(|c| match (&c.robot, &c.link) {
+            (Some(r), Some(link)) if r == d.robot_name() => Some(link.clone()),
+            _ => None,
+        })
+        .unwrap_or_else(|| format!("{camera}_optical_frame"))
 }
 
 /// control_msgs' gripper command: a gap at least half open opens, else closes (with the

@@ -176,7 +176,8 @@ fn a_ros2_peer_sees_the_served_robot_and_decodes_its_cloud() {
     let cloud: PointCloud2 = cdr::deserialize(&bytes).unwrap();
     assert_eq!((cloud.width, cloud.height), (640, 480));
     assert!(!cloud.is_bigendian);
-    assert_eq!(cloud.header.frame_id, "head_optical_frame");
+    // In the TF frame of the link the camera is mounted on.
+    assert_eq!(cloud.header.frame_id, "head_camera_optical_frame");
     let names: Vec<&str> = cloud.fields.iter().map(|f| f.name.as_str()).collect();
     assert_eq!(names, ["x", "y", "z", "rgb"]);
     assert!(cloud.fields.iter().all(|f| f.datatype == 7 && f.count == 1));
