@@ -20,6 +20,15 @@ fn tmp(name: &str) -> PathBuf {
     dir.join(name)
 }
 
+/// A loopback endpoint nothing listens on (yet).
+fn free_endpoint() -> String {
+    let port = TcpListener::bind("127.0.0.1:0")
+        .and_then(|l| l.local_addr())
+        .unwrap()
+        .port();
+    format!("tcp/127.0.0.1:{port}")
+}
+
 /// `tabula serve` on a free loopback port, once it says it serves; killed on drop.
 struct Served {
     child: Child,
@@ -28,11 +37,7 @@ struct Served {
 
 impl Served {
     fn start(scene_file: &str, save: &Path) -> Self {
-        let port = TcpListener::bind("127.0.0.1:0")
-            .and_then(|l| l.local_addr())
-            .unwrap()
-            .port();
-        let endpoint = format!("tcp/127.0.0.1:{port}");
+        let endpoint = free_endpoint();
         let mut child = Command::new(env!("CARGO_BIN_EXE_tabula"))
             .args(["serve", "--scene", scene_file, "--listen", &endpoint])
             .args(["--camera-hz", "0.5", "--save-scene"])
@@ -163,13 +168,9 @@ fn clearing_through_zenoh_ends_as_in_one_process() {
 
 #[test]
 fn connecting_to_nothing_is_a_clear_error() {
-    let port = TcpListener::bind("127.0.0.1:0")
-        .and_then(|l| l.local_addr())
-        .unwrap()
-        .port();
     let out = Command::new(env!("CARGO_BIN_EXE_tabula"))
         .args(["place", "--scene", &scene("pr2_holding.toml"), "--connect"])
-        .arg(format!("tcp/127.0.0.1:{port}"))
+        .arg(free_endpoint())
         .output()
         .unwrap();
     assert_eq!(out.status.code(), Some(1));
@@ -383,11 +384,7 @@ fn the_served_robot_answers_ik_stable_poses_plans_and_perception() {
 /// same seeds give in one process.
 #[test]
 fn trials_spread_over_workers_give_the_single_process_rows() {
-    let port = TcpListener::bind("127.0.0.1:0")
-        .and_then(|l| l.local_addr())
-        .unwrap()
-        .port();
-    let endpoint = format!("tcp/127.0.0.1:{port}");
+    let endpoint = free_endpoint();
     let workers: Vec<Child> = (0..2)
         .map(|_| {
             Command::new(env!("CARGO_BIN_EXE_tabula"))
