@@ -13,42 +13,45 @@ pub fn convex_hull_2d(points: &[Vec2]) -> Vec<usize> {
         .filter(|&i| points[i].is_finite())
         .collect();
     if idx.len() > 64 {
-        let key = |i: usize, k: usize| {
-            let p = points[i];
+        // Extremes along ±x, ±y, ±(x+y), ±(x−y), found in one pass.
+        let keys = |p: Vec2| {
             [
                 p.x,
-                -p.x,
-                p.y,
-                -p.y,
                 p.x + p.y,
-                -p.x - p.y,
-                p.x - p.y,
+                p.y,
                 p.y - p.x,
-            ][k]
+                -p.x,
+                -p.x - p.y,
+                -p.y,
+                p.x - p.y,
+            ]
         };
-        // Extremes in the order they go round: +x, +x+y, +y, −x+y, −x, −x−y, −y, +x−y.
-        let extreme: Vec<Vec2> = [0usize, 4, 2, 7, 1, 5, 3, 6]
-            .iter()
-            .map(|&k| {
-                let best = idx
-                    .iter()
-                    .copied()
-                    .max_by(|&a, &b| key(a, k).total_cmp(&key(b, k)))
-                    .unwrap_or(0);
-                points[best]
-            })
-            .collect();
+        let mut best = [idx[0]; 8];
+        let mut best_key = keys(points[idx[0]]);
+        for &i in &idx[1..] {
+            let k = keys(points[i]);
+            for d in 0..8 {
+                if k[d] > best_key[d] {
+                    best_key[d] = k[d];
+                    best[d] = i;
+                }
+            }
+        }
+        // In the order they go round: +x, +x+y, +y, −x+y, −x, −x−y, −y, +x−y.
         let mut octagon: Vec<Vec2> = Vec::with_capacity(8);
-        for q in extreme {
+        for q in best.map(|i| points[i]) {
             if octagon.last() != Some(&q) && octagon.first() != Some(&q) {
                 octagon.push(q);
             }
         }
         if octagon.len() >= 3 && polygon_area(&octagon) > 0.0 {
             let n = octagon.len();
+            let edges: Vec<(Vec2, Vec2)> = (0..n)
+                .map(|k| (octagon[k], octagon[(k + 1) % n] - octagon[k]))
+                .collect();
             idx.retain(|&i| {
                 let p = points[i];
-                (0..n).any(|k| (octagon[(k + 1) % n] - octagon[k]).perp_dot(p - octagon[k]) <= 0.0)
+                edges.iter().any(|&(o, e)| e.perp_dot(p - o) <= 0.0)
             });
         }
     }
@@ -160,6 +163,12 @@ impl Rectangle {
 /// See [`Rectangle`]; `None` without three non-collinear finite points.
 pub fn min_area_rectangle(points: &[Vec2]) -> Option<Rectangle> {
     let hull: Vec<Vec2> = convex_hull_2d(points).iter().map(|&i| points[i]).collect();
+    min_area_rectangle_of_hull(&hull)
+}
+
+/// [`min_area_rectangle`] of a convex polygon already at hand (counter-clockwise, as
+/// [`convex_hull_2d`] gives it), so callers holding the hull do not build it twice.
+pub fn min_area_rectangle_of_hull(hull: &[Vec2]) -> Option<Rectangle> {
     if hull.len() < 3 {
         return None;
     }
@@ -170,7 +179,7 @@ pub fn min_area_rectangle(points: &[Vec2]) -> Option<Rectangle> {
         };
         let perp = axis.perp();
         let (mut lo, mut hi) = (Vec2::splat(f64::INFINITY), Vec2::splat(f64::NEG_INFINITY));
-        for p in &hull {
+        for p in hull {
             let q = Vec2::new(p.dot(axis), p.dot(perp));
             lo = lo.min(q);
             hi = hi.max(q);

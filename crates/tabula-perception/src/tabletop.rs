@@ -15,7 +15,7 @@ use tabula_geom::input::{
 };
 use tabula_geom::polygon::{
     Rectangle, convex_hull_2d, distance_to_boundary, inside_convex, min_area_rectangle,
-    polygon_area,
+    min_area_rectangle_of_hull, polygon_area,
 };
 use tabula_geom::{PointCloud, Pose, Vec2, Vec3, voxel_key};
 
@@ -657,7 +657,8 @@ fn describe(
     let on_table = |q: Vec3| q - up * plane.distance(q);
     // The box: the footprint's minimal-area rectangle (a PCA frame turns a square 45°
     // and makes it √2 too big), its long side first.
-    let rect = min_area_rectangle(&projected).unwrap_or_else(|| {
+    let hull_flat: Vec<Vec2> = hull2.iter().map(|&k| projected[k]).collect();
+    let rect = min_area_rectangle_of_hull(&hull_flat).unwrap_or_else(|| {
         let (mut lo, mut hi) = (Vec2::splat(f64::INFINITY), Vec2::splat(f64::NEG_INFINITY));
         for q in &projected {
             lo = lo.min(*q);

@@ -275,6 +275,9 @@ impl Tracer {
         let camera_from_world = world_from_camera.inverse();
         let mut targets = Vec::new();
         for (_, c) in world.physics.colliders.iter() {
+            if crate::world::is_support_piece(c.user_data) {
+                continue;
+            }
             let world_from_shape = match c.parent() {
                 Some(b) => {
                     *world.physics.bodies[b].position()

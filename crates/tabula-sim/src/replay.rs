@@ -148,7 +148,9 @@ impl Recorder {
             };
             let (mut vertices, mut triangles) = (Vec::new(), Vec::new());
             for &c in body.colliders() {
-                if let Some(c) = world.physics.colliders.get(c) {
+                if let Some(c) = world.physics.colliders.get(c)
+                    && !crate::world::is_support_piece(c.user_data)
+                {
                     let local = c.position_wrt_parent().copied().unwrap_or(Pose::IDENTITY);
                     append_shape(c.shape(), &local, &mut vertices, &mut triangles);
                 }

@@ -207,6 +207,67 @@ fn mesh_shape(
     })
 }
 
+/// Marks a collider as a [`support_pieces`] helper in its `user_data` (above the 32-bit
+/// entity label): it carries contacts but is not part of what the entity looks like.
+pub(crate) const SUPPORT_PIECE: u128 = 1 << 64;
+
+/// Whether collider data belongs to a [`support_pieces`] helper.
+pub(crate) fn is_support_piece(user_data: u128) -> bool {
+    user_data & SUPPORT_PIECE != 0
+}
+
+/// Thin tetrahedra under every face of more than four vertices of a convex polyhedron
+/// (or of each piece of a compound of them), as (shape, pose in the shape's frame).
+///
+/// Why: parry's contact manifold for a convex polyhedron resting on a face takes the
+/// first four vertices of that face in order (its code says "TODO: … select four
+/// vertices that maximize the area"), so a 32-sided base touches the table on a sliver
+/// at one side: a cylinder, cone, mug or bottle mesh set down upright rocks on it,
+/// tilts 1–3° and slides centimetres. Triangles fanned from each big face's centre,
+/// each closed by a point inside the polyhedron, give contacts over the whole face;
+/// added as mass-less colliders they change nothing else.
+pub(crate) fn support_pieces(shape: &SharedShape) -> Vec<(SharedShape, Pose)> {
+    let mut out = Vec::new();
+    let mut add = |poly: &ConvexPolyhedron, local: Pose| {
+        let points = poly.points();
+        if points.is_empty() {
+            return;
+        }
+        let inside = points.iter().copied().sum::<Vec3>() / points.len() as f64;
+        let adjacent = poly.vertices_adj_to_face();
+        for face in poly.faces() {
+            let n = face.num_vertices_or_edges as usize;
+            if n <= 4 {
+                continue;
+            }
+            let first = face.first_vertex_or_edge as usize;
+            let ring: Vec<Vec3> = adjacent[first..first + n]
+                .iter()
+                .map(|&v| points[v as usize])
+                .collect();
+            let centre = ring.iter().copied().sum::<Vec3>() / n as f64;
+            // Halfway in: a shallow piece whose other faces never reach out of the hull.
+            let apex = centre + 0.5 * (inside - centre);
+            for k in 0..n {
+                let tetra = [centre, ring[k], ring[(k + 1) % n], apex];
+                if let Some(piece) = SharedShape::convex_hull(&tetra) {
+                    out.push((piece, local));
+                }
+            }
+        }
+    };
+    if let Some(poly) = shape.as_convex_polyhedron() {
+        add(poly, Pose::IDENTITY);
+    } else if let Some(compound) = shape.as_compound() {
+        for (local, part) in compound.shapes() {
+            if let Some(poly) = part.as_convex_polyhedron() {
+                add(poly, *local);
+            }
+        }
+    }
+    out
+}
+
 impl SimWorld {
     /// An empty world with gravity along −z.
     pub fn new(params: PhysicsParams) -> Self {
@@ -554,12 +615,21 @@ impl SimWorld {
         let body = self
             .physics
             .insert_body(RigidBodyBuilder::dynamic().pose(pose).ccd_enabled(true));
+        let pieces = support_pieces(&shape);
         let c = ColliderBuilder::new(shape)
             .position(local)
             .density(density)
             .friction(o.friction)
             .user_data(label);
         self.physics.insert_collider(c, Some(body));
+        for (piece, piece_local) in pieces {
+            let c = ColliderBuilder::new(piece)
+                .position(local * piece_local)
+                .density(0.0)
+                .friction(o.friction)
+                .user_data(label | SUPPORT_PIECE);
+            self.physics.insert_collider(c, Some(body));
+        }
         self.push_entity(&name, EntityKind::Object, body, o.color);
         Ok(())
     }
@@ -695,6 +765,9 @@ impl SimWorld {
             let body = &self.physics.bodies[e.body];
             for &ch in body.colliders() {
                 let c = &self.physics.colliders[ch];
+                if is_support_piece(c.user_data) {
+                    continue;
+                }
                 let pose = *body.position() * *c.position_wrt_parent().unwrap_or(&Pose::IDENTITY);
                 out.push((e.name.clone(), c.shared_shape().clone(), pose));
             }
