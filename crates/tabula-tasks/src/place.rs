@@ -728,19 +728,12 @@ impl Run<'_> {
     fn stable_poses(&mut self, arm: &str, model: &[Vec3]) -> Result<Vec<StablePose>, PlaceError> {
         let p = self.params;
         let found = of_cloud(model, &p.stable).map_err(|e| PlaceError::Model(e.to_string()))?;
-        let tight = of_cloud(
-            model,
-            &StableParams {
-                cloud_contact_tolerance: p.stable.cloud_contact_tolerance / 3.0,
-                ..p.stable.clone()
-            },
-        )
-        .map_err(|e| PlaceError::Model(e.to_string()))?;
         if let Some(m) = self.report.model.as_mut() {
             m.hull_volume_m3 = found.hull_volume_m3;
         }
         self.report.poses_found = found.poses.len();
         let gripper = gripper_points(self.robot, arm);
+        let com = Vec3::from_array(found.center_of_mass);
         // Ranked by the tilt that topples them, weighed by how much of the support the
         // object really touches (a bridge over a concavity rests on edges).
         let mut usable: Vec<(f64, StablePose)> = found
@@ -752,16 +745,10 @@ impl Run<'_> {
             .filter(|s| s.clear_of(&gripper, p.gripper_clearance - p.release_height))
             .map(|s| {
                 let fill = s.contact_fill(model, p.stable.cloud_contact_tolerance, p.scan_leaf);
-                // A flat face keeps its contact polygon when the contact tolerance
-                // shrinks; a curved side (a bottle lying down) loses most of it, since
-                // its contact strip only widens with the tolerance: such poses roll.
-                let flat = tight
-                    .poses
-                    .iter()
-                    .filter(|t| t.normal().dot(s.normal()) > 0.995)
-                    .map(|t| (t.area_m2 / s.area_m2.max(1e-12)).min(1.0))
-                    .fold(0.0, f64::max);
-                (s.topple_deg * (0.4 + 0.6 * fill) * flat * flat, s.clone())
+                // Rocking: a pose on a curved contact (a bottle or a ball on its side)
+                // rolls to wherever its facets end instead of resting as planned.
+                let rocking = s.rocking(model, com).clamp(0.0, 1.0);
+                (s.topple_deg * (0.4 + 0.6 * fill) * rocking, s.clone())
             })
             .collect();
         usable.sort_by(|a, b| b.0.total_cmp(&a.0));

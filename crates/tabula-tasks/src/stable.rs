@@ -171,6 +171,64 @@ impl StablePose {
         (covered.len() as f64 * cell * cell / area).min(1.0)
     }
 
+    /// How much of this pose's energy barrier the object's own surface really has
+    /// (0–1 and above): tilted toward each edge of the contact polygon up to the angle
+    /// that topples it over that edge, the highest rise of the centre of mass on
+    /// `points` (object frame: the support function of their hull) over the rise a
+    /// flat face gives there, √(h² + m²) − h (h: the centre of mass's height, m: its
+    /// distance from the edge); the least over the edges. The barrier is the energy
+    /// stability margin of legged robotics (Messuri & Klein 1985). A flat face has all
+    /// of it; a curved contact whose tolerance-band strip only looks like a face — a
+    /// bottle or a ball on its side — has next to none and rolls to wherever its facets
+    /// end.
+    pub fn rocking(&self, points: &[Vec3], com: Vec3) -> f64 {
+        const STEPS: usize = 8;
+        let n = self.normal();
+        let height = self.com_height_m;
+        if !(height > 0.0) || points.is_empty() || self.perimeter.len() < 3 {
+            return 0.0;
+        }
+        let (u, v) = basis(n);
+        let to2 = |q: Vec3| Vec2::new(q.dot(u), q.dot(v));
+        let poly: Vec<Vec2> = self
+            .perimeter
+            .iter()
+            .map(|q| to2(Vec3::from_array(*q)))
+            .collect();
+        let com2 = to2(com);
+        let lift = |down: Vec3| {
+            let support = points
+                .iter()
+                .filter(|q| q.is_finite())
+                .map(|q| q.dot(down))
+                .fold(f64::NEG_INFINITY, f64::max);
+            support - com.dot(down)
+        };
+        let rest = lift(n);
+        let k = poly.len();
+        (0..k)
+            .filter_map(|i| {
+                let (a, b) = (poly[i], poly[(i + 1) % k]);
+                // Counter-clockwise polygon: the outward normal is the edge turned right.
+                let outward = -(b - a).perp().try_normalize()?;
+                let margin = outward.dot(a - com2);
+                if !(margin > 0.0) {
+                    return Some(0.0);
+                }
+                let expected = (height * height + margin * margin).sqrt() - height;
+                let topple = margin.atan2(height);
+                let side = u * outward.x + v * outward.y;
+                let rise = (1..=STEPS)
+                    .map(|s| {
+                        let alpha = topple * s as f64 / STEPS as f64;
+                        lift(n * alpha.cos() + side * alpha.sin()) - rest
+                    })
+                    .fold(f64::NEG_INFINITY, f64::max);
+                Some(rise / expected)
+            })
+            .fold(f64::INFINITY, f64::min)
+    }
+
     /// Whether a gripper (points in the object's frame) stays on the object's side of
     /// the support plane with `clearance` to spare (seed 000's Alg. 6: a plane that
     /// cuts the gripper is unusable — the hand would have to be inside the table).
@@ -882,5 +940,70 @@ mod tests {
         let (v, t) = box_mesh(Vec3::new(0.1, 0.1, 0.1));
         let s = of_mesh(&v, &t[..10], &StableParams::default()).unwrap();
         assert_eq!(s.com_method, ComMethod::MeshSurface);
+    }
+
+    /// Points on a bottle-like cylinder (r 3.4 cm, 12 cm long, axis z) with ±1 mm of
+    /// deterministic scan-like noise along the surface normal.
+    fn noisy_cylinder() -> Vec<Vec3> {
+        let (r, len) = (0.034, 0.12);
+        let mut noise = 0x2545_f491_4f6c_dd1d_u64;
+        let mut jitter = || {
+            noise ^= noise << 13;
+            noise ^= noise >> 7;
+            noise ^= noise << 17;
+            (noise % 2001) as f64 / 1000.0 - 1.0
+        };
+        let mut pts = Vec::new();
+        for i in 0..48 {
+            let a = std::f64::consts::TAU * i as f64 / 48.0;
+            let radial = Vec3::new(a.cos(), a.sin(), 0.0);
+            for k in 0..=24 {
+                let z = len * k as f64 / 24.0;
+                pts.push(radial * (r + 0.001 * jitter()) + Vec3::Z * z);
+            }
+            for k in 0..6 {
+                let z = if k % 2 == 0 { 0.0 } else { len };
+                let rr = r * (k / 2 + 1) as f64 / 4.0;
+                pts.push(radial * rr + Vec3::Z * (z + 0.001 * jitter()));
+            }
+        }
+        pts
+    }
+
+    #[test]
+    fn a_curved_side_has_no_energy_barrier_and_a_flat_end_has_it_all() {
+        let pts = noisy_cylinder();
+        let s = of_cloud(&pts, &StableParams::default()).unwrap();
+        let com = Vec3::from_array(s.center_of_mass);
+        let end = s
+            .poses
+            .iter()
+            .find(|p| p.normal().z.abs() > 0.99)
+            .expect("rests on an end");
+        assert!(end.rocking(&pts, com) > 0.8, "{}", end.rocking(&pts, com));
+        // Lying down, its noisy side gives tolerance-band "faces" with a margin, but
+        // tilting it barely lifts the centre of mass.
+        let sides: Vec<&StablePose> = s
+            .poses
+            .iter()
+            .filter(|p| p.normal().z.abs() < 0.2)
+            .collect();
+        assert!(!sides.is_empty());
+        for side in sides {
+            let rock = side.rocking(&pts, com);
+            assert!(
+                rock < 0.5,
+                "side {:?} topple {}: {rock}",
+                side.support_normal,
+                side.topple_deg
+            );
+        }
+        // A box's faces keep their whole barrier.
+        let (v, _) = box_mesh(Vec3::new(0.05, 0.08, 0.1));
+        let b = of_cloud(&v, &StableParams::default()).unwrap();
+        let com = Vec3::from_array(b.center_of_mass);
+        for p in &b.poses {
+            assert!(p.rocking(&v, com) > 0.99, "{:?}", p.support_normal);
+        }
     }
 }
