@@ -185,7 +185,7 @@ impl StablePose {
         const STEPS: usize = 8;
         let n = self.normal();
         let height = self.com_height_m;
-        if !(height > 0.0) || points.is_empty() || self.perimeter.len() < 3 {
+        if height.is_nan() || height <= 0.0 || points.is_empty() || self.perimeter.len() < 3 {
             return 0.0;
         }
         let (u, v) = basis(n);
@@ -212,7 +212,7 @@ impl StablePose {
                 // Counter-clockwise polygon: the outward normal is the edge turned right.
                 let outward = -(b - a).perp().try_normalize()?;
                 let margin = outward.dot(a - com2);
-                if !(margin > 0.0) {
+                if margin.is_nan() || margin <= 0.0 {
                     return Some(0.0);
                 }
                 let expected = (height * height + margin * margin).sqrt() - height;
