@@ -143,8 +143,10 @@ impl FreeSpaceMap {
             (c.x >= 0.0 && c.y >= 0.0 && (c.x as usize) < nx && (c.y as usize) < ny)
                 .then(|| c.y as usize * nx + c.x as usize)
         };
-        // Seen surface: the cell of each inlier and its 8 neighbours (points are
-        // sparser than cells far from the camera).
+        // Seen surface: the cells of the inliers, closed (grown by a cell, then shrunk by
+        // one): points are sparser than cells far from the camera, and the gaps between
+        // them fill in, but the surface's edge stays where its points end — growing
+        // alone moved every edge a cell outward, and spots near it over the edge.
         let mut seen = vec![false; nx * ny];
         for &i in &surface.inliers {
             if let Some(q) = points.get(i)
@@ -153,27 +155,35 @@ impl FreeSpaceMap {
                 seen[c] = true;
             }
         }
-        let mut grown = seen.clone();
-        for (c, _) in seen.iter().enumerate().filter(|(_, s)| **s) {
-            {
-                let (i, j) = ((c % nx) as isize, (c / nx) as isize);
-                for (di, dj) in [
-                    (-1, -1),
-                    (0, -1),
-                    (1, -1),
-                    (-1, 0),
-                    (1, 0),
-                    (-1, 1),
-                    (0, 1),
-                    (1, 1),
-                ] {
-                    let (a, b) = (i + di, j + dj);
-                    if a >= 0 && b >= 0 && (a as usize) < nx && (b as usize) < ny {
-                        grown[b as usize * nx + a as usize] = true;
-                    }
-                }
+        const AROUND: [(isize, isize); 8] = [
+            (-1, -1),
+            (0, -1),
+            (1, -1),
+            (-1, 0),
+            (1, 0),
+            (-1, 1),
+            (0, 1),
+            (1, 1),
+        ];
+        let neighbours = |c: usize| {
+            let (i, j) = ((c % nx) as isize, (c / nx) as isize);
+            AROUND.iter().map(move |(di, dj)| {
+                let (a, b) = (i + di, j + dj);
+                (a >= 0 && b >= 0 && (a as usize) < nx && (b as usize) < ny)
+                    .then(|| b as usize * nx + a as usize)
+            })
+        };
+        let mut dilated = seen.clone();
+        for c in (0..nx * ny).filter(|&c| seen[c]) {
+            for k in neighbours(c).flatten() {
+                dilated[k] = true;
             }
         }
+        let grown: Vec<bool> = (0..nx * ny)
+            .map(|c| {
+                seen[c] || (dilated[c] && neighbours(c).all(|k| k.is_some_and(|k| dilated[k])))
+            })
+            .collect();
         for c in 0..nx * ny {
             if cells[c] == Cell::Unknown && (grown[c] || p.unknown_is_free) {
                 cells[c] = Cell::Free;
@@ -566,6 +576,36 @@ mod tests {
                 .map(|b| ((b % nx) as f64 - x).powi(2) + ((b / nx) as f64 - y).powi(2))
                 .fold(f64::INFINITY, f64::min);
             assert_eq!(*dk, best, "cell {k}");
+        }
+    }
+
+    #[test]
+    fn sparse_points_fill_in_but_the_seen_edge_stays_where_they_end() {
+        // Points every 2.5 cm (sparser than the 1 cm cells) over x ≤ 0.4 of a 0.6 m
+        // hull: the gaps between them are free, nothing beyond x = 0.4 + a cell is.
+        let (mut surface, _) = square_table(0.6);
+        let points: Vec<Vec3> = (0..=16)
+            .flat_map(|i| (0..=24).map(move |j| Vec3::new(i as f64 * 0.025, j as f64 * 0.025, 0.7)))
+            .collect();
+        surface.inliers = (0..points.len()).collect();
+        let p = FreeSpaceParams {
+            resolution: 0.01,
+            ..FreeSpaceParams::default()
+        };
+        let map = FreeSpaceMap::build(&surface, &points, &[], &p).unwrap();
+        let (u, v) = plane_basis(Vec3::Z);
+        let at = |x: f64, y: f64| {
+            let q = Vec2::new(Vec3::new(x, y, 0.7).dot(u), Vec3::new(x, y, 0.7).dot(v));
+            let c = ((q - map.lo) / map.resolution).floor();
+            map.cells[c.y as usize * map.nx + c.x as usize]
+        };
+        for x in [0.012, 0.2, 0.312, 0.388] {
+            for y in [0.012, 0.3, 0.562] {
+                assert_eq!(at(x, y), Cell::Free, "({x}, {y}) between seen points");
+            }
+        }
+        for x in [0.415, 0.45, 0.55] {
+            assert_eq!(at(x, 0.3), Cell::Unknown, "x = {x} is past the seen edge");
         }
     }
 

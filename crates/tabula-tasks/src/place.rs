@@ -72,6 +72,11 @@ pub struct PlaceParams {
     /// Surface search leaf (m) and range (m): the seed worked to 3.5 m.
     pub search_leaf: f64,
     pub search_range: f64,
+    /// Surface points seen from at most this far (m) draw the free-space map's edges
+    /// once there are enough of them: a depth camera's range noise grows with the
+    /// square of the range (Kinect σ ≈ 1.5 mm·z², SPEC §5: 4 mm at 1.6 m, 13 mm at
+    /// 3 m), and a table seen from across the room reaches centimetres past its edge.
+    pub edge_range: f64,
     /// Search frames keep every `search_decimate`-th pixel of every such row.
     pub search_decimate: usize,
     /// Looks at an accepted surface's centroid that refine it, SPEC §6: 3.
@@ -158,6 +163,7 @@ impl Default for PlaceParams {
             sweep_height: 0.45,
             search_leaf: 0.01,
             search_range: 3.5,
+            edge_range: 1.6,
             search_decimate: 2,
             refine_looks: 3,
             turn_around: true,
@@ -329,6 +335,8 @@ pub fn place(
         trace: tracing::enabled!(tracing::Level::DEBUG),
         template: None,
         scene_keys: Default::default(),
+        near: Vec::new(),
+        near_keys: Default::default(),
     };
     let error = run.run(driver, request).err();
     let mut report = run.report;
@@ -362,6 +370,9 @@ struct Run<'a> {
     template: Option<MoveGroup>,
     /// The voxels the scene already has a point in.
     scene_keys: rustc_hash::FxHashSet<[i64; 3]>,
+    /// The scene's points seen from within `edge_range`, one per voxel.
+    near: Vec<Vec3>,
+    near_keys: rustc_hash::FxHashSet<[i64; 3]>,
 }
 
 impl Run<'_> {
@@ -981,6 +992,16 @@ impl Run<'_> {
                 ..frame
             };
             let seen = world_points(&frame, &solids, &obs, r.params.search_leaf);
+            let eye = frame.world_from_camera.translation;
+            let leaf = r.params.search_leaf;
+            for q in seen
+                .iter()
+                .filter(|q| q.distance(eye) <= r.params.edge_range)
+            {
+                if r.near_keys.insert(tabula_geom::voxel_key(*q, leaf)) {
+                    r.near.push(*q);
+                }
+            }
             r.add_scene(scene, seen);
         });
         Ok(())
@@ -1204,13 +1225,27 @@ impl Run<'_> {
         fs.yaw_samples = p.roll_samples.max(1);
         // The surface's seen cells: its points in the merged scene (the search ran on
         // another sampling of it).
+        let on_surface =
+            |q: Vec3| outline.height(q).abs() <= p.surfaces.ransac.threshold && outline.over(q);
         let mut seen = surface.clone();
-        seen.inliers = (0..pts.len())
-            .filter(|&i| {
-                outline.height(pts[i]).abs() <= p.surfaces.ransac.threshold && outline.over(pts[i])
-            })
+        // From near, once near views cover a footprint's worth of it: the far points'
+        // range noise would carry its edges outward.
+        let near: Vec<usize> = (0..self.near.len())
+            .filter(|&i| on_surface(self.near[i]))
             .collect();
-        let map = FreeSpaceMap::build(&seen, pts, &objects, &fs)
+        let cell = p.search_leaf * p.search_leaf;
+        let footprint_cells = poses
+            .iter()
+            .map(|s| s.area_m2 / cell)
+            .fold(f64::INFINITY, f64::min);
+        let edge_points = if near.len() as f64 >= 4.0 * footprint_cells.max(25.0) {
+            seen.inliers = near;
+            &self.near
+        } else {
+            seen.inliers = (0..pts.len()).filter(|&i| on_surface(pts[i])).collect();
+            pts
+        };
+        let map = FreeSpaceMap::build(&seen, edge_points, &objects, &fs)
             .map_err(|e| PlaceError::NoRoom(e.to_string()))?;
         self.report.top_view = Some(PlaceTopView {
             map: map.clone(),
@@ -1856,6 +1891,7 @@ impl Validate for PlaceParams {
             ("scan_leaf", self.scan_leaf),
             ("search_leaf", self.search_leaf),
             ("search_range", self.search_range),
+            ("edge_range", self.edge_range),
             ("reach", self.reach),
             ("approach_desired", self.approach_desired),
             ("retreat_desired", self.retreat_desired),
