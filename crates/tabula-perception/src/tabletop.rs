@@ -72,6 +72,12 @@ pub struct TabletopParams {
     /// the same sample (merged scans, drivers that write invalid pixels as one point):
     /// they carry no geometry and make every radius search quadratic. Not in the seed.
     pub duplicate_leaf: f64,
+    /// Unorganized clouds are segmented on one point per voxel of this leaf (m) and
+    /// every prism point takes its voxel's label and normal: their k-d tree crease test
+    /// and normals cost a radius search per point, and a Kinect's points lie 1–2 mm
+    /// apart at a metre, far denser than the centimetre a crease or a gap is judged on.
+    /// 0 segments every point. Not in the seed.
+    pub unorganized_leaf: f64,
 }
 
 impl Default for TabletopParams {
@@ -95,6 +101,7 @@ impl Default for TabletopParams {
             max_object_extent: 1.5,
             partial_gap: 0.03,
             duplicate_leaf: 0.0005,
+            unorganized_leaf: 0.004,
         }
     }
 }
@@ -322,21 +329,74 @@ fn extract_from(
     let t = Instant::now();
     let organized = cloud.is_organized();
     let prism: Vec<usize> = (0..pts.len()).filter(|&i| above[i]).collect();
+    // What carries a normal and is segmented: every prism point, or on an unorganized
+    // cloud one per `unorganized_leaf` voxel (the first in index order) standing for the
+    // others in it.
+    let (carriers, carrier_of) = if organized || p.unorganized_leaf <= 0.0 {
+        (prism.clone(), None)
+    } else {
+        let mut first: rustc_hash::FxHashMap<[i64; 3], usize> = Default::default();
+        let mut carrier_of = vec![usize::MAX; pts.len()];
+        let mut carriers = Vec::new();
+        for &i in &prism {
+            let c = *first
+                .entry(voxel_key(pts[i], p.unorganized_leaf))
+                .or_insert_with(|| {
+                    carriers.push(i);
+                    i
+                });
+            carrier_of[i] = c;
+        }
+        (carriers, Some(carrier_of))
+    };
     let mut slot = vec![u32::MAX; pts.len()];
-    for (k, &i) in prism.iter().enumerate() {
+    for (k, &i) in carriers.iter().enumerate() {
         slot[i] = k as u32;
     }
+    if let Some(carrier_of) = &carrier_of {
+        for &i in &prism {
+            slot[i] = slot[carrier_of[i]];
+        }
+    }
     let locals = Locals {
-        planes: local_planes_at(cloud, viewpoint, &above, &prism, &p.normals),
+        planes: local_planes_at(cloud, viewpoint, &above, &carriers, &p.normals),
         slot,
     };
     times.normals = ms(t);
 
     let t = Instant::now();
-    let labels = if organized {
-        segment_organized(cloud, viewpoint, &above, &keep, &locals, &plane, p)
-    } else {
-        segment_unorganized(pts, &above, &prism, &keep, &locals, &plane, p)
+    let labels = match &carrier_of {
+        None if organized => segment_organized(cloud, viewpoint, &above, &keep, &locals, &plane, p),
+        None => segment_unorganized(pts, &above, &prism, &keep, &locals, &plane, p),
+        Some(carrier_of) => {
+            let mut carries = vec![false; pts.len()];
+            for &i in &carriers {
+                carries[i] = true;
+            }
+            // Sizes in carriers: the prism's points per carrier scale the minimum.
+            let per_carrier = prism.len() as f64 / carriers.len().max(1) as f64;
+            let scaled = TabletopParams {
+                min_object_points: ((p.min_object_points as f64 / per_carrier).ceil() as usize)
+                    .max(1),
+                ..p.clone()
+            };
+            let regions =
+                segment_unorganized(pts, &carries, &carriers, &keep, &locals, &plane, &scaled);
+            let mut region_of = vec![usize::MAX; pts.len()];
+            for (r, members) in regions.iter().enumerate() {
+                for &i in members {
+                    region_of[i] = r;
+                }
+            }
+            let mut expanded = vec![Vec::new(); regions.len()];
+            for &i in &prism {
+                let r = region_of[carrier_of[i]];
+                if r != usize::MAX {
+                    expanded[r].push(i);
+                }
+            }
+            expanded
+        }
     };
     times.segmentation = ms(t);
 
@@ -813,7 +873,8 @@ impl Validate for TabletopParams {
         check_non_negative(at, "rest_tolerance", self.rest_tolerance)?;
         check_positive(at, "max_object_extent", self.max_object_extent)?;
         check_non_negative(at, "partial_gap", self.partial_gap)?;
-        check_non_negative(at, "duplicate_leaf", self.duplicate_leaf)
+        check_non_negative(at, "duplicate_leaf", self.duplicate_leaf)?;
+        check_non_negative(at, "unorganized_leaf", self.unorganized_leaf)
     }
 }
 
