@@ -82,7 +82,9 @@ pub enum BenchCommand {
     /// Seed 000's placing on a generated suite: success by physics with 95 % intervals,
     /// failures by cause, decision CPU time.
     Place {
-        /// `simple` (cubes, boxes, cylinders) or `complex` (mugs, drills, bottles, …).
+        /// `simple` (cubes, boxes, cylinders), `complex` (mugs, drills, bottles, …) or
+        /// `rooms` (simple objects in walled rooms with ramps, cones and sign drums the
+        /// surface search must not take).
         #[arg(long, default_value = "simple")]
         suite: String,
         #[arg(long, default_value_t = 20, value_parser = crate::args::count_u64)]

@@ -407,17 +407,48 @@ pub struct BenchRow {
     moved_after_release_mm: f64,
     decision_ms: f64,
     wall_s: f64,
+    /// The surface the task chose is the generated table's top (centroid over it,
+    /// height within 2 cm): the sweep found it.
+    #[serde(default)]
+    table_found: bool,
+}
+
+/// The suite's generated task `seed`.
+fn task_of(
+    seed: u64,
+    suite: Suite,
+    mesh_dir: &std::path::Path,
+) -> std::io::Result<tabula_sim::generate::PlaceTask> {
+    match suite {
+        Suite::Rooms => tabula_sim::generate::room_task(seed, mesh_dir),
+        Suite::Simple => tabula_sim::generate::place_task(seed, true, mesh_dir),
+        Suite::Complex => tabula_sim::generate::place_task(seed, false, mesh_dir),
+    }
+}
+
+/// Whether a found surface is the task's table top.
+fn is_table(
+    task: &tabula_sim::generate::PlaceTask,
+    surface: &tabula_tasks::place::SurfaceReport,
+) -> bool {
+    let [cx, cy] = task.table_center;
+    let (dx, dy) = (surface.centroid[0] - cx, surface.centroid[1] - cy);
+    let (s, c) = task.table_yaw.sin_cos();
+    let (u, v) = (c * dx + s * dy, -s * dx + c * dy);
+    u.abs() <= task.table_size[0] / 2.0
+        && v.abs() <= task.table_size[1] / 2.0
+        && (surface.height - task.table_size[2]).abs() <= 0.02
 }
 
 /// One task of the placing suite (`simple` or complex objects), placed in the
 /// simulator and judged by physics; complex objects' meshes go to `mesh_dir`.
 fn trial(
     s: u64,
-    simple: bool,
+    suite: Suite,
     params: &PlaceParams,
     mesh_dir: &std::path::Path,
 ) -> Result<BenchRow> {
-    let task = tabula_sim::generate::place_task(s, simple, mesh_dir)?;
+    let task = task_of(s, suite, mesh_dir)?;
     let scene = tabula_sim::Scene::parse(&task.scene, "generated")
         .map_err(|e| anyhow::anyhow!("task {s}: {e}"))?;
     let world = SimWorld::from_scene(&scene, Default::default())
@@ -452,8 +483,14 @@ fn trial(
             .to_string(),
         )
     };
+    let table_found = out
+        .report
+        .surface
+        .as_ref()
+        .is_some_and(|f| is_table(&task, f));
     Ok(BenchRow {
         seed: s,
+        table_found,
         object: task.object,
         layout: task.layout,
         clutter: task.clutter,
@@ -467,11 +504,21 @@ fn trial(
     })
 }
 
-fn is_simple(suite: &str) -> Result<bool> {
+/// The placing suites.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Suite {
+    Simple,
+    Complex,
+    /// Simple objects in rooms with walls and things that are not surfaces.
+    Rooms,
+}
+
+fn suite_of(suite: &str) -> Result<Suite> {
     match suite {
-        "simple" => Ok(true),
-        "complex" => Ok(false),
-        other => anyhow::bail!("--suite is `simple` or `complex`, not `{other}`"),
+        "simple" => Ok(Suite::Simple),
+        "complex" => Ok(Suite::Complex),
+        "rooms" => Ok(Suite::Rooms),
+        other => anyhow::bail!("--suite is `simple`, `complex` or `rooms`, not `{other}`"),
     }
 }
 
@@ -484,7 +531,7 @@ pub fn trial_of(spec: &crate::trials::TrialSpec) -> Result<BenchRow> {
     };
     trial(
         spec.seed,
-        is_simple(&spec.suite)?,
+        suite_of(&spec.suite)?,
         &params,
         &worker_mesh_dir(),
     )
@@ -509,7 +556,7 @@ pub fn bench(
     report: Option<&std::path::Path>,
     spread: &crate::trials::TrialArgs,
 ) -> Result<()> {
-    let simple = is_simple(suite)?;
+    let kind = suite_of(suite)?;
     let params: PlaceParams = load_params(params_path)?;
     let params_text = crate::trials::params_text(params_path)?;
     // Saved failures keep their meshes beside them.
@@ -530,14 +577,14 @@ pub fn bench(
             params: params_text.clone(),
             seed: s,
         },
-        |s| trial(s, simple, &params, &mesh_dir),
+        |s| trial(s, kind, &params, &mesh_dir),
         &progress,
     );
     // Failures are kept; so are slow decisions (over a second), to look into.
     if let (Some(d), Ok(rows)) = (save_failures, &rows) {
         for r in rows {
             if r.cause.is_some() || r.decision_ms > 1000.0 {
-                let task = tabula_sim::generate::place_task(r.seed, simple, &mesh_dir)?;
+                let task = task_of(r.seed, kind, &mesh_dir)?;
                 std::fs::write(
                     d.join(format!("place-{suite}-{}.toml", r.seed)),
                     &task.scene,
@@ -631,6 +678,14 @@ pub fn bench(
         hi * 100.0,
         d.median,
         d.p95
+    );
+    let found = rows.iter().filter(|r| r.table_found).count();
+    let (flo, fhi) = crate::clear::wilson(found, n);
+    println!(
+        "the table found by the sweep: {found}/{n} = {:.1} % (95 % interval {:.1}–{:.1} %)",
+        100.0 * found as f64 / n.max(1) as f64,
+        flo * 100.0,
+        fhi * 100.0
     );
     if !causes.is_empty() {
         println!(

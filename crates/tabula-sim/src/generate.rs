@@ -918,6 +918,10 @@ pub struct PlaceTask {
     pub layout: PlaceLayout,
     pub clutter: usize,
     pub arm: String,
+    /// The table's centre (x, y), size (m) and yaw (rad) in the world.
+    pub table_center: [f64; 2],
+    pub table_size: [f64; 3],
+    pub table_yaw: f64,
 }
 
 /// The placing suite's task `seed`: simple objects (cubes, boxes, cylinders of several
@@ -1239,7 +1243,79 @@ pub fn place_task(
         layout,
         clutter: placed.len(),
         arm: arm.into(),
+        table_center: center,
+        table_size: size,
+        table_yaw: yaw,
     })
+}
+
+/// The placing suite's task `seed` with a simple object, in a room: walls all round and
+/// three things a surface search must not take for a surface — ramps (a 60° face),
+/// traffic cones, sign drums (a tapered top) — anywhere off the robot's way to the
+/// table (SPEC §1.3's rejections, as in `scenes/surfaces.toml`). Same seed, same room.
+pub fn room_task(seed: u64, mesh_dir: &std::path::Path) -> std::io::Result<PlaceTask> {
+    let mut task = place_task(seed, true, mesh_dir)?;
+    let mut rng = ChaCha8Rng::seed_from_u64(seed ^ 0x200A);
+    let s = &mut task.scene;
+    let (x0, x1, half_width): (f64, f64, f64) = (-2.9, 4.3, 3.0);
+    for (name, xy, size) in [
+        ("wall_front", [x1, 0.0], [0.1, 2.0 * half_width, 2.5]),
+        ("wall_back", [x0, 0.0], [0.1, 2.0 * half_width, 2.5]),
+        (
+            "wall_left",
+            [(x0 + x1) / 2.0, half_width],
+            [x1 - x0, 0.1, 2.5],
+        ),
+        (
+            "wall_right",
+            [(x0 + x1) / 2.0, -half_width],
+            [x1 - x0, 0.1, 2.5],
+        ),
+    ] {
+        let _ = writeln!(
+            s,
+            "[[furniture]]\nname = \"{name}\"\nkind = \"wall\"\npose = {{ xyz = [{:.3}, {:.3}, 0.0] }}\nsize = [{:.3}, {:.3}, {:.3}]\n",
+            xy[0], xy[1], size[0], size[1], size[2]
+        );
+    }
+    let [tx, ty] = task.table_center;
+    let table_reach = 0.5 * (task.table_size[0].hypot(task.table_size[1])) + 0.5;
+    // Distance from (x, y) to the robot's way to the table (the segment origin → table).
+    let off_way = |x: f64, y: f64| {
+        let len2 = tx * tx + ty * ty;
+        let t = ((x * tx + y * ty) / len2.max(1e-9)).clamp(0.0, 1.0);
+        (x - t * tx).hypot(y - t * ty)
+    };
+    let mut placed: Vec<[f64; 2]> = Vec::new();
+    for attempt in 0..400 {
+        if placed.len() >= 3 {
+            break;
+        }
+        let (x, y): (f64, f64) = (
+            rng.random_range(x0 + 0.5..x1 - 0.5),
+            rng.random_range(-half_width + 0.5..half_width - 0.5),
+        );
+        if x.hypot(y) < 1.3
+            || (x - tx).hypot(y - ty) < table_reach
+            || off_way(x, y) < 0.8
+            || placed.iter().any(|p| (p[0] - x).hypot(p[1] - y) < 0.8)
+        {
+            continue;
+        }
+        let kind = ["ramp", "traffic_cone", "sign_drum"][placed.len() % 3];
+        let extra = if kind == "ramp" {
+            "size = [0.4, 0.6, 0.1]\nangle_deg = 120.0\n"
+        } else {
+            ""
+        };
+        let _ = writeln!(
+            s,
+            "[[furniture]]\nname = \"{kind}_{attempt}\"\nkind = \"{kind}\"\npose = {{ xyz = [{x:.3}, {y:.3}, 0.0], rpy = [0.0, 0.0, {:.3}] }}\n{extra}",
+            rng.random_range(0.0..std::f64::consts::TAU)
+        );
+        placed.push([x, y]);
+    }
+    Ok(task)
 }
 
 /// Whether the ray from `o` along `d` crosses a triangle of the mesh (Möller–Trumbore).

@@ -52,6 +52,17 @@ fn held_objects_are_scanned_and_placed_stably() {
         ),
         generated(3, true),
         generated(1, false),
+        // A bottle whose scanned side looks like a face (it would roll off it).
+        generated(86, false),
+        {
+            // A walled room with a ramp, a traffic cone and a sign drum about.
+            let t = tabula_sim::generate::room_task(2, &dir).unwrap();
+            (
+                format!("room {} {:?} (2)", t.object, t.layout),
+                t.scene,
+                t.arm,
+            )
+        },
     ];
     let results: Vec<_> = cases
         .par_iter()
