@@ -332,8 +332,8 @@ fn extract_from(
     // What carries a normal and is segmented: every prism point, or on an unorganized
     // cloud one per `unorganized_leaf` voxel (the first in index order) standing for the
     // others in it.
-    let (carriers, carrier_of) = if organized || p.unorganized_leaf <= 0.0 {
-        (prism.clone(), None)
+    let voxels = if organized || p.unorganized_leaf <= 0.0 {
+        None
     } else {
         let mut first: rustc_hash::FxHashMap<[i64; 3], usize> = Default::default();
         let mut carrier_of = vec![usize::MAX; pts.len()];
@@ -347,30 +347,34 @@ fn extract_from(
                 });
             carrier_of[i] = c;
         }
-        (carriers, Some(carrier_of))
+        Some((carriers, carrier_of))
+    };
+    let (carriers, carrier_of): (&[usize], Option<&Vec<usize>>) = match &voxels {
+        Some((c, of)) => (c, Some(of)),
+        None => (&prism, None),
     };
     let mut slot = vec![u32::MAX; pts.len()];
     for (k, &i) in carriers.iter().enumerate() {
         slot[i] = k as u32;
     }
-    if let Some(carrier_of) = &carrier_of {
+    if let Some(carrier_of) = carrier_of {
         for &i in &prism {
             slot[i] = slot[carrier_of[i]];
         }
     }
     let locals = Locals {
-        planes: local_planes_at(cloud, viewpoint, &above, &carriers, &p.normals),
+        planes: local_planes_at(cloud, viewpoint, &above, carriers, &p.normals),
         slot,
     };
     times.normals = ms(t);
 
     let t = Instant::now();
-    let labels = match &carrier_of {
+    let labels = match carrier_of {
         None if organized => segment_organized(cloud, viewpoint, &above, &keep, &locals, &plane, p),
         None => segment_unorganized(pts, &above, &prism, &keep, &locals, &plane, p),
         Some(carrier_of) => {
             let mut carries = vec![false; pts.len()];
-            for &i in &carriers {
+            for &i in carriers {
                 carries[i] = true;
             }
             // Sizes in carriers: the prism's points per carrier scale the minimum.
@@ -381,7 +385,7 @@ fn extract_from(
                 ..p.clone()
             };
             let regions =
-                segment_unorganized(pts, &carries, &carriers, &keep, &locals, &plane, &scaled);
+                segment_unorganized(pts, &carries, carriers, &keep, &locals, &plane, &scaled);
             let mut region_of = vec![usize::MAX; pts.len()];
             for (r, members) in regions.iter().enumerate() {
                 for &i in members {

@@ -379,12 +379,7 @@ impl Run<'_> {
     /// Adds seen points to the scene, one per search-leaf voxel: views overlap, and
     /// every later step (surface search, free space, occupancy) works on the scene.
     fn add_scene(&mut self, scene: &mut Vec<Vec3>, points: Vec<Vec3>) {
-        let leaf = self.params.search_leaf;
-        for q in points {
-            if self.scene_keys.insert(tabula_geom::voxel_key(q, leaf)) {
-                scene.push(q);
-            }
-        }
+        add_once(scene, &mut self.scene_keys, points, self.params.search_leaf);
     }
 
     /// A move group for `arm` at `state`, without world objects.
@@ -993,15 +988,12 @@ impl Run<'_> {
             };
             let seen = world_points(&frame, &solids, &obs, r.params.search_leaf);
             let eye = frame.world_from_camera.translation;
-            let leaf = r.params.search_leaf;
-            for q in seen
+            let near: Vec<Vec3> = seen
                 .iter()
+                .copied()
                 .filter(|q| q.distance(eye) <= r.params.edge_range)
-            {
-                if r.near_keys.insert(tabula_geom::voxel_key(*q, leaf)) {
-                    r.near.push(*q);
-                }
-            }
+                .collect();
+            add_once(&mut r.near, &mut r.near_keys, near, r.params.search_leaf);
             r.add_scene(scene, seen);
         });
         Ok(())
@@ -1778,6 +1770,21 @@ fn gripper_points(robot: &NamedRobot, arm: &str) -> Vec<Vec3> {
         out.push(Vec3::ZERO);
     }
     out
+}
+
+/// Appends `points` to `into`, one per `leaf` voxel over all calls (`keys` remembers
+/// the voxels taken): views overlap.
+fn add_once(
+    into: &mut Vec<Vec3>,
+    keys: &mut rustc_hash::FxHashSet<[i64; 3]>,
+    points: Vec<Vec3>,
+    leaf: f64,
+) {
+    for q in points {
+        if keys.insert(tabula_geom::voxel_key(q, leaf)) {
+            into.push(q);
+        }
+    }
 }
 
 /// The object's footprint resting in `pose` (yaw 0), relative to the contact centroid.
