@@ -21,6 +21,6 @@ pub mod pcd;
 pub mod ply;
 pub mod polygon;
 pub use angles::*;
-pub use cloud::{CloudFile, PcdEncoding, PointCloud, bounds, voxel_key};
+pub use cloud::{CloudFile, PcdEncoding, PointCloud, bounds, packed_voxel_key, voxel_key};
 pub use pcd::{PcdError, read_pcd, read_pcd_file};
 pub use ply::{PlyEncoding, PlyError, read_ply, read_ply_mesh, write_ply};

@@ -348,9 +348,40 @@ impl CollisionWorld {
     /// (chain offsets up to the body's element, plus the body's own extent, plus what it
     /// holds) instead of the whole chain plus a generous margin.
     fn tighten_motion_radius(&mut self) {
-        let Some(_) = &self.element_joints else {
+        let Some(levers) = self.lever_bounds() else {
             return;
         };
+        let mut radius = vec![0.0f64; self.chain.dof()];
+        for (ek, r) in self.chain.elements.iter().zip(levers) {
+            let r = if ek.prismatic {
+                1.0
+            } else {
+                r * ek.multiplier.abs()
+            };
+            radius[ek.var] = radius[ek.var].max(r);
+        }
+        self.motion_radius = radius;
+    }
+
+    /// A ball that holds every body the chain moves, and what they hold, in every
+    /// configuration: centred on the first joint, its radius the longest lever from
+    /// there plus the farthest shape. Nothing outside it can ever touch the arm, so a
+    /// scene need not be modelled there (MoveIt's octomap is bounded the same way).
+    /// `None` when the chain's bodies could not be anchored (a chain not descending
+    /// from its base).
+    pub fn moving_bound(&self) -> Option<(Vec3, f64)> {
+        let first = self.chain.elements.first()?;
+        let radius = *self.lever_bounds()?.first()?;
+        let centre = self
+            .world_from_chain_base
+            .transform_point(first.pre.translation);
+        Some((centre, radius))
+    }
+
+    /// Per chain element: how far any point of a body beyond it (and of what that body
+    /// holds) can be from the element's joint origin.
+    fn lever_bounds(&self) -> Option<Vec<f64>> {
+        self.element_joints.as_ref()?;
         let elements = &self.chain.elements;
         let mut extent = vec![0.0f64; self.bodies.len()];
         for (b, body) in self.bodies.iter().enumerate() {
@@ -368,8 +399,8 @@ impl CollisionWorld {
                 (a.offset * (att.link_from_object * sphere.center())).length() + sphere.radius();
             extent[att.body] = extent[att.body].max(reach);
         }
-        let mut radius = vec![0.0f64; self.chain.dof()];
-        for (k, ek) in elements.iter().enumerate() {
+        let mut levers = vec![0.0f64; elements.len()];
+        for (k, lever_k) in levers.iter_mut().enumerate() {
             let mut r: f64 = 0.0;
             for (b, a) in self.anchors.iter().enumerate() {
                 let Some(m) = a.element else { continue };
@@ -394,14 +425,9 @@ impl CollisionWorld {
                     .sum();
                 r = r.max(lever + extent[b]);
             }
-            let r = if ek.prismatic {
-                1.0
-            } else {
-                r * ek.multiplier.abs()
-            };
-            radius[ek.var] = radius[ek.var].max(r);
+            *lever_k = r;
         }
-        self.motion_radius = radius;
+        Some(levers)
     }
 
     fn anchor_for(&self, link: usize, root_poses: &[Pose]) -> Anchor {

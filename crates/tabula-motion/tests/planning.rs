@@ -349,3 +349,48 @@ fn what_the_other_hand_holds_turns_with_the_shared_torso() {
     assert!(without_bar.plan_to_joints(&start, &[goal.clone()]).is_ok());
     assert!(with_bar.plan_to_joints(&start, &[goal]).is_err());
 }
+
+#[test]
+fn the_moving_bound_holds_the_arm_and_what_it_holds_in_every_configuration() {
+    use rand::RngExt;
+    use tabula_motion::{MoveGroup, MoveGroupParams};
+    use tabula_robot::driver::JointState;
+    let robot = robots::load("pr2").unwrap();
+    let mut state = JointState::default();
+    for j in &robot.model.joints {
+        if j.kind.is_single_axis() {
+            state.names.push(j.name.clone());
+            state.positions.push(0.0);
+        }
+    }
+    let root = Pose::from_parts(Vec3::new(1.0, -2.0, 0.0), Quat::from_rotation_z(0.7));
+    let mut group =
+        MoveGroup::new(&robot, "left", &state, root, MoveGroupParams::default()).unwrap();
+    let (centre, bare) = group.world.moving_bound().unwrap();
+    // A 25 cm bar held 10 cm ahead of the tool.
+    let tool_from_bar = Pose::from_translation(Vec3::new(0.1, 0.0, 0.0));
+    group
+        .attach("bar", SharedShape::cuboid(0.125, 0.01, 0.01), tool_from_bar)
+        .unwrap();
+    let (same_centre, holding) = group.world.moving_bound().unwrap();
+    assert!(centre.distance(same_centre) < 1e-12);
+    assert!(holding > bare, "{holding} vs {bare}");
+    // A PR2 arm reaches about 0.8 m from its shoulder, plus hand and bar.
+    assert!((0.7..1.6).contains(&holding), "{holding}");
+    let chain = &group.world.chain;
+    let mut rng = ChaCha8Rng::seed_from_u64(3);
+    for _ in 0..500 {
+        let q: Vec<f64> = (0..chain.dof())
+            .map(|i| {
+                let (lo, hi) = chain.sample_range(i);
+                rng.random_range(lo..=hi)
+            })
+            .collect();
+        let world_from_tool = group.world.tip_pose(&q).unwrap();
+        assert!(world_from_tool.translation.distance(centre) <= bare);
+        for corner in [Vec3::new(0.125, 0.01, 0.01), Vec3::new(-0.125, -0.01, 0.01)] {
+            let p = world_from_tool.transform_point(tool_from_bar.transform_point(corner));
+            assert!(p.distance(centre) <= holding, "{p:?}");
+        }
+    }
+}

@@ -586,25 +586,69 @@ pub fn local_planes_at(
             })
             .collect();
     }
-    let members: Vec<usize> = (0..pts.len()).filter(|&i| usable(i)).collect();
-    let tree = (members.len() >= 3)
-        .then(|| KdTree::over(pts, &members))
-        .flatten();
-    let Some(tree) = tree else {
+    let Some(index) = Neighbours::over(cloud, mask) else {
         return vec![none; at.len()];
     };
-    let k = p.k.clamp(3, members.len());
-    at.par_iter()
-        .map(|&i| {
-            if !usable(i) {
-                return none;
-            }
-            let nn = tree.nearest(&pts[i].to_array(), k);
-            scatter(nn.iter().map(|m| pts[members[m.1]]))
-                .and_then(|(c, m)| Some((smallest_eigenvector(m)?.0, c)))
-                .map_or(none, |(n, c)| (orient(i, n), c))
+    index.local_planes_at(cloud, viewpoint, at, p)
+}
+
+/// The points of an unorganized cloud a mask chooses, in a k-d tree: built once, it
+/// serves every normal estimate among the same neighbours.
+pub struct Neighbours {
+    members: Vec<usize>,
+    tree: KdTree,
+    usable: Vec<bool>,
+}
+
+impl Neighbours {
+    /// `None` when fewer than three finite points are chosen.
+    pub fn over(cloud: &PointCloud, mask: &[bool]) -> Option<Self> {
+        let pts = &cloud.points;
+        let usable: Vec<bool> = (0..pts.len())
+            .map(|i| mask.get(i) == Some(&true) && pts[i].is_finite())
+            .collect();
+        let members: Vec<usize> = (0..pts.len()).filter(|&i| usable[i]).collect();
+        if members.len() < 3 {
+            return None;
+        }
+        let tree = KdTree::over(pts, &members)?;
+        Some(Self {
+            members,
+            tree,
+            usable,
         })
-        .collect()
+    }
+
+    /// [`local_planes_at`] of an unorganized cloud among these neighbours: points not
+    /// among them get NaN.
+    pub fn local_planes_at(
+        &self,
+        cloud: &PointCloud,
+        viewpoint: Vec3,
+        at: &[usize],
+        p: &NormalParams,
+    ) -> Vec<(Vec3, Vec3)> {
+        let pts = &cloud.points;
+        let none = (Vec3::NAN, Vec3::NAN);
+        let k = p.k.clamp(3, self.members.len());
+        at.par_iter()
+            .map(|&i| {
+                if self.usable.get(i) != Some(&true) {
+                    return none;
+                }
+                let nn = self.tree.nearest(&pts[i].to_array(), k);
+                scatter(nn.iter().map(|m| pts[self.members[m.1]]))
+                    .and_then(|(c, m)| Some((smallest_eigenvector(m)?.0, c)))
+                    .map_or(none, |(n, c)| {
+                        if n.dot(viewpoint - pts[i]) < 0.0 {
+                            (-n, c)
+                        } else {
+                            (n, c)
+                        }
+                    })
+            })
+            .collect()
+    }
 }
 
 impl Validate for OutlierParams {

@@ -4,7 +4,7 @@
 //! one height, shelves of a bookshelf) come out as separate surfaces, and each surface
 //! reports the area it really covers, not its hull's.
 
-use crate::filters::{NormalParams, local_planes_at};
+use crate::filters::{Neighbours, NormalParams, local_planes_at};
 use crate::plane::{Plane, RansacParams, ransac_plane, ransac_round};
 use tabula_geom::input::{
     Validate, check_count, check_in, check_non_negative, check_positive, nested,
@@ -249,7 +249,7 @@ fn pieces(
     plane: Plane,
     p: &SurfaceParams,
 ) -> (Vec<Surface>, Vec<usize>) {
-    let (plane, inliers, threshold) = refine(cloud, candidates, plane, p);
+    let (plane, inliers, threshold, band) = refine(cloud, candidates, plane, p);
     let at_noise = SurfaceParams {
         ransac: RansacParams {
             threshold,
@@ -257,8 +257,12 @@ fn pieces(
         },
         ..p.clone()
     };
+    // The flatness check looks among the points within 8 thresholds of the plane: at
+    // the RANSAC threshold those are the refinement's own band (the refined plane is
+    // within a threshold of it), whose neighbour index is reused.
+    let band = band.filter(|_| threshold <= p.ransac.threshold);
     let mut found = split(&cloud.points, &plane, &inliers, &at_noise);
-    found.retain(|s| is_flat(cloud, s, &at_noise));
+    found.retain(|s| is_flat(cloud, s, &at_noise, band.as_ref()));
     (found, inliers)
 }
 
@@ -270,26 +274,29 @@ pub fn surface_on(
     plane: Plane,
     p: &SurfaceParams,
 ) -> Option<Surface> {
+    surfaces_on(cloud, keep, plane, p).into_iter().next()
+}
+
+/// Every surface on a plane already known — a surface seen again to refine it (Alg. 9's
+/// second look): the same refinement, pieces and checks, without searching for the
+/// plane among everything else at that height.
+pub fn surfaces_on(
+    cloud: &PointCloud,
+    keep: Option<&[bool]>,
+    plane: Plane,
+    p: &SurfaceParams,
+) -> Vec<Surface> {
     let candidates = searched_points(cloud, keep, p);
-    pieces(cloud, &candidates, plane, p).0.into_iter().next()
+    pieces(cloud, &candidates, plane, p).0
 }
 
 /// Whether a surface's points lie on something flat (see `flat_normal_angle`).
 /// Neighbours come from the pixel window (organized) or, unorganized, from the points
 /// near the plane, which hold whatever the surface is part of.
-fn is_flat(cloud: &PointCloud, s: &Surface, p: &SurfaceParams) -> bool {
+fn is_flat(cloud: &PointCloud, s: &Surface, p: &SurfaceParams, band: Option<&Neighbours>) -> bool {
     const SAMPLES: usize = 200;
     let step = s.inliers.len().div_ceil(SAMPLES).max(1);
     let sample: Vec<usize> = s.inliers.iter().copied().step_by(step).collect();
-    let band = 8.0 * p.ransac.threshold;
-    let mask: Vec<bool> = cloud
-        .points
-        .iter()
-        .map(|q| {
-            let off = s.plane.distance(*q).abs();
-            cloud.is_organized() && q.is_finite() || off <= band
-        })
-        .collect();
     let eye = s.centroid + s.plane.normal;
     // Wide neighbourhoods: depth noise at a few metres swamps a 7-pixel window.
     let wide = NormalParams {
@@ -297,7 +304,21 @@ fn is_flat(cloud: &PointCloud, s: &Surface, p: &SurfaceParams) -> bool {
         k: 200,
         ..NormalParams::default()
     };
-    let normals = local_planes_at(cloud, eye, &mask, &sample, &wide);
+    let normals = match band {
+        Some(index) if !cloud.is_organized() => index.local_planes_at(cloud, eye, &sample, &wide),
+        _ => {
+            let band = 8.0 * p.ransac.threshold;
+            let mask: Vec<bool> = cloud
+                .points
+                .iter()
+                .map(|q| {
+                    let off = s.plane.distance(*q).abs();
+                    cloud.is_organized() && q.is_finite() || off <= band
+                })
+                .collect();
+            local_planes_at(cloud, eye, &mask, &sample, &wide)
+        }
+    };
     let cos = p.flat_normal_angle.cos();
     let flat = normals
         .iter()
@@ -314,7 +335,7 @@ fn facing_points(
     candidates: &[usize],
     plane: &Plane,
     p: &SurfaceParams,
-) -> Vec<usize> {
+) -> (Vec<usize>, Option<Neighbours>) {
     let reach = 2.0 * p.refine_threshold.max(p.ransac.threshold);
     let near: Vec<usize> = candidates
         .iter()
@@ -322,7 +343,7 @@ fn facing_points(
         .filter(|&i| plane.distance(cloud.points[i]).abs() <= reach)
         .collect();
     // Fits need thousands of points, not a floor's hundred thousand: an even sample.
-    const MOST: usize = 4_000;
+    const MOST: usize = 1_000;
     let near: Vec<usize> = near
         .iter()
         .copied()
@@ -335,7 +356,13 @@ fn facing_points(
         .map(|q| cloud.is_organized() && q.is_finite() || plane.distance(*q).abs() <= band)
         .collect();
     let eye = plane.normal * (1.0 - plane.d);
-    let normals = local_planes_at(cloud, eye, &mask, &near, &NormalParams::default());
+    let band = (!cloud.is_organized())
+        .then(|| Neighbours::over(cloud, &mask))
+        .flatten();
+    let normals = match &band {
+        Some(index) => index.local_planes_at(cloud, eye, &near, &NormalParams::default()),
+        None => local_planes_at(cloud, eye, &mask, &near, &NormalParams::default()),
+    };
     let cos = p.ransac.max_normal_angle.cos();
     let mut out: Vec<usize> = near
         .iter()
@@ -344,7 +371,7 @@ fn facing_points(
         .map(|(&i, _)| i)
         .collect();
     out.sort_unstable();
-    out
+    (out, band)
 }
 
 /// Seed 000's refinement: refit to everything within the refinement threshold, then
@@ -352,18 +379,19 @@ fn facing_points(
 /// when that is larger (2.5 σ, σ from the median distance of the points in the
 /// refinement band, at most the band): a table 2.5 m from a Kinect has σ ≈ 1 cm, and
 /// a 1 cm threshold would leave a third of it behind to be found again as a second
-/// table. Returns the plane, its inliers and the threshold used.
+/// table. Returns the plane, its inliers, the threshold used and the neighbour index of
+/// the band the fits' normals came from (unorganized clouds).
 fn refine(
     cloud: &PointCloud,
     candidates: &[usize],
     mut plane: Plane,
     p: &SurfaceParams,
-) -> (Plane, Vec<usize>, f64) {
+) -> (Plane, Vec<usize>, f64, Option<Neighbours>) {
     let points = &cloud.points;
     // Fits only use points whose own surface faces the plane's way: a band around a
     // table's plane also cuts a strip out of the wall behind it, and that strip, far
     // from the table, tilts a least-squares fit more with every iteration.
-    let facing = facing_points(cloud, candidates, &plane, p);
+    let (facing, index) = facing_points(cloud, candidates, &plane, p);
     for _ in 0..p.refine_iterations {
         let near = facing
             .iter()
@@ -432,7 +460,7 @@ fn refine(
         }
         (plane, inliers) = (fit, more);
     }
-    (plane, inliers, threshold)
+    (plane, inliers, threshold, index)
 }
 
 /// Splits the points on a plane into connected pieces (grid cells) and keeps those

@@ -25,7 +25,7 @@ use tabula_motion::group::thread_cpu;
 use tabula_motion::{CollisionWorld, MoveError, MoveGroup, MoveGroupParams, Plan};
 use tabula_perception::freespace::{FreeSpaceMap, FreeSpaceParams};
 use tabula_perception::selffilter::{PlacedSolid, Solid};
-use tabula_perception::surfaces::{Surface, SurfaceParams, find_surfaces};
+use tabula_perception::surfaces::{Surface, SurfaceParams, find_surfaces, surfaces_on};
 use tabula_robot::driver::{DriverError, JointState, RobotDriver};
 use tabula_robot::robots::NamedRobot;
 
@@ -337,6 +337,7 @@ pub fn place(
         scene_keys: Default::default(),
         near: Vec::new(),
         near_keys: Default::default(),
+        held_reach: params.protective_radius,
     };
     let error = run.run(driver, request).err();
     let mut report = run.report;
@@ -369,17 +370,27 @@ struct Run<'a> {
     /// (MoveIt keeps it in the SRDF), so it is setup, not part of a decision.
     template: Option<MoveGroup>,
     /// The voxels the scene already has a point in.
-    scene_keys: rustc_hash::FxHashSet<[i64; 3]>,
+    scene_keys: rustc_hash::FxHashSet<u64>,
     /// The scene's points seen from within `edge_range`, one per voxel.
     near: Vec<Vec3>,
-    near_keys: rustc_hash::FxHashSet<[i64; 3]>,
+    near_keys: rustc_hash::FxHashSet<u64>,
+    /// How far from the tool frame what the hand holds reaches (m): the protective
+    /// sphere while scanning, then the larger of it and the model.
+    held_reach: f64,
 }
 
 impl Run<'_> {
     /// Adds seen points to the scene, one per search-leaf voxel: views overlap, and
     /// every later step (surface search, free space, occupancy) works on the scene.
     fn add_scene(&mut self, scene: &mut Vec<Vec3>, points: Vec<Vec3>) {
-        add_once(scene, &mut self.scene_keys, points, self.params.search_leaf);
+        for q in points {
+            if self
+                .scene_keys
+                .insert(tabula_geom::packed_voxel_key(q, self.params.search_leaf))
+            {
+                scene.push(q);
+            }
+        }
     }
 
     /// A move group for `arm` at `state`, without world objects.
@@ -550,6 +561,7 @@ impl Run<'_> {
             (Vec3::ZERO, p.protective_radius)
         };
         model.extend(first);
+        self.held_reach = sphere_centre.length() + radius;
         let cam = driver.capture(&p.camera)?.world_from_camera.translation;
         let forward = heading_vector(&world_from_base(robot, driver)?);
         let target = Vec3::new(cam.x, cam.y, cam.z - p.scan_drop) + forward * p.scan_distance;
@@ -649,6 +661,10 @@ impl Run<'_> {
             )));
         }
         self.report.model_points = model.clone();
+        self.held_reach = model
+            .iter()
+            .map(|q| q.length())
+            .fold(self.held_reach, f64::max);
         Ok((model, scene))
     }
 
@@ -714,17 +730,21 @@ impl Run<'_> {
     }
 
     /// The collision world of `group`: the seen scene as occupancy, minus what lies
-    /// within the held object's reach of the tool.
+    /// within the held object's reach of the tool. Only the part the arm and what it
+    /// holds can ever reach is modelled: a sweep's scene holds the whole room, and
+    /// the occupancy of a floor and walls far away only costs time.
     fn occupy(&self, group: &mut MoveGroup, scene: &[Vec3], keep_out: Option<(Vec3, f64)>) {
         let _ = group.world.remove_object("scene");
-        let pts: Vec<Vec3> = match keep_out {
-            Some((c, r)) => scene
-                .iter()
-                .copied()
-                .filter(|q| q.distance(c) > r)
-                .collect(),
-            None => scene.to_vec(),
-        };
+        let reach = group.world.moving_bound().map(|(c, r)| {
+            let r = r + self.held_reach + 2.0 * self.params.observe.voxel;
+            (c, r * r)
+        });
+        let pts: Vec<Vec3> = scene
+            .iter()
+            .copied()
+            .filter(|q| reach.is_none_or(|(c, r2)| q.distance_squared(c) <= r2))
+            .filter(|q| keep_out.is_none_or(|(c, r)| q.distance(c) > r))
+            .collect();
         let _ = group
             .world
             .add_occupancy("scene", &pts, self.params.observe.voxel);
@@ -754,6 +774,11 @@ impl Run<'_> {
                 // Rocking: a pose on a curved contact (a bottle or a ball on its side)
                 // rolls to wherever its facets end instead of resting as planned.
                 let rocking = s.rocking(model, com).clamp(0.0, 1.0);
+                tracing::debug!(
+                    "place: pose {:?} topple {:.1}° fill {fill:.2} rocking {rocking:.2}",
+                    s.support_normal,
+                    s.topple_deg
+                );
                 (s.topple_deg * (0.4 + 0.6 * fill) * rocking, s.clone())
             })
             .collect();
@@ -809,6 +834,8 @@ impl Run<'_> {
             .translation
             .z;
         let trace = self.trace;
+        let shoulder = shoulder_position(robot, arm, &state, root).ok();
+        let approach = group.gripper.as_ref().map_or(Vec3::X, |g| g.approach());
         let plan = self.decide(|_| {
             let mut why = Vec::new();
             for (x, y, z) in [
@@ -820,14 +847,26 @@ impl Run<'_> {
             ] {
                 let at = world_base.transform_point(Vec3::new(x, side * y, 0.0))
                     + Vec3::Z * (camera_z + z - world_base.translation.z);
-                // Pointing ahead, up and ahead, out to the side.
-                for turn in [
+                // Pointing ahead, up and ahead, out to the side, up; the hand pointing
+                // most nearly away from the shoulder first — how an arm reaching that
+                // far holds it — since an IK search that finds nothing costs its whole
+                // budget.
+                let mut turns = [
                     Quat::IDENTITY,
                     Quat::from_rotation_y(-0.8),
                     Quat::from_rotation_z(side * 0.8),
                     Quat::from_rotation_y(-1.4),
-                ] {
-                    let r = world_base.rotation * turn;
+                ]
+                .map(|t| world_base.rotation * t);
+                if let Some(shoulder) = shoulder {
+                    let out = (at - shoulder).normalize_or_zero();
+                    turns.sort_by(|a, b| {
+                        (*b * approach)
+                            .dot(out)
+                            .total_cmp(&(*a * approach).dot(out))
+                    });
+                }
+                for r in turns {
                     match group.plan_to_pose(&start, &Pose::from_parts(at, r)) {
                         Ok(plan) => return Some(plan),
                         Err(e) => why.push(e.to_string()),
@@ -876,14 +915,13 @@ impl Run<'_> {
         for at in looks {
             self.look_and_add(driver, arm, hull, at, scene)?;
         }
-        let mut surfaces = self.decide(|r| r.find(scene, None));
+        let mut surfaces = self.decide(|r| r.find(scene));
         // Refinement: look at each accepted surface again, search near its height.
         for surface in surfaces.iter_mut() {
             for _ in 0..p.refine_looks {
                 let c = surface.centroid;
                 self.look_and_add(driver, arm, hull, c, scene)?;
-                let z = c.z;
-                let again = self.decide(|r| r.find(scene, Some(z)));
+                let again = self.decide(|r| r.find_again(scene, surface));
                 if let Some(best) = again
                     .into_iter()
                     .min_by(|a, b| a.centroid.distance(c).total_cmp(&b.centroid.distance(c)))
@@ -913,26 +951,11 @@ impl Run<'_> {
         Ok(unique)
     }
 
-    /// Horizontal surfaces in the merged scene, optionally only near height `z`.
-    fn find(&self, scene: &[Vec3], z: Option<f64>) -> Vec<Surface> {
+    /// Horizontal surfaces in the merged scene.
+    fn find(&self, scene: &[Vec3]) -> Vec<Surface> {
         let p = self.params;
-        // Gravity is known (the world frame): only points at a reachable height can be
-        // on a reachable surface, so the floor (most of a sweep) is not searched at all
-        // — the seed peeled it off plane by plane and then rejected it by height.
-        let [lo, hi] = p.surfaces.height_range;
-        let band: Vec<Vec3> = scene
-            .iter()
-            .copied()
-            .filter(|q| q.z >= lo - 0.05 && q.z <= hi + 0.05)
-            .collect();
-        let pts = band;
-        let keep: Option<Vec<bool>> = z.map(|z| {
-            pts.iter()
-                .map(|q| (q.z - z).abs() <= p.surfaces.refine_threshold)
-                .collect()
-        });
-        let cloud = PointCloud::unorganized(pts);
-        let search = find_surfaces(&cloud, keep.as_deref(), &p.surfaces, false);
+        let cloud = self.reachable_heights(scene);
+        let search = find_surfaces(&cloud, None, &p.surfaces, false);
         if self.trace {
             for t in &search.trials {
                 tracing::debug!(
@@ -950,6 +973,37 @@ impl Run<'_> {
             .into_iter()
             .filter(|s| s.area >= p.surfaces.min_area)
             .collect()
+    }
+
+    /// `surface` in the merged scene again after another look at it: the points within
+    /// the refinement threshold of its plane, refined, split and checked as a search
+    /// would (the plane needs no new search).
+    fn find_again(&self, scene: &[Vec3], surface: &Surface) -> Vec<Surface> {
+        let p = self.params;
+        let cloud = self.reachable_heights(scene);
+        let keep: Vec<bool> = cloud
+            .points
+            .iter()
+            .map(|q| surface.plane.distance(*q).abs() <= p.surfaces.refine_threshold)
+            .collect();
+        surfaces_on(&cloud, Some(&keep), surface.plane, &p.surfaces)
+            .into_iter()
+            .filter(|s| s.area >= p.surfaces.min_area)
+            .collect()
+    }
+
+    /// The scene's points at heights a reachable surface can have. Gravity is known
+    /// (the world frame), so the floor (most of a sweep) is not searched at all — the
+    /// seed peeled it off plane by plane and then rejected it by height.
+    fn reachable_heights(&self, scene: &[Vec3]) -> PointCloud {
+        let [lo, hi] = self.params.surfaces.height_range;
+        PointCloud::unorganized(
+            scene
+                .iter()
+                .copied()
+                .filter(|q| q.z >= lo - 0.05 && q.z <= hi + 0.05)
+                .collect(),
+        )
     }
 
     fn look_and_add(
@@ -988,13 +1042,16 @@ impl Run<'_> {
             };
             let seen = world_points(&frame, &solids, &obs, r.params.search_leaf);
             let eye = frame.world_from_camera.translation;
-            let near: Vec<Vec3> = seen
-                .iter()
-                .copied()
-                .filter(|q| q.distance(eye) <= r.params.edge_range)
-                .collect();
-            add_once(&mut r.near, &mut r.near_keys, near, r.params.search_leaf);
-            r.add_scene(scene, seen);
+            let range2 = r.params.edge_range * r.params.edge_range;
+            for q in seen {
+                let key = tabula_geom::packed_voxel_key(q, r.params.search_leaf);
+                if q.distance_squared(eye) <= range2 && r.near_keys.insert(key) {
+                    r.near.push(q);
+                }
+                if r.scene_keys.insert(key) {
+                    scene.push(q);
+                }
+            }
         });
         Ok(())
     }
@@ -1418,8 +1475,10 @@ fn plan_sequence(
             spot.world_from_tool.rotation,
         )
     };
-    group.world = full.clone();
-    group.attach("object", hull.clone(), Pose::IDENTITY)?;
+    {
+        group.world = full.clone();
+        group.attach("object", hull.clone(), Pose::IDENTITY)
+    }?;
     let holding = group.world.clone();
     let _ = group.world.remove_object("surface");
     let goal_ok = group.valid_ik(&spot.world_from_tool, start);
@@ -1427,15 +1486,20 @@ fn plan_sequence(
         Ok(_) => PlaceError::Unreachable,
         Err(e) => return Err(e.into()),
     };
-    // Every way down that works (approach distances, desired first; IK branches), then
-    // one RRT-Connect to all of their tops at once: a failed search is the costly part,
-    // and one that cannot reach any top need not be run again per top.
+    // The ways down from the first approach distance that has any (desired first, then
+    // shorter; every IK branch), then one RRT-Connect to all of their tops at once: a
+    // failed search is the costly part, and one that cannot reach any top need not be
+    // run again per top. A shorter approach is only a fallback (MoveIt's place stage
+    // takes the same desired-then-minimum range), so it is not tried once one works.
     let mut ways: Vec<(Vec<f64>, Plan)> = Vec::new();
     for d in [
         p.approach_desired,
         (p.approach_desired + p.approach_min) / 2.0,
         p.approach_min,
     ] {
+        if !ways.is_empty() {
+            break;
+        }
         let above = shifted(d);
         group.world = holding.clone();
         let goals = match group.valid_ik(&above, start) {
@@ -1770,21 +1834,6 @@ fn gripper_points(robot: &NamedRobot, arm: &str) -> Vec<Vec3> {
         out.push(Vec3::ZERO);
     }
     out
-}
-
-/// Appends `points` to `into`, one per `leaf` voxel over all calls (`keys` remembers
-/// the voxels taken): views overlap.
-fn add_once(
-    into: &mut Vec<Vec3>,
-    keys: &mut rustc_hash::FxHashSet<[i64; 3]>,
-    points: Vec<Vec3>,
-    leaf: f64,
-) {
-    for q in points {
-        if keys.insert(tabula_geom::voxel_key(q, leaf)) {
-            into.push(q);
-        }
-    }
 }
 
 /// The object's footprint resting in `pose` (yaw 0), relative to the contact centroid.
