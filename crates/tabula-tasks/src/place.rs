@@ -1813,7 +1813,9 @@ fn forward_extent(
 
 /// Points of the gripper in the tool frame (the seed's gripper boxes' corners and face
 /// centres, Alg. 6), or the tool's origin when it has none.
-fn gripper_points(robot: &NamedRobot, arm: &str) -> Vec<Vec3> {
+/// Points bounding `arm`'s gripper in its tool frame (the corners, edge midpoints and
+/// face centres of its self-filter boxes): what must stay clear of a support plane.
+pub fn gripper_points(robot: &NamedRobot, arm: &str) -> Vec<Vec3> {
     let Some(g) = arm_gripper(robot, arm) else {
         return vec![Vec3::ZERO];
     };
