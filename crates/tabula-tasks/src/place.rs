@@ -11,7 +11,7 @@
 //! Stages report their time and, on failure, a typed reason, as MoveIt Task
 //! Constructor's stages do.
 
-use crate::observe::{ObserveParams, clusters, robot_solids, world_points};
+use crate::observe::{ObserveParams, clusters, robot_solids, world_points, world_points_unthinned};
 use crate::pick_place::Phase;
 use crate::stable::{StableParams, StablePose, of_cloud};
 use std::time::Instant;
@@ -1040,11 +1040,17 @@ impl Run<'_> {
                 cloud: frame.cloud.decimated(r.params.search_decimate.max(1)),
                 ..frame
             };
-            let seen = world_points(&frame, &solids, &obs, r.params.search_leaf);
+            // One point per search leaf is kept below, over every view at once.
+            let seen = world_points_unthinned(&frame, &solids, &obs);
             let eye = frame.world_from_camera.translation;
             let range2 = r.params.edge_range * r.params.edge_range;
+            // Neighbouring pixels often share a voxel: a run needs no hash lookups.
+            let mut last = None;
             for q in seen {
                 let key = tabula_geom::packed_voxel_key(q, r.params.search_leaf);
+                if last.replace(key) == Some(key) {
+                    continue;
+                }
                 if q.distance_squared(eye) <= range2 && r.near_keys.insert(key) {
                     r.near.push(q);
                 }
