@@ -536,13 +536,7 @@ pub fn local_planes_at(
     let pts = &cloud.points;
     let none = (Vec3::NAN, Vec3::NAN);
     let usable = |i: usize| mask.get(i) == Some(&true) && pts.get(i).is_some_and(|q| q.is_finite());
-    let orient = |i: usize, n: Vec3| {
-        if n.dot(viewpoint - pts[i]) < 0.0 {
-            -n
-        } else {
-            n
-        }
-    };
+    let orient = |i: usize, n: Vec3| toward(viewpoint, pts[i], n);
     if cloud.is_organized() {
         let (w, h) = (cloud.width, cloud.height);
         let r = p.window.clamp(1, MAX_WINDOW);
@@ -592,6 +586,11 @@ pub fn local_planes_at(
     index.local_planes_at(cloud, viewpoint, at, p)
 }
 
+/// The normal `n` at `at`, flipped if need be to face `viewpoint`.
+fn toward(viewpoint: Vec3, at: Vec3, n: Vec3) -> Vec3 {
+    if n.dot(viewpoint - at) < 0.0 { -n } else { n }
+}
+
 /// The points of an unorganized cloud a mask chooses, in a k-d tree: built once, it
 /// serves every normal estimate among the same neighbours.
 pub struct Neighbours {
@@ -639,13 +638,7 @@ impl Neighbours {
                 let nn = self.tree.nearest(&pts[i].to_array(), k);
                 scatter(nn.iter().map(|m| pts[self.members[m.1]]))
                     .and_then(|(c, m)| Some((smallest_eigenvector(m)?.0, c)))
-                    .map_or(none, |(n, c)| {
-                        if n.dot(viewpoint - pts[i]) < 0.0 {
-                            (-n, c)
-                        } else {
-                            (n, c)
-                        }
-                    })
+                    .map_or(none, |(n, c)| (toward(viewpoint, pts[i], n), c))
             })
             .collect()
     }
