@@ -277,19 +277,15 @@ fn point_cloud_occupancy_and_contact_lists() {
 #[test]
 fn what_the_other_hand_holds_turns_with_the_shared_torso() {
     use tabula_motion::{MoveGroup, MoveGroupParams};
-    use tabula_robot::driver::JointState;
     let robot = robots::load("golem3").unwrap();
-    let mut state = JointState::default();
-    for j in &robot.model.joints {
-        if j.kind.is_single_axis() {
-            state.names.push(j.name.clone());
-            // Fingers open (closed, they touch each other), the rest at zero.
-            let finger = j.name.contains("finger");
-            state
-                .positions
-                .push(if finger { j.limits.upper } else { 0.0 });
+    // Fingers open (closed, they touch each other), the rest at zero.
+    let state = every_joint(&robot, |j| {
+        if j.name.contains("finger") {
+            j.limits.upper
+        } else {
+            0.0
         }
-    }
+    });
     let params = MoveGroupParams::default();
     let bare = MoveGroup::new(&robot, "right", &state, Pose::IDENTITY, params).unwrap();
     let yaw = bare
@@ -354,15 +350,8 @@ fn what_the_other_hand_holds_turns_with_the_shared_torso() {
 fn the_moving_bound_holds_the_arm_and_what_it_holds_in_every_configuration() {
     use rand::RngExt;
     use tabula_motion::{MoveGroup, MoveGroupParams};
-    use tabula_robot::driver::JointState;
     let robot = robots::load("pr2").unwrap();
-    let mut state = JointState::default();
-    for j in &robot.model.joints {
-        if j.kind.is_single_axis() {
-            state.names.push(j.name.clone());
-            state.positions.push(0.0);
-        }
-    }
+    let state = every_joint(&robot, |_| 0.0);
     let root = Pose::from_parts(Vec3::new(1.0, -2.0, 0.0), Quat::from_rotation_z(0.7));
     let mut group =
         MoveGroup::new(&robot, "left", &state, root, MoveGroupParams::default()).unwrap();
@@ -393,4 +382,22 @@ fn the_moving_bound_holds_the_arm_and_what_it_holds_in_every_configuration() {
             assert!(p.distance(centre) <= holding, "{p:?}");
         }
     }
+}
+
+/// A joint state naming every single-axis joint of `robot`, each at `value` of it.
+fn every_joint(
+    robot: &robots::NamedRobot,
+    value: impl Fn(&tabula_robot::model::Joint) -> f64,
+) -> tabula_robot::driver::JointState {
+    let mut state = tabula_robot::driver::JointState::default();
+    for j in robot
+        .model
+        .joints
+        .iter()
+        .filter(|j| j.kind.is_single_axis())
+    {
+        state.names.push(j.name.clone());
+        state.positions.push(value(j));
+    }
+    state
 }
