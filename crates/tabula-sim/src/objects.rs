@@ -284,7 +284,10 @@ fn bottle() -> ObjectMesh {
 }
 
 /// A ball with a flat-bottomed cylindrical pocket cut into one side (seed 000's own
-/// example of a concavity that cannot rest on a table): 730 vertices.
+/// example of a concavity that cannot rest on a table): 730 vertices. It stands as it
+/// rests, on the pocket's rim — the only way a ball with a pocket stays put on a table —
+/// so a generated grip "as if picked up from a table" (hand above the base) leaves
+/// the pocket free to be set down on again.
 fn pocket_sphere() -> ObjectMesh {
     let r = 0.045;
     let rings = 27;
@@ -307,6 +310,12 @@ fn pocket_sphere() -> ObjectMesh {
         if q.x > 0.0 && (q.y * q.y + q.z * q.z).sqrt() < 0.022 {
             p.x = p.x.min(centre.x + r - 0.015);
         }
+    }
+    // Turned a quarter about y (+x to −z: a proper rotation, so the faces stay outward)
+    // and lowered onto the rim.
+    for p in &mut v {
+        let q = *p - centre;
+        *p = centre + Vec3::new(q.z, q.y, -q.x) - Vec3::new(0.0, 0.0, 0.015);
     }
     ObjectMesh::new("pocket_sphere", false).add((v, t))
 }

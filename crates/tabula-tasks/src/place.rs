@@ -560,6 +560,11 @@ impl Run<'_> {
         } else {
             (Vec3::ZERO, p.protective_radius)
         };
+        let approach = group
+            .gripper
+            .as_ref()
+            .map_or(Vec3::X, tabula_robot::description::Gripper::approach);
+        let protective = protective_shape(&first, approach, sphere_centre, radius);
         model.extend(first);
         self.held_reach = sphere_centre.length() + radius;
         let cam = driver.capture(&p.camera)?.world_from_camera.translation;
@@ -603,7 +608,7 @@ impl Run<'_> {
         self.occupy(&mut group, &scene, None);
         group.attach(
             "protective sphere",
-            SharedShape::ball(radius),
+            protective,
             Pose::from_translation(sphere_centre),
         )?;
         let mut used = 0usize;
@@ -1636,6 +1641,44 @@ fn look_at(driver: &mut impl RobotDriver, at: Vec3) -> Result<(), PlaceError> {
 }
 
 /// Whether a failure means "nothing here": worth turning around for.
+/// The protective sphere (SPEC §1.1) around the first view of the held object, cut by a
+/// plane a margin behind the deepest point seen along the approach axis (tool frame,
+/// relative to `centre`). What the fingers hold lies in front of the palm: a whole ball
+/// around a long object held at one end reaches back over the wrist, and then no view
+/// is free of the arm's own links (the palm and fingers may touch it, the wrist may
+/// not). Unseen parts beyond the cut are as unknown as they are beyond the ball.
+fn protective_shape(first: &[Vec3], approach: Vec3, centre: Vec3, radius: f64) -> SharedShape {
+    let deepest = first
+        .iter()
+        .map(|q| q.dot(approach))
+        .fold(f64::INFINITY, f64::min);
+    let cut = deepest - 0.03 - centre.dot(approach);
+    if first.len() < 10 || !cut.is_finite() || cut <= -radius * 0.95 {
+        return SharedShape::ball(radius);
+    }
+    // The ball's points, those behind the plane pressed onto it: their hull holds the
+    // ball's part in front of the plane.
+    let (u, v) = (
+        approach.any_orthonormal_vector(),
+        approach.cross(approach.any_orthonormal_vector()),
+    );
+    let mut points = Vec::new();
+    for i in 0..=12 {
+        let polar = std::f64::consts::PI * i as f64 / 12.0;
+        for j in 0..24 {
+            let azimuth = std::f64::consts::TAU * j as f64 / 24.0;
+            let d = approach * polar.cos()
+                + (u * azimuth.cos() + v * azimuth.sin()) * polar.sin();
+            // The polygon's chords fall inside the ball: push the points out so the hull
+            // holds it.
+            let q = d * radius / (std::f64::consts::PI / 24.0).cos().powi(2);
+            let along = q.dot(approach);
+            points.push(q + approach * (cut - along).max(0.0));
+        }
+    }
+    SharedShape::convex_hull(&points).unwrap_or_else(|| SharedShape::ball(radius))
+}
+
 fn retry_behind(e: &PlaceError) -> bool {
     matches!(
         e,
