@@ -323,13 +323,16 @@ impl FreeSpaceMap {
             .map(|k| {
                 let yaw = std::f64::consts::TAU * k as f64 / self.yaw_samples as f64;
                 let rot: Vec<Vec2> = h.iter().map(|q| Vec2::from_angle(yaw).rotate(*q)).collect();
-                let cover = (-r..=r)
+                let mut cover: Vec<(isize, isize, f64)> = (-r..=r)
                     .flat_map(|dj| (-r..=r).map(move |di| (di, dj)))
-                    .filter(|&(di, dj)| {
+                    .filter_map(|(di, dj)| {
                         let c = Vec2::new(di as f64 * res, dj as f64 * res);
-                        inside_polygon(&rot, c) || distance_to_boundary(&rot, c) <= slack
+                        (inside_polygon(&rot, c) || distance_to_boundary(&rot, c) <= slack)
+                            .then_some((di, dj, c.length()))
                     })
                     .collect();
+                // Outermost first: those are the cells that meet an obstacle first.
+                cover.sort_by(|a, b| b.2.total_cmp(&a.2).then((a.0, a.1).cmp(&(b.0, b.1))));
                 (yaw, cover)
             })
             .collect();
@@ -350,16 +353,19 @@ impl FreeSpaceMap {
         if self.clearance[k] >= m.reach + m.need {
             return m.shapes.iter().map(|(yaw, _)| *yaw).collect();
         }
+        // A cell nearer than this to the centre is clear enough by the triangle
+        // inequality (the clearance is a Euclidean distance): only its bounds matter.
+        let sure = self.clearance[k] - m.need - 1e-9;
         m.shapes
             .iter()
             .filter(|(_, cover)| {
-                cover.iter().all(|&(di, dj)| {
+                cover.iter().all(|&(di, dj, d)| {
                     let (a, b) = (i + di, j + dj);
                     a >= 0
                         && b >= 0
                         && (a as usize) < self.nx
                         && (b as usize) < self.ny
-                        && self.clearance[b as usize * self.nx + a as usize] >= m.need
+                        && (d < sure || self.clearance[b as usize * self.nx + a as usize] >= m.need)
                 })
             })
             .map(|(yaw, _)| *yaw)
@@ -423,21 +429,39 @@ impl FreeSpaceMap {
                 .total_cmp(&self.clearance[a])
                 .then(a.cmp(&b))
         });
-        let mut taken: Vec<Vec2> = Vec::new();
+        // Cells within `spacing` of a spot already taken (cell centres lie on the grid,
+        // so the disc of cells is exact).
+        let mut near_taken = vec![false; self.cells.len()];
+        let reach = (spacing / self.resolution).ceil() as isize;
+        let mut taken = 0usize;
         let mut out = Vec::new();
         for k in order {
-            if taken.len() >= max_spots {
+            if taken >= max_spots {
                 break;
             }
-            let c = self.cell_centre(k);
-            if taken.iter().any(|t| t.distance(c) < spacing) {
+            if near_taken[k] {
                 continue;
             }
             let yaws = self.yaws_at(k, &masks);
             if yaws.is_empty() {
                 continue;
             }
-            taken.push(c);
+            taken += 1;
+            let (i, j) = ((k % self.nx) as isize, (k / self.nx) as isize);
+            for dj in -reach..=reach {
+                for di in -reach..=reach {
+                    let (a, b) = (i + di, j + dj);
+                    let d = Vec2::new(di as f64, dj as f64) * self.resolution;
+                    if a >= 0
+                        && b >= 0
+                        && (a as usize) < self.nx
+                        && (b as usize) < self.ny
+                        && d.length() < spacing
+                    {
+                        near_taken[b as usize * self.nx + a as usize] = true;
+                    }
+                }
+            }
             out.extend(yaws.into_iter().map(|yaw| self.placement(k, yaw)));
         }
         out
@@ -446,7 +470,9 @@ impl FreeSpaceMap {
 
 /// A footprint prepared for fitting: per orientation, the cells it covers.
 struct FootprintMasks {
-    shapes: Vec<(f64, Vec<(isize, isize)>)>,
+    /// Per yaw, the covered cells' offsets and their distance from the centre (m),
+    /// farthest first.
+    shapes: Vec<(f64, Vec<(isize, isize, f64)>)>,
     /// Farthest outline point from the origin (m).
     reach: f64,
     /// Clearance every covered cell needs (m).
@@ -576,6 +602,73 @@ mod tests {
                 .map(|b| ((b % nx) as f64 - x).powi(2) + ((b / nx) as f64 - y).powi(2))
                 .fold(f64::INFINITY, f64::min);
             assert_eq!(*dk, best, "cell {k}");
+        }
+    }
+
+    #[test]
+    fn places_agree_with_checking_every_covered_cell_and_every_spot_taken() {
+        let (surface, points) = square_table(0.6);
+        let blob = |x0: f64, y0: f64, n: usize| -> Vec<Vec3> {
+            (0..n * n)
+                .map(|k| Vec3::new(x0 + (k % n) as f64 * 0.01, y0 + (k / n) as f64 * 0.01, 0.75))
+                .collect()
+        };
+        let objects = vec![blob(0.1, 0.1, 8), blob(0.35, 0.2, 5), blob(0.2, 0.42, 12)];
+        let map =
+            FreeSpaceMap::build(&surface, &points, &objects, &FreeSpaceParams::default()).unwrap();
+        let footprint = rect(0.09, 0.05);
+        let (margin, spacing) = (0.015, 0.04);
+        let m = map.footprint_masks(&footprint, margin).unwrap();
+        // Every covered cell looked up, no shortcut; spots spaced by a list of those taken.
+        let fits = |k: usize, cover: &[(isize, isize, f64)]| {
+            let (i, j) = ((k % map.nx) as isize, (k / map.nx) as isize);
+            cover.iter().all(|&(di, dj, _)| {
+                let (a, b) = (i + di, j + dj);
+                a >= 0
+                    && b >= 0
+                    && (a as usize) < map.nx
+                    && (b as usize) < map.ny
+                    && map.clearance[b as usize * map.nx + a as usize] >= m.need
+            })
+        };
+        let mut order: Vec<usize> = (0..map.cells.len())
+            .filter(|&k| map.cells[k] == Cell::Free && map.clearance[k] >= m.need)
+            .collect();
+        order.sort_by(|&a, &b| {
+            map.clearance[b]
+                .total_cmp(&map.clearance[a])
+                .then(a.cmp(&b))
+        });
+        let mut taken: Vec<usize> = Vec::new();
+        let mut want = Vec::new();
+        for k in order {
+            let (i, j) = ((k % map.nx) as f64, (k / map.nx) as f64);
+            let near = taken.iter().any(|&t| {
+                let d = Vec2::new((t % map.nx) as f64 - i, (t / map.nx) as f64 - j);
+                (d * map.resolution).length() < spacing
+            });
+            let yaws: Vec<f64> = m
+                .shapes
+                .iter()
+                .filter(|(_, cover)| fits(k, cover))
+                .map(|(yaw, _)| *yaw)
+                .collect();
+            if near || yaws.is_empty() || taken.len() >= 400 {
+                continue;
+            }
+            taken.push(k);
+            want.extend(yaws.into_iter().map(|yaw| (k, yaw)));
+        }
+        let got: Vec<(Vec3, f64)> = map
+            .places(&footprint, margin, 400, spacing)
+            .into_iter()
+            .map(|p| (p.position, p.yaw))
+            .collect();
+        assert!(want.len() > 20, "{}", want.len());
+        assert_eq!(got.len(), want.len());
+        for ((position, yaw), (k, want_yaw)) in got.iter().zip(&want) {
+            assert!(position.distance(map.to_world(map.cell_centre(*k))) < 1e-12);
+            assert_eq!(yaw, want_yaw);
         }
     }
 

@@ -1667,8 +1667,7 @@ fn protective_shape(first: &[Vec3], approach: Vec3, centre: Vec3, radius: f64) -
         let polar = std::f64::consts::PI * i as f64 / 12.0;
         for j in 0..24 {
             let azimuth = std::f64::consts::TAU * j as f64 / 24.0;
-            let d = approach * polar.cos()
-                + (u * azimuth.cos() + v * azimuth.sin()) * polar.sin();
+            let d = approach * polar.cos() + (u * azimuth.cos() + v * azimuth.sin()) * polar.sin();
             // The polygon's chords fall inside the ball: push the points out so the hull
             // holds it.
             let q = d * radius / (std::f64::consts::PI / 24.0).cos().powi(2);
