@@ -412,18 +412,24 @@ pub struct BenchRow {
     #[serde(default)]
     table_found: bool,
     /// Ground truth for meshes: whether the true object, held as the task holds it,
-    /// has a resting pose the hand leaves free (see [`grip_allows_rest`]).
+    /// has a resting pose the hand leaves free (see [`resting_faces`]).
     #[serde(default)]
     grip_allows_rest: Option<bool>,
+    /// Ground truth for meshes: the angle (°) from the chosen pose's support normal to
+    /// the nearest flat resting face of the true object, both in the tool frame — how
+    /// well the scan found the face it set the object down on.
+    #[serde(default)]
+    normal_error_deg: Option<f64>,
 }
 
-/// Whether the true object (the scene's held mesh), held as the scene holds it, has a
-/// flat stable pose that tilts at least `min_topple_deg` before toppling and whose
-/// support plane the gripper stays clear of — the tests the placer applies to its
-/// scanned model, here on the exact mesh. When none has, no placement can rest as planned without a
-/// regrasp: a ball with a pocket held across the pocket can only be set down on its
-/// curved side. `None` for primitives and scenes without a held mesh.
-fn grip_allows_rest(scene: &tabula_sim::Scene, params: &PlaceParams) -> Option<bool> {
+/// The true object's (the scene's held mesh's) flat resting faces as support normals in
+/// the tool frame, each with whether the hand stays clear of its plane: the stable poses
+/// that tilt at least `min_topple_deg` before toppling, a flat face (not a curved side),
+/// the tests the placer applies to its scanned model, here on the exact mesh. When no
+/// face leaves the hand clear, no placement can rest as planned without a regrasp (a
+/// ball with a pocket held across the pocket). `None` for primitives and scenes
+/// without a held mesh.
+fn resting_faces(scene: &tabula_sim::Scene, params: &PlaceParams) -> Option<Vec<(Vec3, bool)>> {
     let (robot_spec, hold) = scene
         .robots
         .iter()
@@ -471,11 +477,19 @@ fn grip_allows_rest(scene: &tabula_sim::Scene, params: &PlaceParams) -> Option<b
         .collect();
     // A flat support (not a curved side that only looks flat within the tolerance:
     // most of its energy barrier really there), tilting far enough, the hand clear.
-    Some(poses.poses.iter().any(|s| {
-        s.topple_deg >= params.min_topple_deg
-            && s.rocking(&vertices, com) >= 0.5
-            && s.clear_of(&gripper, params.gripper_clearance - params.release_height)
-    }))
+    Some(
+        poses
+            .poses
+            .iter()
+            .filter(|s| s.topple_deg >= params.min_topple_deg && s.rocking(&vertices, com) >= 0.5)
+            .map(|s| {
+                (
+                    tool_from_object.rotation * s.normal(),
+                    s.clear_of(&gripper, params.gripper_clearance - params.release_height),
+                )
+            })
+            .collect(),
+    )
 }
 
 /// The suite's generated task `seed`.
@@ -518,7 +532,8 @@ fn trial(
         .map_err(|e| anyhow::anyhow!("task {s}: {e}"))?;
     let world = SimWorld::from_scene(&scene, Default::default())
         .map_err(|e| anyhow::anyhow!("task {s}: {e}"))?;
-    let grip_allows_rest = grip_allows_rest(&scene, params);
+    let faces = resting_faces(&scene, params);
+    let grip_allows_rest = faces.as_ref().map(|f| f.iter().any(|(_, clear)| *clear));
     let t0 = std::time::Instant::now();
     let request = PlaceRequest {
         arm: Some(task.arm.clone()),
@@ -558,6 +573,11 @@ fn trial(
         seed: s,
         table_found,
         grip_allows_rest,
+        normal_error_deg: faces.zip(out.report.stable_pose.as_ref()).and_then(|(f, chosen)| {
+            f.iter()
+                .map(|(n, _)| n.angle_between(chosen.normal()).to_degrees())
+                .min_by(f64::total_cmp)
+        }),
         object: task.object,
         layout: task.layout,
         clutter: task.clutter,
@@ -720,7 +740,7 @@ pub fn bench(
     }
     for r in &rows {
         println!(
-            "{:>5} {:<14} {:<7} clutter {} {:<5} {:<8} {:>6.1}° {:>7.1} mm {:>8.1} ms  {}",
+            "{:>5} {:<14} {:<7} clutter {} {:<5} {:<8} {:>6.1}° {:>7.1} mm {:>8.1} ms {:>6}  {}",
             r.seed,
             r.object,
             format!("{:?}", r.layout).to_lowercase(),
@@ -730,6 +750,8 @@ pub fn bench(
             r.orientation_error_deg.min(999.0),
             r.moved_after_release_mm.min(9999.0),
             r.decision_ms,
+            r.normal_error_deg
+                .map_or(String::new(), |e| format!("n{e:.1}°")),
             r.cause.as_deref().unwrap_or("")
         );
     }

@@ -79,8 +79,11 @@ pub struct PlaceParams {
     pub edge_range: f64,
     /// Search frames keep every `search_decimate`-th pixel of every such row.
     pub search_decimate: usize,
-    /// Looks at an accepted surface's centroid that refine it, SPEC §6: 3.
+    /// Looks at an accepted surface's centroid that refine it, SPEC §6: 3 (at most) …
     pub refine_looks: usize,
+    /// … stopping once a look moves the centroid less than this (m): the next look
+    /// would be aimed at the same spot and see the same. Not in the seed.
+    pub refine_converged: f64,
     /// Turn the base around and sweep again when nothing fits in front.
     pub turn_around: bool,
     /// Spots farther than this from the arm's shoulder are out of reach (m), Alg. 11.
@@ -166,6 +169,7 @@ impl Default for PlaceParams {
             edge_range: 1.6,
             search_decimate: 2,
             refine_looks: 3,
+            refine_converged: 0.01,
             turn_around: true,
             reach: 0.75,
             standoff: 0.06,
@@ -921,7 +925,8 @@ impl Run<'_> {
             self.look_and_add(driver, arm, hull, at, scene)?;
         }
         let mut surfaces = self.decide(|r| r.find(scene));
-        // Refinement: look at each accepted surface again, search near its height.
+        // Refinement: look at each accepted surface again, search near its height, until
+        // a look no longer moves its centroid (the next one would see the same).
         for surface in surfaces.iter_mut() {
             for _ in 0..p.refine_looks {
                 let c = surface.centroid;
@@ -932,6 +937,9 @@ impl Run<'_> {
                     .min_by(|a, b| a.centroid.distance(c).total_cmp(&b.centroid.distance(c)))
                 {
                     *surface = best;
+                }
+                if surface.centroid.distance(c) < p.refine_converged {
+                    break;
                 }
             }
         }
@@ -2007,6 +2015,7 @@ impl Validate for PlaceParams {
         }
         for (name, v) in [
             ("scan_drop", self.scan_drop),
+            ("refine_converged", self.refine_converged),
             ("grip_reach", self.grip_reach),
             ("protective_radius", self.protective_radius),
             ("gripper_clearance", self.gripper_clearance),
