@@ -416,16 +416,17 @@ pub struct BenchRow {
     #[serde(default)]
     grip_allows_rest: Option<bool>,
     /// Ground truth for meshes: the angle (°) from the chosen pose's support normal to
-    /// the nearest flat resting face of the true object, both in the tool frame — how
-    /// well the scan found the face it set the object down on.
+    /// the nearest stable pose of the true object, both in the tool frame — how well the
+    /// scan found the face it set the object down on.
     #[serde(default)]
     normal_error_deg: Option<f64>,
 }
 
-/// The true object's (the scene's held mesh's) flat resting faces as support normals in
-/// the tool frame, each with whether the hand stays clear of its plane: the stable poses
-/// that tilt at least `min_topple_deg` before toppling, a flat face (not a curved side),
-/// the tests the placer applies to its scanned model, here on the exact mesh. When no
+/// The true object's (the scene's held mesh's) stable poses as support normals in the
+/// tool frame, each with whether it is a resting face the hand leaves free: it tilts at
+/// least `min_topple_deg` before toppling, it is a flat face (not a curved side), and
+/// the hand stays clear of its plane — the tests the placer applies to its scanned
+/// model, here on the exact mesh. When no
 /// face leaves the hand clear, no placement can rest as planned without a regrasp (a
 /// ball with a pocket held across the pocket). `None` for primitives and scenes
 /// without a held mesh.
@@ -481,11 +482,11 @@ fn resting_faces(scene: &tabula_sim::Scene, params: &PlaceParams) -> Option<Vec<
         poses
             .poses
             .iter()
-            .filter(|s| s.topple_deg >= params.min_topple_deg && s.rocking(&vertices, com) >= 0.5)
             .map(|s| {
+                let flat = s.topple_deg >= params.min_topple_deg && s.rocking(&vertices, com) >= 0.5;
                 (
                     tool_from_object.rotation * s.normal(),
-                    s.clear_of(&gripper, params.gripper_clearance - params.release_height),
+                    flat && s.clear_of(&gripper, params.gripper_clearance - params.release_height),
                 )
             })
             .collect(),
