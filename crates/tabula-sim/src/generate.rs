@@ -1032,9 +1032,38 @@ pub fn place_task(
     // both sides (an L's or a mug's bounding-box centre may be empty air), with the hand
     // above the object's base: it was picked up from a table, so the hand came from
     // above or the side, never from under it.
-    let hand: Vec<Vec3> = tabula_robot::robots::load("pr2")
+    let gripper = tabula_robot::robots::load("pr2")
         .ok()
-        .and_then(|r| r.description.grippers.first().cloned())
+        .and_then(|r| r.description.grippers.first().cloned());
+    // The fingers: the part of the hand reaching furthest forward (tool frame, x the
+    // approach): their span along the approach and their half height.
+    let fingers = gripper.as_ref().and_then(|g| {
+        g.self_filter_boxes
+            .iter()
+            .max_by(|a, b| (a.center[0] + a.size[0]).total_cmp(&(b.center[0] + b.size[0])))
+            .map(|b| {
+                (
+                    b.center[0] - b.size[0] / 2.0,
+                    b.center[0] + b.size[0] / 2.0,
+                    b.size[2] / 2.0,
+                )
+            })
+    });
+    // The mesh's surface, sampled: where the fingers meet it.
+    let surface: Vec<Vec3> = mesh
+        .triangles
+        .iter()
+        .flat_map(|t| {
+            let [a, b, c] = t.map(|i| mesh.vertices[i as usize]);
+            (0..=8).flat_map(move |i| {
+                (0..=8 - i).map(move |j| {
+                    let (s, t) = (i as f64 / 8.0, j as f64 / 8.0);
+                    a + (b - a) * s + (c - a) * t
+                })
+            })
+        })
+        .collect();
+    let hand: Vec<Vec3> = gripper
         .map(|g| {
             g.self_filter_boxes
                 .iter()
@@ -1084,8 +1113,33 @@ pub fn place_task(
         // Seated on the finger pads: the object reaches past the fingertips (2.25 cm
         // beyond the tool frame on a PR2) where it can, as a closed grasp holds it.
         let front = reach(origin, approach);
-        let seated = origin + approach * (front - 0.03).min(0.0);
-        let rotation = tabula_geom::Mat3::from_cols(approach, closing, approach.cross(closing));
+        let third = approach.cross(closing);
+        // Centred between the fingers, as closing parallel fingers push it: the middle
+        // of what lies between the pads along the closing axis (else one finger would
+        // close into the object until the other touched).
+        let centred = |o: Vec3| -> Vec3 {
+            let Some((back, tip, half)) = fingers else {
+                return o;
+            };
+            let (lo, hi) = surface
+                .iter()
+                .filter(|p| {
+                    let d = **p - o;
+                    (back..=tip).contains(&d.dot(approach)) && d.dot(third).abs() <= half
+                })
+                .map(|p| (*p - o).dot(closing))
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), c| (a.min(c), b.max(c)));
+            if lo.is_finite() && hi.is_finite() {
+                o + closing * (lo + hi) / 2.0
+            } else {
+                o
+            }
+        };
+        let (origin, seated) = (
+            centred(origin),
+            centred(origin + approach * (front - 0.03).min(0.0)),
+        );
+        let rotation = tabula_geom::Mat3::from_cols(approach, closing, third);
         // The hand clear of the table the object stood on (a flat box taken from above
         // cannot also be seated deep on the pads: then it is held nearer the tips).
         let clear = |o: Vec3| hand.iter().all(|h| (o + rotation * *h).z >= lo.z + 0.004);

@@ -568,7 +568,8 @@ impl Run<'_> {
             .gripper
             .as_ref()
             .map_or(Vec3::X, tabula_robot::description::Gripper::approach);
-        let protective = protective_shape(&first, approach, sphere_centre, radius);
+        let palm_front = group.gripper.as_ref().and_then(palm_front);
+        let protective = protective_shape(&first, approach, palm_front, sphere_centre, radius);
         model.extend(first);
         self.held_reach = sphere_centre.length() + radius;
         let cam = driver.capture(&p.camera)?.world_from_camera.translation;
@@ -1649,19 +1650,29 @@ fn look_at(driver: &mut impl RobotDriver, at: Vec3) -> Result<(), PlaceError> {
 }
 
 /// Whether a failure means "nothing here": worth turning around for.
-/// The protective sphere (SPEC §1.1) around the first view of the held object, cut by a
-/// plane a margin behind the deepest point seen along the approach axis (tool frame,
-/// relative to `centre`). What the fingers hold lies in front of the palm: a whole ball
-/// around a long object held at one end reaches back over the wrist, and then no view
-/// is free of the arm's own links (the palm and fingers may touch it, the wrist may
-/// not). Unseen parts beyond the cut are as unknown as they are beyond the ball.
-fn protective_shape(first: &[Vec3], approach: Vec3, centre: Vec3, radius: f64) -> SharedShape {
+/// The protective sphere (SPEC §1.1) around the first view of the held object (the
+/// ball at `centre`, tool frame), cut by the plane the held object cannot reach behind:
+/// the palm's front face (`palm_front` along the approach axis), else 3 cm behind the
+/// deepest point seen. A whole ball around a long object held at one end reaches back
+/// over the wrist, and then no view is free of the arm's own links (the palm and
+/// fingers may touch it, the wrist may not).
+fn protective_shape(
+    first: &[Vec3],
+    approach: Vec3,
+    palm_front: Option<f64>,
+    centre: Vec3,
+    radius: f64,
+) -> SharedShape {
     let deepest = first
         .iter()
         .map(|q| q.dot(approach))
         .fold(f64::INFINITY, f64::min);
-    let cut = deepest - 0.03 - centre.dot(approach);
-    if first.len() < 10 || !cut.is_finite() || cut <= -radius * 0.95 {
+    let cut = match palm_front {
+        Some(f) => f,
+        None if first.len() >= 10 => deepest - 0.03,
+        None => f64::NEG_INFINITY,
+    } - centre.dot(approach);
+    if !cut.is_finite() || cut <= -radius * 0.95 {
         return SharedShape::ball(radius);
     }
     // The ball's points, those behind the plane pressed onto it: their hull holds the
@@ -1670,20 +1681,42 @@ fn protective_shape(first: &[Vec3], approach: Vec3, centre: Vec3, radius: f64) -
         approach.any_orthonormal_vector(),
         approach.cross(approach.any_orthonormal_vector()),
     );
+    let grown = radius / (std::f64::consts::PI / 24.0).cos().powi(2);
     let mut points = Vec::new();
     for i in 0..=12 {
         let polar = std::f64::consts::PI * i as f64 / 12.0;
         for j in 0..24 {
             let azimuth = std::f64::consts::TAU * j as f64 / 24.0;
             let d = approach * polar.cos() + (u * azimuth.cos() + v * azimuth.sin()) * polar.sin();
-            // The polygon's chords fall inside the ball: push the points out so the hull
-            // holds it.
-            let q = d * radius / (std::f64::consts::PI / 24.0).cos().powi(2);
+            // The polygon's chords fall inside the ball: the points are pushed out
+            // (`grown`) so the hull holds it.
+            let q = d * grown;
             let along = q.dot(approach);
             points.push(q + approach * (cut - along).max(0.0));
         }
     }
+    // And the rim where the plane cuts the (grown) ball.
+    let rim = (grown * grown - cut * cut).max(0.0).sqrt();
+    for j in 0..24 {
+        let azimuth = std::f64::consts::TAU * j as f64 / 24.0;
+        points.push(approach * cut + (u * azimuth.cos() + v * azimuth.sin()) * rim * grown / radius);
+    }
     SharedShape::convex_hull(&points).unwrap_or_else(|| SharedShape::ball(radius))
+}
+
+/// The front face of a gripper's palm along its approach axis (tool frame): the front
+/// of the rearmost of its self-filter boxes (axis-aligned in the tool frame), which
+/// nothing the fingers hold can reach behind.
+fn palm_front(g: &tabula_robot::description::Gripper) -> Option<f64> {
+    let a = g.approach();
+    g.self_filter_boxes
+        .iter()
+        .map(|b| {
+            let (c, h) = (Vec3::from_array(b.center), Vec3::from_array(b.size) / 2.0);
+            (c.dot(a), c.dot(a) + h.dot(a.abs()))
+        })
+        .min_by(|x, y| x.0.total_cmp(&y.0))
+        .map(|(_, front)| front)
 }
 
 fn retry_behind(e: &PlaceError) -> bool {
@@ -1867,8 +1900,6 @@ fn forward_extent(
     front
 }
 
-/// Points of the gripper in the tool frame (the seed's gripper boxes' corners and face
-/// centres, Alg. 6), or the tool's origin when it has none.
 /// Points bounding `arm`'s gripper in its tool frame (the corners, edge midpoints and
 /// face centres of its self-filter boxes): what must stay clear of a support plane.
 pub fn gripper_points(robot: &NamedRobot, arm: &str) -> Vec<Vec3> {
@@ -2050,5 +2081,68 @@ impl Validate for PlaceParams {
         check_count(at, "search_decimate", self.search_decimate, 1)?;
         check_count(at, "roll_samples", self.roll_samples, 1)?;
         check_count(at, "max_planned", self.max_planned, 1)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use tabula_geom::parry::query::PointQuery;
+
+    #[test]
+    fn the_protective_shape_holds_the_object_but_not_the_wrist_behind_the_palm() {
+        // A 25 cm bottle held by its neck from the side (the tool frame's x is the
+        // approach, the fingers close along y), hanging down along −z; the camera saw
+        // its front half, the palm against its back 3 cm behind the tool point.
+        let first: Vec<Vec3> = (0..=50)
+            .flat_map(|i| {
+                (0..8).map(move |k| {
+                    let a = std::f64::consts::PI * k as f64 / 7.0;
+                    Vec3::new(0.005 + 0.035 * a.sin(), 0.035 * a.cos(), 0.02 - 0.005 * i as f64)
+                })
+            })
+            .collect();
+        let centre = first.iter().copied().sum::<Vec3>() / first.len() as f64;
+        let radius = first.iter().map(|q| q.distance(centre)).fold(0.0, f64::max) + 0.03;
+        // A PR2's palm: its front face 4.6 cm behind the tool point.
+        let g = tabula_robot::robots::load("pr2").unwrap().description.grippers[0].clone();
+        let front = palm_front(&g).unwrap();
+        assert!((front + 0.046).abs() < 1e-9, "{front}");
+        let shape = protective_shape(&first, Vec3::X, Some(front), centre, radius);
+        let at = Pose::from_translation(centre);
+        let inside = |q: Vec3| shape.contains_point(&at, q);
+        // All of the ball in front of the cut, the unseen back of the bottle included.
+        for q in &first {
+            let back = Vec3::new(0.01 - q.x, q.y, q.z);
+            assert!(inside(*q) && inside(back), "{q:?}");
+        }
+        for k in 0..200 {
+            let d = Vec3::new(
+                (k as f64 * 0.37).sin(),
+                (k as f64 * 1.13).cos(),
+                (k as f64 * 2.71).sin(),
+            )
+            .normalize();
+            let q = centre + d * radius * 0.999;
+            if q.x >= front {
+                assert!(inside(q), "{q:?} of the ball in front of the cut");
+            }
+        }
+        // Behind the deepest point seen by more than the margin (where the wrist is),
+        // nothing, though the whole ball would reach there.
+        assert!(centre.x - radius < -0.12, "{centre:?} {radius}");
+        for y in [-0.05, 0.0, 0.05] {
+            for x in [-0.05, -0.07, -0.12] {
+                assert!(!inside(Vec3::new(x, y, centre.z)), "{x} {y}");
+            }
+        }
+        // No palm known: 3 cm behind the deepest point seen.
+        let seen = protective_shape(&first, Vec3::X, None, centre, radius);
+        assert!(seen.contains_point(&at, Vec3::new(-0.02, 0.0, centre.z)));
+        assert!(!seen.contains_point(&at, Vec3::new(-0.03, 0.0, centre.z)));
+        // Nor enough points to know where the object is: the whole ball.
+        let ball = protective_shape(&first[..5], Vec3::X, None, centre, radius);
+        let back = centre - Vec3::X * radius * 0.99;
+        assert!(ball.contains_point(&at, back));
     }
 }
