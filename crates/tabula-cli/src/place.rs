@@ -483,7 +483,8 @@ fn resting_faces(scene: &tabula_sim::Scene, params: &PlaceParams) -> Option<Vec<
             .poses
             .iter()
             .map(|s| {
-                let flat = s.topple_deg >= params.min_topple_deg && s.rocking(&vertices, com) >= 0.5;
+                let flat =
+                    s.topple_deg >= params.min_topple_deg && s.rocking(&vertices, com) >= 0.5;
                 (
                     tool_from_object.rotation * s.normal(),
                     flat && s.clear_of(&gripper, params.gripper_clearance - params.release_height),
@@ -574,11 +575,13 @@ fn trial(
         seed: s,
         table_found,
         grip_allows_rest,
-        normal_error_deg: faces.zip(out.report.stable_pose.as_ref()).and_then(|(f, chosen)| {
-            f.iter()
-                .map(|(n, _)| n.angle_between(chosen.normal()).to_degrees())
-                .min_by(f64::total_cmp)
-        }),
+        normal_error_deg: faces
+            .zip(out.report.stable_pose.as_ref())
+            .and_then(|(f, chosen)| {
+                f.iter()
+                    .map(|(n, _)| n.angle_between(chosen.normal()).to_degrees())
+                    .min_by(f64::total_cmp)
+            }),
         object: task.object,
         layout: task.layout,
         clutter: task.clutter,

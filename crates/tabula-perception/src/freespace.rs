@@ -323,7 +323,7 @@ impl FreeSpaceMap {
             .map(|k| {
                 let yaw = std::f64::consts::TAU * k as f64 / self.yaw_samples as f64;
                 let rot: Vec<Vec2> = h.iter().map(|q| Vec2::from_angle(yaw).rotate(*q)).collect();
-                let mut cover: Vec<(isize, isize, f64)> = (-r..=r)
+                let mut cover: Vec<CoveredCell> = (-r..=r)
                     .flat_map(|dj| (-r..=r).map(move |di| (di, dj)))
                     .filter_map(|(di, dj)| {
                         let c = Vec2::new(di as f64 * res, dj as f64 * res);
@@ -468,11 +468,14 @@ impl FreeSpaceMap {
     }
 }
 
+/// A cell a footprint covers: its offset from the centre cell (cells) and its distance
+/// from the centre (m).
+type CoveredCell = (isize, isize, f64);
+
 /// A footprint prepared for fitting: per orientation, the cells it covers.
 struct FootprintMasks {
-    /// Per yaw, the covered cells' offsets and their distance from the centre (m),
-    /// farthest first.
-    shapes: Vec<(f64, Vec<(isize, isize, f64)>)>,
+    /// Per yaw, the cells it covers, farthest from the centre first.
+    shapes: Vec<(f64, Vec<CoveredCell>)>,
     /// Farthest outline point from the origin (m).
     reach: f64,
     /// Clearance every covered cell needs (m).
@@ -620,7 +623,7 @@ mod tests {
         let (margin, spacing) = (0.015, 0.04);
         let m = map.footprint_masks(&footprint, margin).unwrap();
         // Every covered cell looked up, no shortcut; spots spaced by a list of those taken.
-        let fits = |k: usize, cover: &[(isize, isize, f64)]| {
+        let fits = |k: usize, cover: &[CoveredCell]| {
             let (i, j) = ((k % map.nx) as isize, (k / map.nx) as isize);
             cover.iter().all(|&(di, dj, _)| {
                 let (a, b) = (i + di, j + dj);

@@ -1128,7 +1128,9 @@ pub fn place_task(
                     (back..=tip).contains(&d.dot(approach)) && d.dot(third).abs() <= half
                 })
                 .map(|p| (*p - o).dot(closing))
-                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), c| (a.min(c), b.max(c)));
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), c| {
+                    (a.min(c), b.max(c))
+                });
             if lo.is_finite() && hi.is_finite() {
                 o + closing * (lo + hi) / 2.0
             } else {

@@ -1699,7 +1699,8 @@ fn protective_shape(
     let rim = (grown * grown - cut * cut).max(0.0).sqrt();
     for j in 0..24 {
         let azimuth = std::f64::consts::TAU * j as f64 / 24.0;
-        points.push(approach * cut + (u * azimuth.cos() + v * azimuth.sin()) * rim * grown / radius);
+        points
+            .push(approach * cut + (u * azimuth.cos() + v * azimuth.sin()) * rim * grown / radius);
     }
     SharedShape::convex_hull(&points).unwrap_or_else(|| SharedShape::ball(radius))
 }
@@ -2087,7 +2088,6 @@ impl Validate for PlaceParams {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use tabula_geom::parry::query::PointQuery;
 
     #[test]
     fn the_protective_shape_holds_the_object_but_not_the_wrist_behind_the_palm() {
@@ -2098,14 +2098,22 @@ mod tests {
             .flat_map(|i| {
                 (0..8).map(move |k| {
                     let a = std::f64::consts::PI * k as f64 / 7.0;
-                    Vec3::new(0.005 + 0.035 * a.sin(), 0.035 * a.cos(), 0.02 - 0.005 * i as f64)
+                    Vec3::new(
+                        0.005 + 0.035 * a.sin(),
+                        0.035 * a.cos(),
+                        0.02 - 0.005 * i as f64,
+                    )
                 })
             })
             .collect();
         let centre = first.iter().copied().sum::<Vec3>() / first.len() as f64;
         let radius = first.iter().map(|q| q.distance(centre)).fold(0.0, f64::max) + 0.03;
         // A PR2's palm: its front face 4.6 cm behind the tool point.
-        let g = tabula_robot::robots::load("pr2").unwrap().description.grippers[0].clone();
+        let g = tabula_robot::robots::load("pr2")
+            .unwrap()
+            .description
+            .grippers[0]
+            .clone();
         let front = palm_front(&g).unwrap();
         assert!((front + 0.046).abs() < 1e-9, "{front}");
         let shape = protective_shape(&first, Vec3::X, Some(front), centre, radius);
