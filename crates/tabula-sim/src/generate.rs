@@ -1040,7 +1040,9 @@ pub fn place_task(
     let fingers = gripper.as_ref().and_then(|g| {
         g.self_filter_boxes
             .iter()
-            .max_by(|a, b| (a.center[0] + a.size[0]).total_cmp(&(b.center[0] + b.size[0])))
+            .max_by(|a, b| {
+                (a.center[0] + a.size[0] / 2.0).total_cmp(&(b.center[0] + b.size[0] / 2.0))
+            })
             .map(|b| {
                 (
                     b.center[0] - b.size[0] / 2.0,

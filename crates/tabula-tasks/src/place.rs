@@ -1649,7 +1649,6 @@ fn look_at(driver: &mut impl RobotDriver, at: Vec3) -> Result<(), PlaceError> {
     }
 }
 
-/// Whether a failure means "nothing here": worth turning around for.
 /// The protective sphere (SPEC §1.1) around the first view of the held object (the
 /// ball at `centre`, tool frame), cut by the plane the held object cannot reach behind:
 /// the palm's front face (`palm_front` along the approach axis), else 3 cm behind the
@@ -1672,7 +1671,9 @@ fn protective_shape(
         None if first.len() >= 10 => deepest - 0.03,
         None => f64::NEG_INFINITY,
     } - centre.dot(approach);
-    if !cut.is_finite() || cut <= -radius * 0.95 {
+    // No cut through the ball, or one in front of all of it (what was seen lies behind
+    // the palm: something is off, keep the whole ball).
+    if !cut.is_finite() || cut.abs() >= radius * 0.95 {
         return SharedShape::ball(radius);
     }
     // The ball's points, those behind the plane pressed onto it: their hull holds the
@@ -1720,6 +1721,7 @@ fn palm_front(g: &tabula_robot::description::Gripper) -> Option<f64> {
         .map(|(_, front)| front)
 }
 
+/// Whether a failure means "nothing here": worth turning around for.
 fn retry_behind(e: &PlaceError) -> bool {
     matches!(
         e,
