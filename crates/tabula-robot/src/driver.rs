@@ -189,6 +189,17 @@ pub trait Grippers {
         }
         self.open(gripper)
     }
+    /// Opens to a finger gap of `width` metres (clamped to the gripper's range), and
+    /// lets go of what it held — a pre-grasp posture: fingers opened just wider than
+    /// the object fit between its neighbours in clutter (what a gripper action's
+    /// `position` sets). Drivers that cannot set the gap open fully, as
+    /// [`Self::open`] does.
+    fn open_to(&mut self, gripper: &str, width: f64) -> Result<(), DriverError> {
+        if !width.is_finite() {
+            return Err(DriverError::NonFinite);
+        }
+        self.open(gripper)
+    }
     /// The gripper now: its gap, and whether it holds something — the fingers stopped
     /// on an object when it last closed and it has not opened since (what a gripper
     /// action reports as stalled rather than reached).

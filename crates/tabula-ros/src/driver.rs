@@ -245,6 +245,19 @@ impl Grippers for ZenohDriver {
         )
     }
 
+    fn open_to(&mut self, gripper: &str, width: f64) -> Result<(), DriverError> {
+        if !width.is_finite() {
+            return Err(DriverError::NonFinite);
+        }
+        self.done(
+            &Command::OpenTo {
+                gripper: gripper.into(),
+                width,
+            },
+            Duration::ZERO,
+        )
+    }
+
     fn grip_state(&self, gripper: &str) -> Result<GripState, DriverError> {
         self.grip(&Command::GripState {
             gripper: gripper.into(),

@@ -35,6 +35,10 @@ pub enum Command {
         gripper: String,
         speed: f64,
     },
+    OpenTo {
+        gripper: String,
+        width: f64,
+    },
     Close {
         gripper: String,
         effort: Option<f64>,
@@ -210,6 +214,7 @@ impl Command {
             Command::Execute { .. }
                 | Command::Open { .. }
                 | Command::OpenSlowly { .. }
+                | Command::OpenTo { .. }
                 | Command::Close { .. }
                 | Command::LookAt { .. }
                 | Command::DriveTo { .. }

@@ -464,6 +464,10 @@ impl Server {
                 d.open_slowly(&gripper, speed)?;
                 Answer::Done
             }
+            Command::OpenTo { gripper, width } => {
+                d.open_to(&gripper, width)?;
+                Answer::Done
+            }
             Command::Close { gripper, effort } => Answer::grip(match effort {
                 Some(e) => d.close_with_effort(&gripper, e)?,
                 None => d.close(&gripper)?,

@@ -155,6 +155,28 @@ impl Grippers for SimDriver {
         self.close_limited(gripper, None)
     }
 
+    fn open_to(&mut self, gripper: &str, width: f64) -> Result<(), DriverError> {
+        if !width.is_finite() {
+            return Err(DriverError::NonFinite);
+        }
+        let g = self.gripper(gripper)?;
+        let r = self.world.robot(&self.robot)?;
+        let j = r
+            .model
+            .joint(&g.finger_joint)
+            .ok_or_else(|| DriverError::UnknownJoint(g.finger_joint.clone()))?;
+        let l = r.model.joints[j].limits;
+        // The gap is linear in the finger joint (see `Gripper::width_at`).
+        let span = g.open_width - g.closed_width;
+        let share = if span.abs() > 1e-12 {
+            ((width - g.closed_width) / span).clamp(0.0, 1.0)
+        } else {
+            1.0
+        };
+        let target = l.lower + (l.upper - l.lower) * share;
+        self.run(|w, r| w.open_gripper_to(r, &g.finger_joint, target, None))
+    }
+
     fn open_slowly(&mut self, gripper: &str, speed: f64) -> Result<(), DriverError> {
         if !(speed.is_finite() && speed > 0.0) {
             return Err(DriverError::NonFinite);

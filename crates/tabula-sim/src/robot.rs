@@ -354,12 +354,28 @@ impl SimWorld {
         finger_joint: &str,
         speed: Option<f64>,
     ) -> Result<(), SimError> {
-        if speed.is_some_and(|v| !(v.is_finite() && v > 0.0)) {
+        let ri = self.robot_index(robot)?;
+        let j = self.joint_index(ri, finger_joint)?;
+        let upper = self.robots[ri].model.joints[j].limits.upper;
+        self.open_gripper_to(robot, finger_joint, upper, speed)
+    }
+
+    /// [`Self::open_gripper_at`] to the finger joint value `target` (clamped to its
+    /// limits) instead of fully open: a pre-grasp posture. What it held is let go.
+    pub fn open_gripper_to(
+        &mut self,
+        robot: &str,
+        finger_joint: &str,
+        target: f64,
+        speed: Option<f64>,
+    ) -> Result<(), SimError> {
+        if speed.is_some_and(|v| !(v.is_finite() && v > 0.0)) || !target.is_finite() {
             return Err(SimError::NonFinite);
         }
         let ri = self.robot_index(robot)?;
         let j = self.joint_index(ri, finger_joint)?;
-        let upper = self.robots[ri].model.joints[j].limits.upper;
+        let limits = self.robots[ri].model.joints[j].limits;
+        let upper = target.clamp(limits.lower, limits.upper);
         // Objects ride on the palm the gripper closed with: the description's gripper
         // of this finger joint names it (a robot without one releases everything).
         let gripper = self.robots[ri]
@@ -412,7 +428,7 @@ impl SimWorld {
                 let from = self.robots[ri].values[j];
                 let motion = JointTrajectory {
                     joint_names: vec![finger_joint.to_string()],
-                    times: vec![0.0, ((upper - from) / v).max(0.0)],
+                    times: vec![0.0, ((upper - from).abs() / v).max(1e-3)],
                     positions: vec![vec![from], vec![upper]],
                 };
                 self.run_trajectory(ri, &motion, false).map(|_| ())

@@ -35,6 +35,9 @@ const DOMAIN: &str = include_str!("../../../pddl/tablewclear-domain-fixed.pddl")
 /// principal (longer) footprint axis, against it, along the other axis, against it.
 const DIRECTIONS: [&str; 4] = ["dir1", "dir2", "dir3", "dir4"];
 
+/// Pre-grasp openings are modelled every 5 mm of finger gap.
+const OPENING_STEP: f64 = 0.005;
+
 /// Parameters of clearing (SPEC §3.2 and §6, seed 002's repository, where it gives them).
 #[derive(Debug, Clone, serde::Deserialize)]
 #[serde(default, deny_unknown_fields)]
@@ -63,6 +66,11 @@ pub struct ClearParams {
     pub drop_clearance: f64,
     /// The gripper opening must exceed the object's width by this much on each side (m).
     pub grasp_margin: f64,
+    /// Before a grasp the fingers open to the object's width plus this on each side (m),
+    /// not fully: in clutter a finger 1 cm from the object fits gaps a fully opened one
+    /// (the seed's 7 cm, SPEC §6) does not. Not in the seed; a value at least the
+    /// gripper's opening restores the seed's full opening.
+    pub pregrasp_gap: f64,
     /// Distance between the closed fingers and the object before a push (m), SPEC §6
     /// (the seed's code): 3 cm.
     pub push_distance: f64,
@@ -126,6 +134,7 @@ impl ClearParams {
             ("lift", self.lift),
             ("drop_clearance", self.drop_clearance),
             ("grasp_margin", self.grasp_margin),
+            ("pregrasp_gap", self.pregrasp_gap),
             ("push_distance", self.push_distance),
             ("push_margin", self.push_margin),
             ("push_back_off", self.push_back_off),
@@ -191,6 +200,7 @@ impl Default for ClearParams {
             lift: 0.20,
             drop_clearance: 0.08,
             grasp_margin: 0.0,
+            pregrasp_gap: 0.01,
             push_distance: 0.03,
             push_max_length: 0.6,
             push_resolution: 0.03,
@@ -421,7 +431,9 @@ impl SeenObject {
 /// The gripper's collision shapes in its tool frame, open and closed, from the URDF.
 #[derive(Clone)]
 struct Hand {
-    open: Vec<(SharedShape, Pose)>,
+    /// Palm and fingers opened to finger gaps every [`OPENING_STEP`] from closed to
+    /// fully open, narrowest first (the last is fully open).
+    openings: Vec<(f64, Vec<(SharedShape, Pose)>)>,
     closed: Vec<(SharedShape, Pose)>,
     /// Closed fingers only (what meets a pushed object).
     closed_fingers: Vec<(SharedShape, Pose)>,
@@ -477,8 +489,22 @@ impl Hand {
         let closed_fingers = shapes_at(limits.lower, &fingers)?;
         let approach = gripper.approach();
         let (lo, hi) = extent_along(&closed_fingers, approach);
+        // The gap is linear in the finger joint (see `Gripper::width_at`).
+        let span = gripper.open_width - gripper.closed_width;
+        let levels = (span / OPENING_STEP).ceil().max(0.0) as usize;
+        let mut openings = Vec::with_capacity(levels + 1);
+        for k in 0..=levels {
+            let width = (gripper.closed_width + OPENING_STEP * k as f64).min(gripper.open_width);
+            let share = if span > 1e-12 {
+                (width - gripper.closed_width) / span
+            } else {
+                1.0
+            };
+            let value = limits.lower + (limits.upper - limits.lower) * share;
+            openings.push((width, shapes_at(value, &all)?));
+        }
         Ok(Self {
-            open: shapes_at(limits.upper, &all)?,
+            openings,
             closed: shapes_at(limits.lower, &all)?,
             tip: hi,
             finger_length: hi - lo,
@@ -488,6 +514,18 @@ impl Hand {
             closing: gripper.closing(),
             open_width: gripper.open_width,
         })
+    }
+
+    /// The narrowest opening at least `width` wide (fully open when none is): its gap
+    /// and the open palm and fingers.
+    fn open_for(&self, width: f64) -> (f64, &[(SharedShape, Pose)]) {
+        let (w, shapes) = self
+            .openings
+            .iter()
+            .find(|(w, _)| *w >= width - 1e-9)
+            .or(self.openings.last())
+            .expect("a hand has at least its full opening");
+        (*w, shapes)
     }
 
     /// `world_from_tool` with the approach pointing down (against the table normal
@@ -705,6 +743,8 @@ fn hulls_collide(moved: &SeenObject, by: Vec3, other: &SeenObject, tolerance: f6
 struct Grasp {
     /// Both yaws of the gripper (closing ±).
     poses: [Pose; 2],
+    /// The finger gap the gripper opens to before it descends (m).
+    width: f64,
 }
 
 #[derive(Debug, Clone)]
@@ -748,7 +788,7 @@ fn grasps_of(o: &SeenObject, hand: &Hand, table: &Table, params: &ClearParams) -
         (top - params.grasp_depth - hand.finger_length / 2.0)
             .max(o.bottom + params.fingertip_clearance)
     };
-    let grasp = |at: Vec2, top: f64, c: Vec2| {
+    let grasp = |at: Vec2, top: f64, c: Vec2, across: f64| {
         let tips = Vec3::new(at.x, at.y, tip_z(top));
         let closing = Vec3::new(c.x, c.y, 0.0);
         Grasp {
@@ -756,19 +796,20 @@ fn grasps_of(o: &SeenObject, hand: &Hand, table: &Table, params: &ClearParams) -
                 hand.pose(tips, closing, table.up),
                 hand.pose(tips, -closing, table.up),
             ],
+            width: hand.open_for(across + 2.0 * params.pregrasp_gap).0,
         }
     };
     let whole: Vec<Grasp> = [minor, major]
         .into_iter()
         .filter(|&c| o.rect.extent_along(c) + 2.0 * params.grasp_margin <= hand.open_width)
-        .map(|c| grasp(o.rect.center, o.top, c))
+        .map(|c| grasp(o.rect.center, o.top, c, o.rect.extent_along(c)))
         .collect();
     if !whole.is_empty() {
         return whole;
     }
     part_grasps(o, hand, params)
         .into_iter()
-        .map(|(at, top)| grasp(at, top, minor))
+        .map(|(at, top, width)| grasp(at, top, minor, width))
         .collect()
 }
 
@@ -777,7 +818,7 @@ fn grasps_of(o: &SeenObject, hand: &Hand, table: &Table, params: &ClearParams) -
 /// gripper — narrowest first, at most three. A blob wider than the gripper is often two
 /// objects the camera cannot tell apart (touching, tops level); taking one part first
 /// lets the next frame see the other alone.
-fn part_grasps(o: &SeenObject, hand: &Hand, params: &ClearParams) -> Vec<(Vec2, f64)> {
+fn part_grasps(o: &SeenObject, hand: &Hand, params: &ClearParams) -> Vec<(Vec2, f64, f64)> {
     let (major, minor) = o.axes();
     let c = o.rect.center;
     let local: Vec<(f64, f64, f64)> = o
@@ -811,7 +852,7 @@ fn part_grasps(o: &SeenObject, hand: &Hand, params: &ClearParams) -> Vec<(Vec2, 
     found
         .into_iter()
         .take(3)
-        .map(|(_, at, top)| (at, top))
+        .map(|(width, at, top)| (at, top, width))
         .collect()
 }
 
@@ -915,7 +956,7 @@ fn grasp_blockers(
         .filter(|&a| {
             poses
                 .iter()
-                .any(|p| hits(&hand.open, p, &objects[a], params.clearance))
+                .any(|p| hits(hand.open_for(grasp.width).1, p, &objects[a], params.clearance))
         })
         .collect()
 }
@@ -1616,8 +1657,11 @@ pub fn clear<D: RobotDriver>(
                     }
                 }
                 record.error = Some(e.to_string());
-                // Back out of the camera's view whatever happened.
+                // Back out of the camera's view whatever happened. A grasp that failed
+                // after closing leaves its object attached in the planning world: the
+                // hand has let go of it, and the next frame sees where it fell.
                 let _ = driver.open(&gripper.name);
+                let _ = group.remove_object(&format!("obj:{}", objects[i].id));
                 let _ = go_home(driver, robot, &mut group, &home);
                 if matches!(e, ExecError::Driver(_)) {
                     report.log.push(record.clone());
@@ -1729,7 +1773,9 @@ fn decide(
         let mut set = |kind: ActionKind| {
             let _ = planner.set_fact(&infeasible_atom(kind, o.id), true);
         };
-        if track.is_some_and(|t| t.grasp_attempts >= params.max_grasp_attempts) {
+        if g.grasps[i].is_none()
+            || track.is_some_and(|t| t.grasp_attempts >= params.max_grasp_attempts)
+        {
             set(ActionKind::Grasp);
         }
         for k in 0..4 {
@@ -1756,13 +1802,12 @@ fn decide(
         SearchMode::Fast
     };
     let timeout = Some(Duration::from_secs_f64(params.plan_timeout_s.max(1e-3)));
-    let mut dropped = false;
     for _ in 0..(5 * n + 5) {
         let plan = match planner.plan(mode, timeout) {
             Ok(p) => p,
-            Err(tabula_pddl::NoPlan::Unsolvable) if !dropped => {
-                // Objects that can never be removed leave the goal (SPEC §3.5).
-                dropped = true;
+            Err(tabula_pddl::NoPlan::Unsolvable) => {
+                // Objects that can never be removed leave the goal (SPEC §3.5) — again
+                // after every IK backtrack that makes more of them so.
                 match planner.drop_unreachable_goals(timeout) {
                     Ok(d) if !d.is_empty() => {
                         report.dropped_from_goal = report.dropped_from_goal.max(d.len());
@@ -1774,7 +1819,6 @@ fn decide(
                     _ => return Decision::NothingRemovable,
                 }
             }
-            Err(tabula_pddl::NoPlan::Unsolvable) => return Decision::NothingRemovable,
             Err(_) => return Decision::NoPlan,
         };
         fr.plan = plan.steps.iter().map(|s| s.to_string()).collect();
@@ -2054,7 +2098,7 @@ fn execute_grasp(
 ) -> Result<(), ExecError> {
     let o = &objects[i];
     let name = format!("obj:{}", o.id);
-    driver.open(&gripper.name)?;
+    driver.open_to(&gripper.name, grasp.width)?;
     let state = driver.joint_state()?;
     group.set_state(robot, &state)?;
     let q = group.arm_values(&state);
