@@ -71,6 +71,10 @@ pub struct ClearParams {
     /// (the seed's 7 cm, SPEC §6) does not. Not in the seed; a value at least the
     /// gripper's opening restores the seed's full opening.
     pub pregrasp_gap: f64,
+    /// A grasp may hold an object only this deep below its top (m) where that passes
+    /// over lower neighbours a full-depth grasp would meet (tried after the full-depth
+    /// ones). Not in the seed.
+    pub shallow_grip: f64,
     /// Distance between the closed fingers and the object before a push (m), SPEC §6
     /// (the seed's code): 3 cm.
     pub push_distance: f64,
@@ -135,6 +139,7 @@ impl ClearParams {
             ("drop_clearance", self.drop_clearance),
             ("grasp_margin", self.grasp_margin),
             ("pregrasp_gap", self.pregrasp_gap),
+            ("shallow_grip", self.shallow_grip),
             ("push_distance", self.push_distance),
             ("push_margin", self.push_margin),
             ("push_back_off", self.push_back_off),
@@ -201,6 +206,7 @@ impl Default for ClearParams {
             drop_clearance: 0.08,
             grasp_margin: 0.0,
             pregrasp_gap: 0.01,
+            shallow_grip: 0.02,
             push_distance: 0.03,
             push_max_length: 0.6,
             push_resolution: 0.03,
@@ -788,8 +794,8 @@ fn grasps_of(o: &SeenObject, hand: &Hand, table: &Table, params: &ClearParams) -
         (top - params.grasp_depth - hand.finger_length / 2.0)
             .max(o.bottom + params.fingertip_clearance)
     };
-    let grasp = |at: Vec2, top: f64, c: Vec2, across: f64| {
-        let tips = Vec3::new(at.x, at.y, tip_z(top));
+    let grasp_at = |at: Vec2, z: f64, c: Vec2, across: f64| {
+        let tips = Vec3::new(at.x, at.y, z);
         let closing = Vec3::new(c.x, c.y, 0.0);
         Grasp {
             poses: [
@@ -799,12 +805,25 @@ fn grasps_of(o: &SeenObject, hand: &Hand, table: &Table, params: &ClearParams) -
             width: hand.open_for(across + 2.0 * params.pregrasp_gap).0,
         }
     };
-    let whole: Vec<Grasp> = [minor, major]
+    let grasp = |at: Vec2, top: f64, c: Vec2, across: f64| grasp_at(at, tip_z(top), c, across);
+    let fits: Vec<Vec2> = [minor, major]
         .into_iter()
         .filter(|&c| o.rect.extent_along(c) + 2.0 * params.grasp_margin <= hand.open_width)
-        .map(|c| grasp(o.rect.center, o.top, c, o.rect.extent_along(c)))
         .collect();
-    if !whole.is_empty() {
+    if !fits.is_empty() {
+        let mut whole: Vec<Grasp> = fits
+            .iter()
+            .map(|&c| grasp(o.rect.center, o.top, c, o.rect.extent_along(c)))
+            .collect();
+        // The same grasps held only `shallow_grip` deep, after the deep ones: the
+        // fingertips pass over neighbours lower than the object.
+        let shallow = o.top - params.shallow_grip;
+        if shallow > tip_z(o.top) + 0.01 {
+            whole.extend(
+                fits.iter()
+                    .map(|&c| grasp_at(o.rect.center, shallow, c, o.rect.extent_along(c))),
+            );
+        }
         return whole;
     }
     part_grasps(o, hand, params)
