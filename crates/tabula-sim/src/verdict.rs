@@ -133,16 +133,28 @@ impl ClearJudge {
     /// the current target; hand it to [`crate::SimDriver::observe`].
     ///
     /// Only objects standing on the table count: a held object landing on those already
-    /// in the bin touches nothing it should not.
+    /// in the bin touches nothing it should not. Nor does an object the hand takes count
+    /// against what it already leaned on or touched when the fingers closed on it (in
+    /// a pile, most objects rest against others): those pairs are excused while it is
+    /// held; anything it meets afterwards counts.
     pub fn observer(&self, robot: &str) -> impl FnMut(&SimWorld) + Send + 'static {
         let contacts = self.contacts.clone();
         let target = self.target.clone();
         let robot = robot.to_string();
         let table = self.table;
+        let mut held: Vec<String> = Vec::new();
+        let mut excused: Vec<(String, String)> = Vec::new();
         move |w: &SimWorld| {
             let Ok(mut found) = w.robot_contacts(&robot, &[EntityKind::Object], 1e-3) else {
                 return;
             };
+            let now = w.held_objects(&robot);
+            excused.retain(|(h, _)| now.contains(h));
+            for h in now.iter().filter(|h| !held.contains(h)) {
+                excused.extend(found.iter().filter(|(a, _)| a == h).cloned());
+            }
+            held = now;
+            found.retain(|pair| !excused.contains(pair));
             found.retain(|(_, o)| w.pose(o).is_ok_and(|p| above(&table, p.translation)));
             let target = target.lock().map(|t| t.clone()).unwrap_or_default();
             if let Ok(mut c) = contacts.lock() {
