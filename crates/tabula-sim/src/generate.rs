@@ -859,7 +859,15 @@ fn pile(rng: &mut ChaCha8Rng) -> Vec<Placed> {
     let mut height = TABLE_TOP + 0.05;
     for _ in 0..n {
         let shape = match random_shape(rng).fit_grip(Some(CLEAR_GRIP)) {
-            Shape::Box(s) => Shape::Box([s[0], s[1], s[2].min(0.08)]),
+            // A dropped box rests on any face: graspable from above on every one when
+            // two of its sides fit the grip (VPG's blocks are graspable however they
+            // land). One side fitting leaves faces no top grasp can take.
+            Shape::Box(s) => {
+                let mut s = [s[0], s[1], s[2].min(0.08)];
+                s.sort_by(f64::total_cmp);
+                s[1] = s[1].min(CLEAR_GRIP);
+                Shape::Box(s)
+            }
             Shape::Cylinder { radius, height } => Shape::Cylinder {
                 radius,
                 height: height.min(0.09),

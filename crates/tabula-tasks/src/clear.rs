@@ -107,6 +107,9 @@ pub struct ClearParams {
     pub chain_push_factors: Vec<f64>,
     /// Pushes allowed per tracked object.
     pub max_pushes_per_object: usize,
+    /// A push that moved its object less than this share of its length was jammed: it
+    /// is not tried that way again. Not in the seed.
+    pub push_jam_share: f64,
     /// Grasp attempts per tracked object before its grasp counts as infeasible.
     pub max_grasp_attempts: usize,
     /// Frames in a row without a plan before giving up.
@@ -146,6 +149,7 @@ impl ClearParams {
             ("pre_push_height", self.pre_push_height),
             ("clearance", self.clearance),
             ("sweep_tolerance", self.sweep_tolerance),
+            ("push_jam_share", self.push_jam_share),
         ];
         for (name, v) in positive {
             if !(v.is_finite() && v > 0.0 && v <= 100.0) {
@@ -220,6 +224,7 @@ impl Default for ClearParams {
             max_chain: 4,
             chain_push_factors: vec![1.0, 1.6, 2.2],
             max_pushes_per_object: 3,
+            push_jam_share: 0.35,
             max_grasp_attempts: 2,
             max_no_plan_frames: 3,
             plan_timeout_s: 1.0,
@@ -1304,8 +1309,11 @@ struct Track {
     expected: Vec2,
     seen: Vec2,
     pushes: Vec<Vec2>,
-    /// Directions of pushes that could not be executed.
+    /// Directions of pushes that could not be executed, or were jammed.
     failed_pushes: Vec<Vec2>,
+    /// The last push, until the next frame sees how far it went: direction, length and
+    /// where the object was.
+    pending: Option<(Vec2, f64, Vec2)>,
     grasp_attempts: usize,
 }
 
@@ -1320,8 +1328,10 @@ impl Track {
 }
 
 /// Gives every object the id of the track it continues (nearest expected position
-/// within `radius`, greedily by distance) or a new one.
-fn track(objects: &mut [SeenObject], tracks: &mut Vec<Track>, radius: f64) {
+/// within `radius`, greedily by distance) or a new one. A pushed object that moved
+/// less than `jam_share` of the push's length along it was jammed (by neighbours the
+/// predicates let it slide past): that way is not tried again.
+fn track(objects: &mut [SeenObject], tracks: &mut Vec<Track>, radius: f64, jam_share: f64) {
     let mut pairs: Vec<(f64, usize, usize)> = Vec::new();
     for (i, o) in objects.iter().enumerate() {
         for (t, tr) in tracks.iter().enumerate() {
@@ -1344,6 +1354,11 @@ fn track(objects: &mut [SeenObject], tracks: &mut Vec<Track>, radius: f64) {
         used_o[i] = true;
         used_t[t] = true;
         objects[i].id = tracks[t].id;
+        if let Some((d, length, from)) = tracks[t].pending.take()
+            && (objects[i].rect.center - from).dot(d) < jam_share * length
+        {
+            tracks[t].failed_pushes.push(d);
+        }
         tracks[t].expected = objects[i].rect.center;
         tracks[t].seen = objects[i].rect.center;
     }
@@ -1357,6 +1372,7 @@ fn track(objects: &mut [SeenObject], tracks: &mut Vec<Track>, radius: f64) {
                 seen: o.rect.center,
                 pushes: Vec::new(),
                 failed_pushes: Vec::new(),
+                pending: None,
                 grasp_attempts: 0,
             });
             next += 1;
@@ -1512,7 +1528,12 @@ pub fn clear<D: RobotDriver>(
                 break;
             }
         };
-        track(&mut objects, &mut tracks, params.track_radius);
+        track(
+            &mut objects,
+            &mut tracks,
+            params.track_radius,
+            params.push_jam_share,
+        );
         if frame_no == 0 {
             report.objects = objects.len();
             max_actions.get_or_insert(3 * objects.len() + 5);
@@ -1651,6 +1672,7 @@ pub fn clear<D: RobotDriver>(
                 let p = &geometry.pushes[i][k];
                 tracks[t].pushes.push(p.direction);
                 tracks[t].expected = o.rect.center + p.direction * p.length;
+                tracks[t].pending = Some((p.direction, p.length, o.rect.center));
                 execute_push(
                     driver, robot, &mut group, &objects, i, p, ik, &gripper, &table, &home, params,
                 )
@@ -2415,7 +2437,7 @@ mod tests {
             seen_box(0, Vec2::new(0.6, 0.0), Vec2::new(0.05, 0.05), 0.08, 0.72),
             seen_box(0, Vec2::new(0.6, 0.2), Vec2::new(0.05, 0.05), 0.08, 0.72),
         ];
-        track(&mut first, &mut tracks, 0.06);
+        track(&mut first, &mut tracks, 0.06, 0.35);
         assert_eq!((first[0].id, first[1].id), (0, 1));
         // Object 1 was pushed 10 cm along +x; object 0 did not move.
         tracks[1].expected = Vec2::new(0.7, 0.2);
@@ -2424,7 +2446,7 @@ mod tests {
             seen_box(0, Vec2::new(0.6, 0.0), Vec2::new(0.05, 0.05), 0.08, 0.72),
             seen_box(0, Vec2::new(0.4, -0.3), Vec2::new(0.05, 0.05), 0.08, 0.72),
         ];
-        track(&mut next, &mut tracks, 0.06);
+        track(&mut next, &mut tracks, 0.06, 0.35);
         assert_eq!((next[0].id, next[1].id, next[2].id), (1, 0, 2));
     }
 
