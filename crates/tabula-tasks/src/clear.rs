@@ -2386,12 +2386,19 @@ mod tests {
 
     #[test]
     fn touching_boxes_block_the_grasp_across_them_and_the_push_into_each_other() {
-        // Two boxes side by side along x, 2 mm apart, the right one lower. Closing
-        // across `a` puts a finger in the gap.
+        // Two boxes side by side along x, 2 mm apart, the right one 3 cm lower. Closing
+        // across `a` at full depth puts a finger in the gap; held only 2 cm deep, the
+        // fingertips pass over `b`.
         let a = seen_box(0, Vec2::new(0.6, 0.0), Vec2::new(0.04, 0.075), 0.08, 0.72);
         let b = seen_box(1, Vec2::new(0.647, 0.0), Vec2::new(0.05, 0.05), 0.05, 0.72);
         let objects = vec![a, b];
         let g = predicates(&objects, &table(), &hand(), &ClearParams::default(), false);
+        assert!(!g.block_grasp.contains(&(1, 0)), "{:?}", g.block_grasp);
+        let full_depth_only = ClearParams {
+            shallow_grip: 1.0,
+            ..ClearParams::default()
+        };
+        let g = predicates(&objects, &table(), &hand(), &full_depth_only, false);
         assert!(g.block_grasp.contains(&(1, 0)), "{:?}", g.block_grasp);
         // Pushing `a` into `b` is blocked; along y it slides past `b` (grazing is
         // allowed, the palm passes above the lower box) until its grasp is free.
