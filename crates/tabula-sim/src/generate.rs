@@ -1401,3 +1401,30 @@ fn ray_hits(mesh: &crate::objects::ObjectMesh, o: tabula_geom::Vec3, d: tabula_g
         u >= 0.0 && v >= 0.0 && u + v <= 1.0 && e2.dot(q) / det > 0.0
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every pile object can be taken from above however it lands: a box's two
+    /// smaller sides fit the grip (any face it rests on has one of them), a cylinder's
+    /// diameter does (standing or lying).
+    #[test]
+    fn pile_objects_fit_the_grip_on_every_face() {
+        for seed in 0..20 {
+            let mut rng = ChaCha8Rng::seed_from_u64(seed);
+            for p in pile(&mut rng) {
+                match p.shape {
+                    Shape::Box(s) => {
+                        let mut s = s;
+                        s.sort_by(f64::total_cmp);
+                        assert!(s[1] <= CLEAR_GRIP + 1e-12, "{s:?}");
+                    }
+                    Shape::Cylinder { radius, .. } => {
+                        assert!(2.0 * radius <= CLEAR_GRIP + 1e-12, "{radius}")
+                    }
+                }
+            }
+        }
+    }
+}

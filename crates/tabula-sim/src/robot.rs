@@ -521,6 +521,40 @@ impl SimWorld {
         None
     }
 
+    /// The objects (not held ones) within `within` m of entity `name`'s shapes, each
+    /// once.
+    pub fn objects_near(&self, name: &str, within: f64) -> Vec<String> {
+        let Some(i) = self.entity(name) else {
+            return Vec::new();
+        };
+        let body = &self.physics.bodies[self.entities[i].body];
+        let held: Vec<&str> = self.attachments.iter().map(|a| a.object.as_str()).collect();
+        let mut out = Vec::new();
+        for &ch in body.colliders() {
+            let c = &self.physics.colliders[ch];
+            let pose = *body.position() * *c.position_wrt_parent().unwrap_or(&Pose::IDENTITY);
+            for other in self.live_entities().filter(|o| {
+                o.kind == EntityKind::Object && o.name != name && !held.contains(&o.name.as_str())
+            }) {
+                if out.contains(&other.name) {
+                    continue;
+                }
+                let ob = &self.physics.bodies[other.body];
+                let near = ob.colliders().iter().any(|&oc| {
+                    let occ = &self.physics.colliders[oc];
+                    let opose =
+                        *ob.position() * *occ.position_wrt_parent().unwrap_or(&Pose::IDENTITY);
+                    rapier3d_f64::parry::query::distance(&pose, c.shape(), &opose, occ.shape())
+                        .is_ok_and(|d| d.distance <= within)
+                });
+                if near {
+                    out.push(other.name.clone());
+                }
+            }
+        }
+        out
+    }
+
     /// What a robot's links (and what they hold) touch now among `kinds`, penetrating
     /// by more than `depth` m: `(link or held object, entity)` pairs. The verdict on
     /// "no contact with furniture during any motion" samples this.

@@ -134,9 +134,9 @@ impl ClearJudge {
     ///
     /// Only objects standing on the table count: a held object landing on those already
     /// in the bin touches nothing it should not. Nor does an object the hand takes count
-    /// against what it already leaned on or touched when the fingers closed on it (in
-    /// a pile, most objects rest against others): those pairs are excused while it is
-    /// held; anything it meets afterwards counts.
+    /// against what it already leaned on or touched (within 2 mm) when the fingers
+    /// closed on it (in a pile, most objects rest against others): those pairs are
+    /// excused while it is held; anything it meets afterwards counts.
     pub fn observer(&self, robot: &str) -> impl FnMut(&SimWorld) + Send + 'static {
         let contacts = self.contacts.clone();
         let target = self.target.clone();
@@ -151,7 +151,7 @@ impl ClearJudge {
             let now = w.held_objects(&robot);
             excused.retain(|(h, _)| now.contains(h));
             for h in now.iter().filter(|h| !held.contains(h)) {
-                excused.extend(found.iter().filter(|(a, _)| a == h).cloned());
+                excused.extend(w.objects_near(h, 2e-3).into_iter().map(|o| (h.clone(), o)));
             }
             held = now;
             found.retain(|pair| !excused.contains(pair));

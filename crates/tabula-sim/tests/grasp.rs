@@ -217,3 +217,37 @@ fn a_slow_release_takes_its_time_and_sets_the_box_down_straight() {
     );
     assert!(d.open_slowly("gripper", f64::NAN).is_err());
 }
+
+/// A pre-grasp posture: the fingers open to the asked gap (clamped to the gripper's
+/// range), letting go of what they held; NaN is refused.
+#[test]
+fn the_gripper_opens_to_a_gap_and_lets_go() {
+    use tabula_robot::driver::Grippers;
+    let robot = tabula_robot::robots::load("wam").unwrap();
+    let chain = Chain::new(&robot.model, "base_link", "wam_tool").unwrap();
+    let names: Vec<String> = chain.joint_names.clone();
+    let grasp = ik(
+        &chain,
+        Vec3::new(0.55, 0.0, 0.425),
+        &chain.mid_configuration(),
+    );
+    let scene = Scene::parse(SCENE, "grasp.toml").unwrap();
+    let mut world = SimWorld::from_scene(&scene, PhysicsParams::default()).unwrap();
+    let q: Vec<(&str, f64)> = names
+        .iter()
+        .map(String::as_str)
+        .zip(grasp.iter().copied())
+        .collect();
+    world.set_joints("wam", &q).unwrap();
+    world.settle();
+    let mut d = tabula_sim::SimDriver::new(world, "wam", 0).unwrap();
+    assert!(d.close("gripper").unwrap().holding);
+    d.open_to("gripper", 0.055).unwrap();
+    let state = d.grip_state("gripper").unwrap();
+    assert!(!state.holding);
+    assert!((state.width - 0.055).abs() < 1e-6, "{}", state.width);
+    // Wider than the gripper opens: fully open.
+    d.open_to("gripper", 1.0).unwrap();
+    assert!((d.grip_state("gripper").unwrap().width - 0.07).abs() < 1e-6);
+    assert!(d.open_to("gripper", f64::NAN).is_err());
+}

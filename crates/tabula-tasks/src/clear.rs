@@ -978,9 +978,14 @@ fn grasp_blockers(
     (0..objects.len())
         .filter(|&a| !skip(a))
         .filter(|&a| {
-            poses
-                .iter()
-                .any(|p| hits(hand.open_for(grasp.width).1, p, &objects[a], params.clearance))
+            poses.iter().any(|p| {
+                hits(
+                    hand.open_for(grasp.width).1,
+                    p,
+                    &objects[a],
+                    params.clearance,
+                )
+            })
         })
         .collect()
 }
@@ -2455,6 +2460,34 @@ mod tests {
         ];
         track(&mut next, &mut tracks, 0.06, 0.35);
         assert_eq!((next[0].id, next[1].id, next[2].id), (1, 0, 2));
+    }
+
+    /// A push that moved its object less than a third of its length jammed: that way is
+    /// ruled out; one that went most of the way is not.
+    #[test]
+    fn a_jammed_push_is_not_tried_that_way_again() {
+        let params = ClearParams::default();
+        let mut tracks = Vec::new();
+        let mut first = vec![
+            seen_box(0, Vec2::new(0.6, 0.0), Vec2::new(0.05, 0.05), 0.08, 0.72),
+            seen_box(0, Vec2::new(0.6, 0.2), Vec2::new(0.05, 0.05), 0.08, 0.72),
+        ];
+        track(&mut first, &mut tracks, 0.06, params.push_jam_share);
+        // Both pushed 6 cm along +x: the first moves 1 cm, the second 5 cm.
+        for (t, o) in tracks.iter_mut().zip(&first) {
+            t.pushes.push(Vec2::X);
+            t.expected = o.rect.center + Vec2::X * 0.06;
+            t.pending = Some((Vec2::X, 0.06, o.rect.center));
+        }
+        let mut next = vec![
+            seen_box(0, Vec2::new(0.61, 0.0), Vec2::new(0.05, 0.05), 0.08, 0.72),
+            seen_box(0, Vec2::new(0.65, 0.2), Vec2::new(0.05, 0.05), 0.08, 0.72),
+        ];
+        track(&mut next, &mut tracks, 0.06, params.push_jam_share);
+        assert_eq!((next[0].id, next[1].id), (0, 1));
+        assert!(tracks[0].rules_out(Vec2::X, &params));
+        assert!(!tracks[1].rules_out(Vec2::X, &params));
+        assert!(tracks.iter().all(|t| t.pending.is_none()));
     }
 
     #[test]
