@@ -17,7 +17,9 @@ use tabula_geom::input::{Validate, check_count, nested};
 use tabula_geom::parry::bounding_volume::{Aabb, BoundingVolume};
 use tabula_geom::parry::query;
 use tabula_geom::parry::shape::SharedShape;
-use tabula_geom::polygon::{Rectangle, convex_hull_2d, inside_convex, min_area_rectangle};
+use tabula_geom::polygon::{
+    Rectangle, convex_hull_2d, distance_to_boundary, inside_convex, min_area_rectangle,
+};
 use tabula_geom::{PointCloud, Pose, Quat, Vec2, Vec3};
 use tabula_motion::group::thread_cpu;
 use tabula_motion::{MoveError, MoveGroup, MoveGroupParams, Plan};
@@ -639,20 +641,30 @@ fn perceive(
             table_z
         };
         if lowest > bottom + 0.015 {
-            let under = raw
+            let candidates: Vec<&(Vec<Vec3>, Vec<Vec2>, Rectangle, f64)> = raw
                 .iter()
                 .enumerate()
                 .filter(|(j, r)| *j != i && r.3 < lowest + 0.02 && r.3 > bottom + 0.01)
-                .map(|(_, r)| {
-                    let inside = points
+                .map(|(_, r)| r)
+                .collect();
+            let highest = |rs: &mut dyn Iterator<Item = f64>| rs.fold(f64::NEG_INFINITY, f64::max);
+            let mut under = highest(&mut candidates.iter().filter_map(|r| {
+                let inside = points
+                    .iter()
+                    .filter(|q| inside_convex(&r.1, q.truncate()))
+                    .count();
+                (inside as f64 / points.len().max(1) as f64 > 0.5).then_some(r.3)
+            }));
+            if !under.is_finite() {
+                // Held up by something whose top it hides: the seen part of that
+                // footprint only reaches to its edge.
+                under = highest(&mut candidates.iter().filter_map(|r| {
+                    footprint
                         .iter()
-                        .filter(|q| inside_convex(&r.1, q.truncate()))
-                        .count();
-                    (inside as f64 / points.len().max(1) as f64, r.3)
-                })
-                .filter(|(share, _)| *share > 0.5)
-                .map(|(_, z)| z)
-                .fold(f64::NEG_INFINITY, f64::max);
+                        .any(|&p| inside_convex(&r.1, p) || distance_to_boundary(&r.1, p) < 0.01)
+                        .then_some(r.3)
+                }));
+            }
             if under.is_finite() {
                 bottom = under;
             }
