@@ -490,6 +490,21 @@ impl SimWorld {
         kinds: &[EntityKind],
         max_distance: f64,
     ) -> Option<String> {
+        self.contacts(body, world_from_body, kinds, max_distance, true)
+            .pop()
+    }
+
+    /// Every entity of one of `kinds` that `body` at `world_from_body` comes within
+    /// `max_distance` of, or only the first when `first`.
+    fn contacts(
+        &self,
+        body: &RigidBody,
+        world_from_body: Pose,
+        kinds: &[EntityKind],
+        max_distance: f64,
+        first: bool,
+    ) -> Vec<String> {
+        let mut out: Vec<String> = Vec::new();
         let held: Vec<&str> = self.attachments.iter().map(|a| a.object.as_str()).collect();
         for &ch in body.colliders() {
             let c = &self.physics.colliders[ch];
@@ -508,51 +523,33 @@ impl SimWorld {
                         c.shape(),
                         &opose,
                         occ.shape(),
-                        0.0,
+                        max_distance.max(0.0),
                     )
                     .ok()
                     .flatten();
-                    if contact.is_some_and(|k| k.dist <= max_distance) {
-                        return Some(other.name.clone());
+                    if contact.is_some_and(|k| k.dist <= max_distance) && !out.contains(&other.name)
+                    {
+                        out.push(other.name.clone());
+                        if first {
+                            return out;
+                        }
                     }
                 }
             }
         }
-        None
+        out
     }
 
-    /// The objects (not held ones) within `within` m of entity `name`'s shapes, each
-    /// once.
+    /// The objects (not held ones) within `within` m of entity `name`'s shapes.
     pub fn objects_near(&self, name: &str, within: f64) -> Vec<String> {
         let Some(i) = self.entity(name) else {
             return Vec::new();
         };
         let body = &self.physics.bodies[self.entities[i].body];
-        let held: Vec<&str> = self.attachments.iter().map(|a| a.object.as_str()).collect();
-        let mut out = Vec::new();
-        for &ch in body.colliders() {
-            let c = &self.physics.colliders[ch];
-            let pose = *body.position() * *c.position_wrt_parent().unwrap_or(&Pose::IDENTITY);
-            for other in self.live_entities().filter(|o| {
-                o.kind == EntityKind::Object && o.name != name && !held.contains(&o.name.as_str())
-            }) {
-                if out.contains(&other.name) {
-                    continue;
-                }
-                let ob = &self.physics.bodies[other.body];
-                let near = ob.colliders().iter().any(|&oc| {
-                    let occ = &self.physics.colliders[oc];
-                    let opose =
-                        *ob.position() * *occ.position_wrt_parent().unwrap_or(&Pose::IDENTITY);
-                    rapier3d_f64::parry::query::distance(&pose, c.shape(), &opose, occ.shape())
-                        .is_ok_and(|d| d.distance <= within)
-                });
-                if near {
-                    out.push(other.name.clone());
-                }
-            }
-        }
-        out
+        self.contacts(body, *body.position(), &[EntityKind::Object], within, false)
+            .into_iter()
+            .filter(|o| o != name)
+            .collect()
     }
 
     /// What a robot's links (and what they hold) touch now among `kinds`, penetrating
@@ -572,7 +569,7 @@ impl SimWorld {
                 || held.contains(&e.name)
         }) {
             let body = &self.physics.bodies[e.body];
-            if let Some(hit) = self.first_contact(body, *body.position(), kinds, -depth) {
+            for hit in self.contacts(body, *body.position(), kinds, -depth, false) {
                 out.push((e.name.clone(), hit));
             }
         }

@@ -251,3 +251,56 @@ fn the_gripper_opens_to_a_gap_and_lets_go() {
     assert!((d.grip_state("gripper").unwrap().width - 0.07).abs() < 1e-6);
     assert!(d.open_to("gripper", f64::NAN).is_err());
 }
+
+/// The clearing judge: an object the hand takes may go on touching what it leaned on
+/// when taken (within 2 mm), but anything else it meets while held is a collision.
+#[test]
+fn a_taken_object_is_excused_what_it_touched_when_taken_only() {
+    use tabula_robot::driver::Grippers;
+    use tabula_sim::verdict::ClearJudge;
+    let scene = format!(
+        "{SCENE}\n[[furniture]]\nname = \"bin\"\nkind = \"bin\"\npose = {{ xyz = [0.0, 0.6, 0.0] }}\nsize = [0.3, 0.3, 0.3]\n\n\
+         [[object]]\nname = \"beside\"\nshape = {{ box = [0.05, 0.05, 0.05] }}\npose = {{ xyz = [0.55, 0.0515, 0.425] }}\nmass = 0.1\n\n\
+         [[object]]\nname = \"far\"\nshape = {{ box = [0.05, 0.05, 0.05] }}\npose = {{ xyz = [0.55, -0.2, 0.425] }}\nmass = 0.1\n"
+    );
+    let scene = Scene::parse(&scene, "judge.toml").unwrap();
+    let mut world = SimWorld::from_scene(&scene, PhysicsParams::default()).unwrap();
+    let robot = tabula_robot::robots::load("wam").unwrap();
+    let chain = Chain::new(&robot.model, "base_link", "wam_tool").unwrap();
+    let grasp = ik(
+        &chain,
+        Vec3::new(0.55, 0.0, 0.425),
+        &chain.mid_configuration(),
+    );
+    let q: Vec<(&str, f64)> = chain
+        .joint_names
+        .iter()
+        .map(String::as_str)
+        .zip(grasp.iter().copied())
+        .collect();
+    world.set_joints("wam", &q).unwrap();
+    world.settle();
+    let start = world.object_poses();
+    let mut judge = ClearJudge::new(&world, "table").unwrap();
+    let held_at = world.pose("box").unwrap().translation;
+    judge.before(&world, held_at, &[]);
+    let mut observe = judge.observer("wam");
+    let mut d = tabula_sim::SimDriver::new(world, "wam", 0).unwrap();
+    assert!(d.close("gripper").unwrap().holding);
+    observe(&d.world);
+    // Pressed 3 mm into each side of the held box: the neighbour it leaned on is
+    // excused, the one it had not touched is not.
+    let box_y = d.world.pose("box").unwrap().translation.y;
+    for (name, y) in [("beside", box_y + 0.047), ("far", box_y - 0.047)] {
+        let mut p = d.world.pose(name).unwrap();
+        p.translation.y = y;
+        d.world.move_to(name, p).unwrap();
+        observe(&d.world);
+    }
+    judge.after(&d.world);
+    let verdict = judge.verdict(&start, &d.world, "bin");
+    assert_eq!(
+        verdict.collisions,
+        vec![("box".to_string(), "far".to_string())]
+    );
+}

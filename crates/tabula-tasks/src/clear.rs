@@ -657,12 +657,15 @@ fn perceive(
             }));
             if !under.is_finite() {
                 // Held up by something whose top it hides: the seen part of that
-                // footprint only reaches to its edge.
+                // footprint only reaches to its edge. It stands a whole object's height
+                // above that top (a segment seen only by its top face is no higher
+                // than its neighbours and stands on the table).
                 under = highest(&mut candidates.iter().filter_map(|r| {
-                    footprint
-                        .iter()
-                        .any(|&p| inside_convex(&r.1, p) || distance_to_boundary(&r.1, p) < 0.01)
-                        .then_some(r.3)
+                    (r.3 <= top_z - tabletop.min_object_height
+                        && footprint.iter().any(|&p| {
+                            inside_convex(&r.1, p) || distance_to_boundary(&r.1, p) < 0.01
+                        }))
+                    .then_some(r.3)
                 }));
             }
             if under.is_finite() {
