@@ -93,6 +93,8 @@ pub struct ClearJudge {
     target: Arc<Mutex<Vec<String>>>,
     /// Arm (or held object) – object contacts with anything but the target.
     contacts: Arc<Mutex<Vec<(String, String)>>>,
+    /// How many of `contacts` were recorded before the current action.
+    action_start: Arc<Mutex<usize>>,
     before: Vec<(String, Pose)>,
     /// Objects the current action shoves along on purpose.
     shoved: Vec<String>,
@@ -123,6 +125,7 @@ impl ClearJudge {
                 .ok_or_else(|| SimError::UnknownEntity(table.into()))?,
             target: Arc::default(),
             contacts: Arc::default(),
+            action_start: Arc::default(),
             before: Vec::new(),
             shoved: Vec::new(),
             disturbed: Vec::new(),
@@ -136,9 +139,12 @@ impl ClearJudge {
     /// in the bin touches nothing it should not. Nor does an object the hand takes count
     /// against what it already leaned on or touched (within 2 mm) when the fingers
     /// closed on it (in a pile, most objects rest against others): those pairs are
-    /// excused while it is held; anything it meets afterwards counts.
+    /// excused while it is held; anything it meets afterwards counts. What the hand
+    /// takes is handled by the action, whichever object the action was named for: the
+    /// fingers' contacts with it on the way down are not collisions.
     pub fn observer(&self, robot: &str) -> impl FnMut(&SimWorld) + Send + 'static {
         let contacts = self.contacts.clone();
+        let action_start = self.action_start.clone();
         let target = self.target.clone();
         let robot = robot.to_string();
         let table = self.table;
@@ -152,6 +158,19 @@ impl ClearJudge {
             excused.retain(|(h, _)| now.contains(h));
             for h in now.iter().filter(|h| !held.contains(h)) {
                 excused.extend(w.objects_near(h, 2e-3).into_iter().map(|o| (h.clone(), o)));
+                if let Ok(mut t) = target.lock()
+                    && !t.contains(h)
+                {
+                    t.push(h.clone());
+                }
+                let start = action_start.lock().map(|s| *s).unwrap_or(usize::MAX);
+                if let Ok(mut c) = contacts.lock() {
+                    let mut k = 0;
+                    c.retain(|(_, o)| {
+                        k += 1;
+                        k <= start || o != h
+                    });
+                }
             }
             held = now;
             found.retain(|pair| !excused.contains(pair));
@@ -194,6 +213,9 @@ impl ClearJudge {
                 .into_iter()
                 .chain(self.shoved.iter().cloned())
                 .collect();
+        }
+        if let (Ok(mut s), Ok(c)) = (self.action_start.lock(), self.contacts.lock()) {
+            *s = c.len();
         }
     }
 
