@@ -107,6 +107,12 @@ pub struct ClearParams {
     /// Chain pushes are tried this many times the box's size along the push long (the
     /// seed's k = 1 first).
     pub chain_push_factors: Vec<f64>,
+    /// The last resort when neither the seed's actions nor chain pushes can go on
+    /// (pairs blocking each other's grasp in a pile): a grasp whose open fingers reach
+    /// at most this far (m) into neighbours' hulls, pushing them aside as they come
+    /// down — VPG's grasps do. The neighbours it moves are handled by the action, as a
+    /// chain push's are. Not in the seed; 0 gives up instead.
+    pub nudge_depth: f64,
     /// Pushes allowed per tracked object.
     pub max_pushes_per_object: usize,
     /// A push that moved its object less than this share of its length was jammed: it
@@ -152,6 +158,7 @@ impl ClearParams {
             ("clearance", self.clearance),
             ("sweep_tolerance", self.sweep_tolerance),
             ("push_jam_share", self.push_jam_share),
+            ("nudge_depth", self.nudge_depth),
         ];
         for (name, v) in positive {
             if !(v.is_finite() && v > 0.0 && v <= 100.0) {
@@ -225,6 +232,7 @@ impl Default for ClearParams {
             track_radius: 0.06,
             max_chain: 4,
             chain_push_factors: vec![1.0, 1.6, 2.2],
+            nudge_depth: 0.008,
             max_pushes_per_object: 3,
             push_jam_share: 0.35,
             max_grasp_attempts: 2,
@@ -1600,6 +1608,15 @@ pub fn clear<D: RobotDriver>(
                 &objects, &geometry, &tracks, &mut group, robot, &state, params, &mut fr,
             );
         }
+        if matches!(chosen, Decision::NothingRemovable) && params.nudge_depth > 0.0 {
+            let c = thread_cpu();
+            geometry = predicates(&objects, &table, &hand, params, false);
+            fr.predicates_ms += (thread_cpu() - c) * 1e3;
+            chosen = decide_nudge(
+                &objects, &geometry, &tracks, &hand, &table, &mut group, robot, &state, params,
+                &mut fr,
+            );
+        }
         // Chain predicates (when needed) ran inside this span: counted as predicates.
         let decision_total = (thread_cpu() - c2) * 1e3;
         let chain_predicates_ms = fr.predicates_ms - solo_predicates_ms;
@@ -1619,8 +1636,8 @@ pub fn clear<D: RobotDriver>(
         );
         report.frames.push(fr);
         frame_no += 1;
-        let (i, kind, ik) = match chosen {
-            Decision::Act(i, kind, ik) => (i, kind, ik),
+        let (i, kind, ik, nudged) = match chosen {
+            Decision::Act(i, kind, ik, nudged) => (i, kind, ik, nudged),
             Decision::NothingRemovable => {
                 report.stop = "nothing left that can be removed".into();
                 break;
@@ -1645,7 +1662,10 @@ pub fn clear<D: RobotDriver>(
             object: o.id,
             position: o.center().to_array(),
             push: None,
-            shoves: Vec::new(),
+            shoves: nudged
+                .iter()
+                .map(|&a| objects[a].center().to_array())
+                .collect(),
             ok: false,
             error: None,
         };
@@ -1682,6 +1702,7 @@ pub fn clear<D: RobotDriver>(
                         request,
                         report.removed,
                         &home,
+                        &nudged,
                         params,
                     ),
                     None => Err(ExecError::Motion("no grasp fits the object".into())),
@@ -1765,8 +1786,9 @@ pub fn clear<D: RobotDriver>(
 }
 
 enum Decision {
-    /// Object index, action, and the IK solution found for its first pose.
-    Act(usize, ActionKind, Vec<f64>),
+    /// Object index, action, the IK solution found for its first pose, and the
+    /// neighbours a nudge grasp pushes aside (empty otherwise).
+    Act(usize, ActionKind, Vec<f64>, Vec<usize>),
     NoPlan,
     NothingRemovable,
 }
@@ -1907,10 +1929,10 @@ fn decide(
             }
         };
         let c = thread_cpu();
-        let ik = first_pose_ik(group, objects, i, kind, g, &seed, params);
+        let ik = first_pose_ik(group, objects, i, kind, g, &seed, &[], params);
         fr.ik_ms += (thread_cpu() - c) * 1e3;
         match ik {
-            Some(q) => return Decision::Act(i, kind, q),
+            Some(q) => return Decision::Act(i, kind, q, Vec::new()),
             None => {
                 fr.ik_backtracks += 1;
                 let _ = planner.set_fact(&infeasible_atom(kind, objects[i].id), true);
@@ -1960,14 +1982,121 @@ fn decide_chain(
             DIRECTIONS[k], objects[i].id
         )];
         let c = thread_cpu();
-        let ik = first_pose_ik(group, objects, i, ActionKind::Push(k), g, &seed, params);
+        let ik = first_pose_ik(
+            group,
+            objects,
+            i,
+            ActionKind::Push(k),
+            g,
+            &seed,
+            &[],
+            params,
+        );
         fr.ik_ms += (thread_cpu() - c) * 1e3;
         match ik {
-            Some(q) => return Decision::Act(i, ActionKind::Push(k), q),
+            Some(q) => return Decision::Act(i, ActionKind::Push(k), q, Vec::new()),
             None => fr.ik_backtracks += 1,
         }
     }
     Decision::NothingRemovable
+}
+
+/// The last resort (see [`ClearParams::nudge_depth`]): grasps of objects nothing stands
+/// on whose open fingers, at the grasp and on the way down to it, reach at most
+/// `nudge_depth` into their blockers' hulls — shallowest first, the first with IK.
+#[allow(clippy::too_many_arguments)]
+fn decide_nudge(
+    objects: &[SeenObject],
+    g: &Geometry,
+    tracks: &[Track],
+    hand: &Hand,
+    table: &Table,
+    group: &mut MoveGroup,
+    robot: &NamedRobot,
+    state: &tabula_robot::driver::JointState,
+    params: &ClearParams,
+    fr: &mut FrameReport,
+) -> Decision {
+    let mut candidates: Vec<(f64, usize, Vec<usize>)> = Vec::new();
+    for (i, o) in objects.iter().enumerate() {
+        let Some(grasp) = &g.grasps[i] else { continue };
+        let tried_enough = tracks
+            .iter()
+            .find(|t| t.id == o.id)
+            .is_some_and(|t| t.grasp_attempts >= params.max_grasp_attempts);
+        if tried_enough || g.on.iter().any(|&(_, under)| under == i) {
+            continue;
+        }
+        let blockers: Vec<usize> = g
+            .block_grasp
+            .iter()
+            .filter(|&&(_, b)| b == i)
+            .map(|&(a, _)| a)
+            .collect();
+        if blockers.is_empty() {
+            continue;
+        }
+        let poses = descent_poses(&grasp.poses[0], table.up, params.pregrasp);
+        let shapes = hand.open_for(grasp.width).1;
+        let depth = blockers
+            .iter()
+            .map(|&a| penetration(shapes, &poses, &objects[a]))
+            .fold(0.0, f64::max);
+        if depth <= params.nudge_depth {
+            candidates.push((depth, i, blockers));
+        }
+    }
+    candidates.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let _ = group.set_state(robot, state);
+    let seed = group.arm_values(state);
+    for (depth, i, nudged) in candidates {
+        fr.plan = vec![format!(
+            "(grasp o{}) [nudging {} by {:.1} mm]",
+            objects[i].id,
+            nudged
+                .iter()
+                .map(|&a| format!("o{}", objects[a].id))
+                .collect::<Vec<_>>()
+                .join(" "),
+            depth * 1e3
+        )];
+        let c = thread_cpu();
+        let ik = first_pose_ik(
+            group,
+            objects,
+            i,
+            ActionKind::Grasp,
+            g,
+            &seed,
+            &nudged,
+            params,
+        );
+        fr.ik_ms += (thread_cpu() - c) * 1e3;
+        match ik {
+            Some(q) => return Decision::Act(i, ActionKind::Grasp, q, nudged),
+            None => fr.ik_backtracks += 1,
+        }
+    }
+    Decision::NothingRemovable
+}
+
+/// How deep (m) `shapes` at any of `poses` reach into `other`'s hull (0 when apart).
+fn penetration(shapes: &[(SharedShape, Pose)], poses: &[Pose], other: &SeenObject) -> f64 {
+    let mut deepest: f64 = 0.0;
+    for pose in poses {
+        for (s, p) in shapes {
+            let w = *pose * *p;
+            if !s.compute_aabb(&w).intersects(&other.aabb) {
+                continue;
+            }
+            if let Ok(Some(c)) =
+                query::contact(&w, s.as_ref(), &Pose::IDENTITY, other.hull.as_ref(), 0.0)
+            {
+                deepest = deepest.max(-c.dist);
+            }
+        }
+    }
+    deepest
 }
 
 /// The poses an action must reach, first one first: pre-grasp and grasp, or pre-push,
@@ -2018,11 +2147,14 @@ fn first_pose_ik(
     kind: ActionKind,
     g: &Geometry,
     seed: &[f64],
+    nudged: &[usize],
     params: &ClearParams,
 ) -> Option<Vec<f64>> {
     let up = Vec3::Z;
-    // The target, and what a chain push shoves along, move: out of the world here.
+    // The target, what a chain push shoves along and what a nudge grasp pushes aside
+    // move: out of the world here.
     let mut moving = vec![i];
+    moving.extend(nudged);
     if let ActionKind::Push(k) = kind {
         moving.extend(&g.pushes[i][k].chain);
     }
@@ -2155,6 +2287,7 @@ fn execute_grasp(
     request: &ClearRequest,
     drop_count: usize,
     home: &[f64],
+    nudged: &[usize],
     params: &ClearParams,
 ) -> Result<(), ExecError> {
     let o = &objects[i];
@@ -2182,6 +2315,11 @@ fn execute_grasp(
         .or_else(|_| group.plan_to_pose(&q, &pre))?;
     run(driver, &to_pre, "to pre-grasp")?;
     group.remove_object(&name)?;
+    // A nudge grasp's fingers push these aside on the way down: out of the world until
+    // the object is lifted.
+    for &a in nudged {
+        group.remove_object(&format!("obj:{}", objects[a].id))?;
+    }
     let q = current_arm(driver, group)?;
     let down = group.cartesian(&q, &g)?;
     run(driver, &down, "descend")?;
@@ -2219,6 +2357,12 @@ fn execute_grasp(
         group.add_object(&format!("obj:{}", n.id), n.hull.clone(), Pose::IDENTITY)?;
     }
     run(driver, &lift?, "lift")?;
+    for &a in nudged {
+        let n = &objects[a];
+        if !neighbours.iter().any(|x| x.id == n.id) {
+            group.add_object(&format!("obj:{}", n.id), n.hull.clone(), Pose::IDENTITY)?;
+        }
+    }
     // Over the bin, the object's bottom `drop_clearance` above the drop point.
     let hang = g.translation.dot(table.up) - o.bottom;
     let over = request.drop_point
@@ -2475,6 +2619,33 @@ mod tests {
         ];
         track(&mut next, &mut tracks, 0.06, 0.35);
         assert_eq!((next[0].id, next[1].id, next[2].id), (1, 0, 2));
+    }
+
+    /// How far the open hand reaches into a neighbour: nothing when it is clear, about
+    /// the overlap when a finger comes down a few millimetres into it.
+    #[test]
+    fn penetration_measures_how_far_the_fingers_reach_into_a_neighbour() {
+        let h = hand();
+        let target = seen_box(0, Vec2::new(0.6, 0.0), Vec2::new(0.04, 0.04), 0.08, 0.72);
+        let params = ClearParams::default();
+        let g = grasps_of(&target, &h, &table(), &params).remove(0);
+        let shapes = h.open_for(g.width).1;
+        let poses = descent_poses(&g.poses[0], Vec3::Z, params.pregrasp);
+        // Neighbours beside it along the closing axis, nearer and nearer: clear, then
+        // reached into by as much as they come nearer.
+        let closing = (g.poses[0].rotation * h.closing).truncate().normalize();
+        let (_, outer) = extent_along(shapes, h.closing);
+        let beside = |gap: f64| {
+            let c = target.rect.center + closing * (outer + gap + 0.02);
+            seen_box(1, c, Vec2::new(0.04, 0.04), 0.08, 0.72)
+        };
+        assert_eq!(penetration(shapes, &poses, &beside(0.01)), 0.0);
+        let (near, nearer) = (
+            penetration(shapes, &poses, &beside(-0.01)),
+            penetration(shapes, &poses, &beside(-0.02)),
+        );
+        assert!(near > 0.0);
+        assert!((nearer - near - 0.01).abs() < 1e-3, "{near} {nearer}");
     }
 
     /// A push that moved its object less than a third of its length jammed: that way is
