@@ -2349,7 +2349,8 @@ fn execute_grasp(
         .map(|(_, n)| n)
         .collect();
     for n in &neighbours {
-        group.remove_object(&format!("obj:{}", n.id))?;
+        // (What a nudge grasp pushed aside is out already.)
+        let _ = group.remove_object(&format!("obj:{}", n.id));
     }
     let lifted = Pose::from_parts(g.translation + table.up * params.lift, g.rotation);
     let lift = group.cartesian(&q, &lifted);
