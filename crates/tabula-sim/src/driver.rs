@@ -160,12 +160,7 @@ impl Grippers for SimDriver {
             return Err(DriverError::NonFinite);
         }
         let g = self.gripper(gripper)?;
-        let r = self.world.robot(&self.robot)?;
-        let j = r
-            .model
-            .joint(&g.finger_joint)
-            .ok_or_else(|| DriverError::UnknownJoint(g.finger_joint.clone()))?;
-        let l = r.model.joints[j].limits;
+        let l = self.finger_limits(&g)?;
         // The gap is linear in the finger joint (see `Gripper::width_at`).
         let span = g.open_width - g.closed_width;
         let share = if span.abs() > 1e-12 {
@@ -182,13 +177,8 @@ impl Grippers for SimDriver {
             return Err(DriverError::NonFinite);
         }
         let g = self.gripper(gripper)?;
-        let r = self.world.robot(&self.robot)?;
         // The gap is linear in the finger joint (see `Gripper::width_at`).
-        let j = r
-            .model
-            .joint(&g.finger_joint)
-            .ok_or_else(|| DriverError::UnknownJoint(g.finger_joint.clone()))?;
-        let l = r.model.joints[j].limits;
+        let l = self.finger_limits(&g)?;
         let per_joint = (g.open_width - g.closed_width).abs() / (l.upper - l.lower).max(1e-12);
         let joint_speed = speed / per_joint.max(1e-12);
         self.run(|w, r| w.open_gripper_at(r, &g.finger_joint, Some(joint_speed)))
@@ -242,6 +232,19 @@ impl SimDriver {
 }
 
 impl SimDriver {
+    /// The limits of a gripper's finger joint.
+    fn finger_limits(
+        &self,
+        g: &tabula_robot::description::Gripper,
+    ) -> Result<tabula_robot::model::JointLimits, DriverError> {
+        let r = self.world.robot(&self.robot)?;
+        let j = r
+            .model
+            .joint(&g.finger_joint)
+            .ok_or_else(|| DriverError::UnknownJoint(g.finger_joint.clone()))?;
+        Ok(r.model.joints[j].limits)
+    }
+
     fn gripper(&self, name: &str) -> Result<tabula_robot::description::Gripper, DriverError> {
         let r = self.world.robot(&self.robot)?;
         r.description

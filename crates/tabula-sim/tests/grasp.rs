@@ -42,6 +42,29 @@ fn ik(chain: &Chain, xyz: Vec3, seed: &[f64]) -> Vec<f64> {
         .clone()
 }
 
+/// `scene_text` loaded and settled with the WAM's fingers around the box at
+/// (0.55, 0, 0.425), open.
+fn settled_around_the_box(scene_text: &str) -> SimWorld {
+    let scene = Scene::parse(scene_text, "grasp.toml").unwrap();
+    let mut world = SimWorld::from_scene(&scene, PhysicsParams::default()).unwrap();
+    let robot = tabula_robot::robots::load("wam").unwrap();
+    let chain = Chain::new(&robot.model, "base_link", "wam_tool").unwrap();
+    let grasp = ik(
+        &chain,
+        Vec3::new(0.55, 0.0, 0.425),
+        &chain.mid_configuration(),
+    );
+    let q: Vec<(&str, f64)> = chain
+        .joint_names
+        .iter()
+        .map(String::as_str)
+        .zip(grasp.iter().copied())
+        .collect();
+    world.set_joints("wam", &q).unwrap();
+    world.settle();
+    world
+}
+
 #[test]
 fn the_gripper_carries_a_box_and_lets_it_fall_on_the_table() {
     let scene = Scene::parse(SCENE, "grasp.toml").unwrap();
@@ -223,23 +246,7 @@ fn a_slow_release_takes_its_time_and_sets_the_box_down_straight() {
 #[test]
 fn the_gripper_opens_to_a_gap_and_lets_go() {
     use tabula_robot::driver::Grippers;
-    let robot = tabula_robot::robots::load("wam").unwrap();
-    let chain = Chain::new(&robot.model, "base_link", "wam_tool").unwrap();
-    let names: Vec<String> = chain.joint_names.clone();
-    let grasp = ik(
-        &chain,
-        Vec3::new(0.55, 0.0, 0.425),
-        &chain.mid_configuration(),
-    );
-    let scene = Scene::parse(SCENE, "grasp.toml").unwrap();
-    let mut world = SimWorld::from_scene(&scene, PhysicsParams::default()).unwrap();
-    let q: Vec<(&str, f64)> = names
-        .iter()
-        .map(String::as_str)
-        .zip(grasp.iter().copied())
-        .collect();
-    world.set_joints("wam", &q).unwrap();
-    world.settle();
+    let world = settled_around_the_box(SCENE);
     let mut d = tabula_sim::SimDriver::new(world, "wam", 0).unwrap();
     assert!(d.close("gripper").unwrap().holding);
     d.open_to("gripper", 0.055).unwrap();
@@ -263,23 +270,7 @@ fn a_taken_object_is_excused_what_it_touched_when_taken_only() {
          [[object]]\nname = \"beside\"\nshape = {{ box = [0.05, 0.05, 0.05] }}\npose = {{ xyz = [0.55, 0.0515, 0.425] }}\nmass = 0.1\n\n\
          [[object]]\nname = \"far\"\nshape = {{ box = [0.05, 0.05, 0.05] }}\npose = {{ xyz = [0.55, -0.2, 0.425] }}\nmass = 0.1\n"
     );
-    let scene = Scene::parse(&scene, "judge.toml").unwrap();
-    let mut world = SimWorld::from_scene(&scene, PhysicsParams::default()).unwrap();
-    let robot = tabula_robot::robots::load("wam").unwrap();
-    let chain = Chain::new(&robot.model, "base_link", "wam_tool").unwrap();
-    let grasp = ik(
-        &chain,
-        Vec3::new(0.55, 0.0, 0.425),
-        &chain.mid_configuration(),
-    );
-    let q: Vec<(&str, f64)> = chain
-        .joint_names
-        .iter()
-        .map(String::as_str)
-        .zip(grasp.iter().copied())
-        .collect();
-    world.set_joints("wam", &q).unwrap();
-    world.settle();
+    let world = settled_around_the_box(&scene);
     let start = world.object_poses();
     let mut judge = ClearJudge::new(&world, "table").unwrap();
     let held_at = world.pose("box").unwrap().translation;

@@ -1602,20 +1602,20 @@ pub fn clear<D: RobotDriver>(
         );
         if matches!(chosen, Decision::NothingRemovable) {
             let c = thread_cpu();
-            geometry = predicates(&objects, &table, &hand, params, true);
+            let chain = predicates(&objects, &table, &hand, params, true);
             fr.predicates_ms += (thread_cpu() - c) * 1e3;
             chosen = decide_chain(
-                &objects, &geometry, &tracks, &mut group, robot, &state, params, &mut fr,
+                &objects, &chain, &tracks, &mut group, robot, &state, params, &mut fr,
             );
-        }
-        if matches!(chosen, Decision::NothingRemovable) && params.nudge_depth > 0.0 {
-            let c = thread_cpu();
-            geometry = predicates(&objects, &table, &hand, params, false);
-            fr.predicates_ms += (thread_cpu() - c) * 1e3;
-            chosen = decide_nudge(
-                &objects, &geometry, &tracks, &hand, &table, &mut group, robot, &state, params,
-                &mut fr,
-            );
+            // A nudge grasp is one of the seed's grasps: it keeps the seed's geometry.
+            if matches!(chosen, Decision::NothingRemovable) && params.nudge_depth > 0.0 {
+                chosen = decide_nudge(
+                    &objects, &geometry, &tracks, &hand, &table, &mut group, robot, &state, params,
+                    &mut fr,
+                );
+            } else {
+                geometry = chain;
+            }
         }
         // Chain predicates (when needed) ran inside this span: counted as predicates.
         let decision_total = (thread_cpu() - c2) * 1e3;
