@@ -73,6 +73,60 @@ fn bounded(s: &str, lo: usize, hi: usize) -> Result<usize, String> {
         .ok_or_else(|| format!("{v} is out of range: from {lo} to {hi}"))
 }
 
+/// How robot files given to any command load (global flags): xacro arguments, package
+/// folders and the SRDF, as `xacro`, `ROS_PACKAGE_PATH` and MoveIt take them.
+#[derive(clap::Args, Debug, Default)]
+pub struct RobotFileArgs {
+    /// A xacro argument for every `--robot` that is a .xacro file, as on xacro's
+    /// command line (`ur_type:=ur5e`, `hand:=true`); repeatable.
+    #[arg(long = "xacro-arg", value_name = "NAME:=VALUE", value_parser = xacro_arg, global = true)]
+    pub xacro_args: Vec<(String, String)>,
+    /// A folder of ROS packages (or a package folder) searched for `$(find pkg)` and
+    /// `package://pkg/…` before `ROS_PACKAGE_PATH`; repeatable.
+    #[arg(long = "package-path", value_name = "DIR", global = true)]
+    pub package_paths: Vec<std::path::PathBuf>,
+    /// The robot's MoveIt SRDF (groups, named states, allowed collisions); by default
+    /// the `.srdf` beside the URDF, if there is one.
+    #[arg(long, value_name = "FILE", global = true)]
+    pub srdf: Option<std::path::PathBuf>,
+}
+
+impl RobotFileArgs {
+    /// Makes these the options every robot file loads with.
+    pub fn install(&self) -> Result<(), String> {
+        if let Some(bad) = self.package_paths.iter().find(|p| !p.is_dir()) {
+            return Err(format!("--package-path {}: not a folder", bad.display()));
+        }
+        if let Some(s) = &self.srdf
+            && !s.is_file()
+        {
+            return Err(format!("--srdf {}: no such file", s.display()));
+        }
+        tabula_robot::robots::set_default_options(tabula_robot::robots::LoadOptions {
+            xacro_args: self.xacro_args.clone(),
+            packages: tabula_robot::packages::PackagePaths::new(self.package_paths.clone()),
+            srdf: self.srdf.clone(),
+        });
+        Ok(())
+    }
+}
+
+/// `NAME:=VALUE` (xacro's form; `NAME=VALUE` is taken too).
+fn xacro_arg(s: &str) -> Result<(String, String), String> {
+    let (name, value) = s
+        .split_once(":=")
+        .or_else(|| s.split_once('='))
+        .ok_or_else(|| format!("`{}` is not NAME:=VALUE", tabula_geom::input::clip(s, 40)))?;
+    let name = name.trim();
+    if name.is_empty() || !name.chars().all(|c| c.is_alphanumeric() || c == '_') {
+        return Err(format!(
+            "`{}` is not a xacro argument name",
+            tabula_geom::input::clip(name, 40)
+        ));
+    }
+    Ok((name.to_string(), value.to_string()))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -91,5 +145,10 @@ mod tests {
         }
         assert_eq!(count("1000000"), Ok(1_000_000));
         assert!(pixels("4294967295").is_err());
+        assert_eq!(
+            xacro_arg("ur_type:=ur5e"),
+            Ok(("ur_type".into(), "ur5e".into()))
+        );
+        assert!(xacro_arg("nothing").is_err() && xacro_arg(":=x").is_err());
     }
 }

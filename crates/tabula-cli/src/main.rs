@@ -79,6 +79,8 @@ struct Cli {
     /// Log what the tasks do on stderr: -v phases and decisions, -vv details, -vvv all.
     #[arg(short, long, action = clap::ArgAction::Count, global = true)]
     verbose: u8,
+    #[command(flatten)]
+    robot_files: args::RobotFileArgs,
     #[command(subcommand)]
     command: Command,
 }
@@ -198,6 +200,10 @@ fn main() {
         }
     };
     progress::init_logging(cli.verbose);
+    if let Err(e) = cli.robot_files.install() {
+        eprintln!("error: {e}");
+        std::process::exit(exit::USAGE);
+    }
     // Commands that move robots stop them on Ctrl+C; the others keep the default
     // (the process ends at once).
     let moves_robots = match &cli.command {

@@ -35,6 +35,9 @@ pub struct ArmGroup {
     /// Joint values of the arm folded out of the way (SRDF's `tuck_arms` state).
     #[serde(default)]
     pub tucked: BTreeMap<String, f64>,
+    /// Named joint values of this arm (SRDF's group states: `ready`, `home`, …).
+    #[serde(default)]
+    pub named: BTreeMap<String, BTreeMap<String, f64>>,
 }
 
 /// An axis-aligned box in a link's frame (m): SPEC §6's gripper self-filter boxes.
@@ -166,6 +169,7 @@ impl RobotDescription {
                 ik: IkKind::Numeric,
                 gripper: None,
                 tucked: BTreeMap::new(),
+                named: BTreeMap::new(),
             }],
             grippers: Vec::new(),
             head: None,
@@ -185,7 +189,11 @@ impl RobotDescription {
         for a in &self.arms {
             model.link(&a.base)?;
             model.link(&a.tip)?;
-            for j in a.tucked.keys() {
+            for j in a
+                .tucked
+                .keys()
+                .chain(a.named.values().flat_map(|v| v.keys()))
+            {
                 joint(j)?;
             }
             if let Some(g) = &a.gripper

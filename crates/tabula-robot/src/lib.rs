@@ -14,7 +14,9 @@ mod error;
 pub mod fake;
 pub mod ik;
 pub mod model;
+pub mod packages;
 pub mod robots;
+pub mod srdf;
 pub mod xacro;
 
 pub use chain::Chain;

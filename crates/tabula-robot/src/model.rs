@@ -5,6 +5,7 @@
 //! not numbers (NaN limits); every such file gets one typed [`RobotError`].
 
 use crate::RobotError;
+use crate::packages::PackagePaths;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use tabula_geom::{Pose, Vec3, pose_from_xyz_rpy};
@@ -185,27 +186,71 @@ pub struct RobotModel {
     pub roots: Vec<usize>,
     link_index: HashMap<String, usize>,
     joint_index: HashMap<String, usize>,
+    /// Mesh files named by the URDF that cannot be found: kinematics works without
+    /// them; anything that checks collisions must refuse the robot
+    /// ([`Self::require_meshes`]).
+    pub unreadable_meshes: Vec<UnreadableMesh>,
+}
+
+/// A mesh a link names that is not there (or is not a file).
+#[derive(Debug, Clone, PartialEq)]
+pub struct UnreadableMesh {
+    pub link: String,
+    /// `visual` or `collision`.
+    pub role: &'static str,
+    pub filename: String,
+    pub problem: String,
+}
+
+impl std::fmt::Display for UnreadableMesh {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "link `{}`: {} mesh `{}` {}",
+            self.link, self.role, self.filename, self.problem
+        )
+    }
+}
+
+/// Where mesh references resolve, and what could not be.
+struct MeshContext<'a> {
+    base_dir: Option<&'a Path>,
+    packages: &'a PackagePaths,
+    unreadable: std::cell::RefCell<Vec<UnreadableMesh>>,
 }
 
 impl RobotModel {
-    /// Loads a URDF file, or a xacro file (`.xacro`) expanded first; `package://pkg/...`
-    /// mesh paths resolve relative to the file.
+    /// Loads a URDF file, or a xacro file (`.xacro`) expanded first, with no xacro
+    /// arguments; `package://pkg/...` mesh paths resolve as [`PackagePaths`] finds them.
     pub fn from_urdf_file(path: impl AsRef<Path>) -> Result<Self, RobotError> {
-        let path = path.as_ref();
+        Self::from_file_with(path.as_ref(), &[], &PackagePaths::default())
+    }
+
+    /// [`Self::from_urdf_file`] with xacro arguments (`name`, `value`) and package folders.
+    pub fn from_file_with(
+        path: &Path,
+        xacro_args: &[(String, String)],
+        packages: &PackagePaths,
+    ) -> Result<Self, RobotError> {
         let text = if crate::xacro::is_xacro(path) {
-            crate::xacro::expand(path, &[])?
+            crate::xacro::expand(path, xacro_args, packages)?
         } else {
             tabula_geom::input::read_text(path, tabula_geom::input::Format::Robot)?
         };
-        Self::parse(&text, path.parent(), Some(path))
+        Self::parse(&text, path.parent(), Some(path), packages)
     }
 
     /// Loads a URDF from text; relative mesh paths resolve against `base_dir` if given.
     pub fn from_urdf_str(text: &str, base_dir: Option<&Path>) -> Result<Self, RobotError> {
-        Self::parse(text, base_dir, None)
+        Self::parse(text, base_dir, None, &PackagePaths::default())
     }
 
-    fn parse(text: &str, base_dir: Option<&Path>, file: Option<&Path>) -> Result<Self, RobotError> {
+    fn parse(
+        text: &str,
+        base_dir: Option<&Path>,
+        file: Option<&Path>,
+        packages: &PackagePaths,
+    ) -> Result<Self, RobotError> {
         let parse_err = |message: String| RobotError::Parse {
             path: file.map(Path::to_path_buf),
             message,
@@ -219,14 +264,20 @@ impl RobotModel {
         let parsed = tabula_geom::guard::catch_quietly(|| urdf_rs::read_from_string(text))
             .map_err(|_| parse_err("the XML could not be read as URDF".into()))?
             .map_err(|e| parse_err(e.to_string()))?;
-        Self::from_urdf_robot(&parsed, base_dir)
+        Self::from_urdf_robot(&parsed, base_dir, packages)
     }
 
     /// Builds and validates a model from an already parsed URDF.
     pub fn from_urdf_robot(
         robot: &urdf_rs::Robot,
         base_dir: Option<&Path>,
+        packages: &PackagePaths,
     ) -> Result<Self, RobotError> {
+        let meshes = MeshContext {
+            base_dir,
+            packages,
+            unreadable: std::cell::RefCell::new(Vec::new()),
+        };
         if robot.links.is_empty() {
             return Err(RobotError::NoLinks);
         }
@@ -236,13 +287,15 @@ impl RobotModel {
             if link_index.insert(l.name.clone(), links.len()).is_some() {
                 return Err(RobotError::DuplicateLink(l.name.clone()));
             }
-            let shapes = |items: Vec<(&urdf_rs::Pose, &urdf_rs::Geometry)>| -> Result<Vec<Shape>, RobotError> {
+            let shapes = |role: &'static str,
+                          items: Vec<(&urdf_rs::Pose, &urdf_rs::Geometry)>|
+             -> Result<Vec<Shape>, RobotError> {
                 items
                     .into_iter()
                     .map(|(o, g)| {
                         Ok(Shape {
                             link_from_shape: checked_pose(&l.name, o)?,
-                            geometry: convert_geometry(&l.name, g, base_dir)?,
+                            geometry: convert_geometry(&l.name, role, g, &meshes)?,
                         })
                     })
                     .collect()
@@ -252,12 +305,16 @@ impl RobotModel {
                 parent_joint: None,
                 child_joints: Vec::new(),
                 collision: shapes(
+                    "collision",
                     l.collision
                         .iter()
                         .map(|c| (&c.origin, &c.geometry))
                         .collect(),
                 )?,
-                visual: shapes(l.visual.iter().map(|v| (&v.origin, &v.geometry)).collect())?,
+                visual: shapes(
+                    "visual",
+                    l.visual.iter().map(|v| (&v.origin, &v.geometry)).collect(),
+                )?,
                 mass: {
                     checked_pose(&l.name, &l.inertial.origin)?;
                     checked_value(&l.name, "inertial mass", l.inertial.mass.value)?.max(0.0)
@@ -429,7 +486,32 @@ impl RobotModel {
             roots,
             link_index,
             joint_index,
+            unreadable_meshes: meshes.unreadable.into_inner(),
         })
+    }
+
+    /// An error naming the first collision mesh that cannot be read, for anything that
+    /// checks collisions (a missing mesh must never become a link without geometry).
+    pub fn require_meshes(&self) -> Result<(), RobotError> {
+        match self
+            .unreadable_meshes
+            .iter()
+            .find(|u| u.role == "collision")
+        {
+            Some(u) => Err(RobotError::BadMesh {
+                owner: u.link.clone(),
+                filename: u.filename.clone(),
+                problem: format!(
+                    "{} ({} collision mesh(es) of this robot cannot be read)",
+                    u.problem,
+                    self.unreadable_meshes
+                        .iter()
+                        .filter(|u| u.role == "collision")
+                        .count()
+                ),
+            }),
+            None => Ok(()),
+        }
     }
 
     /// Index of a link by name, with a clear error listing the links if unknown.
@@ -589,8 +671,9 @@ fn checked_pose(owner: &str, p: &urdf_rs::Pose) -> Result<Pose, RobotError> {
 
 fn convert_geometry(
     owner: &str,
+    role: &'static str,
     g: &urdf_rs::Geometry,
-    base_dir: Option<&Path>,
+    meshes: &MeshContext,
 ) -> Result<Geometry, RobotError> {
     let check = |field: &'static str, v: f64| {
         let v = checked_value(owner, field, v)?;
@@ -642,15 +725,36 @@ fn convert_geometry(
             {
                 return Err(bad_mesh("climbs out of its package with `..`"));
             }
-            let path = resolve_mesh_path(filename, base_dir);
-            // A file-loaded URDF's meshes are checked where they are named, not when a
-            // collision world first needs them.
-            if base_dir.is_some() && !path.is_file() {
+            let resolved = resolve_mesh_path(filename, meshes.base_dir, meshes.packages);
+            if let Ok(p) = &resolved
+                && p.exists()
+                && !p.is_file()
+            {
+                // A device or folder named as a mesh is a hostile file, not a missing one.
                 return Err(bad_mesh(&format!(
-                    "resolves to {}, which is missing or not a regular file",
-                    path.display()
+                    "resolves to {}, which is not a regular file",
+                    p.display()
                 )));
             }
+            // A file-loaded URDF's meshes are checked where they are named, not when a
+            // collision world first needs them: kinematics goes on without them, and
+            // collision users refuse the robot (`require_meshes`).
+            let problem = match &resolved {
+                Err(problem) => Some(problem.clone()),
+                Ok(p) if meshes.base_dir.is_some() && !p.is_file() => {
+                    Some(format!("resolves to {}, which is missing", p.display()))
+                }
+                Ok(_) => None,
+            };
+            if let Some(problem) = problem {
+                meshes.unreadable.borrow_mut().push(UnreadableMesh {
+                    link: owner.to_string(),
+                    role,
+                    filename: tabula_geom::input::clip(filename, 200),
+                    problem,
+                });
+            }
+            let path = resolved.unwrap_or_else(|_| PathBuf::from(filename));
             Geometry::Mesh {
                 path,
                 scale: Vec3::from_array(s),
@@ -659,33 +763,25 @@ fn convert_geometry(
     })
 }
 
-/// Resolves a URDF mesh reference without ROS: `package://pkg/rest` is looked for in
-/// the URDF's folder and its ancestors (as `<dir>/pkg/rest`, or `<dir>/rest` when the
-/// folder is the package itself); `file://` and relative paths as usual.
-pub fn resolve_mesh_path(filename: &str, base_dir: Option<&Path>) -> PathBuf {
-    if let Some(rest) = filename.strip_prefix("package://") {
-        let (pkg, inner) = rest.split_once('/').unwrap_or((rest, ""));
-        if let Some(dir) = base_dir {
-            for ancestor in dir.ancestors() {
-                let in_pkg = ancestor.join(pkg).join(inner);
-                if in_pkg.exists() {
-                    return in_pkg;
-                }
-                if ancestor.file_name().is_some_and(|n| n == pkg) && ancestor.join(inner).exists() {
-                    return ancestor.join(inner);
-                }
-            }
-            return dir.join(inner);
-        }
-        return PathBuf::from(inner);
+/// Resolves a URDF mesh reference without ROS: `package://pkg/rest` through the
+/// package resolver ([`PackagePaths`]: package folders, `ROS_PACKAGE_PATH`, the folders
+/// above the URDF); `file://` as an absolute path; relative paths against the URDF's
+/// folder. The error names every folder searched.
+pub fn resolve_mesh_path(
+    filename: &str,
+    base_dir: Option<&Path>,
+    packages: &PackagePaths,
+) -> Result<PathBuf, String> {
+    if filename.starts_with("package://") {
+        return packages.resolve_url(filename, base_dir);
     }
     if let Some(abs) = filename.strip_prefix("file://") {
-        return PathBuf::from(abs);
+        return Ok(PathBuf::from(abs));
     }
-    match base_dir {
+    Ok(match base_dir {
         Some(dir) if Path::new(filename).is_relative() => dir.join(filename),
         _ => PathBuf::from(filename),
-    }
+    })
 }
 
 #[cfg(test)]

@@ -1,8 +1,11 @@
 //! The robots shipped in `robots/`, compiled into the binary so `tabula` runs anywhere.
 
 use crate::description::RobotDescription;
+use crate::packages::PackagePaths;
+use crate::srdf::Srdf;
 use crate::{RobotError, RobotModel};
-use std::path::Path;
+use std::path::{Path, PathBuf};
+use std::sync::OnceLock;
 use tabula_geom::input::Format;
 
 /// Golem-III (seed 001): torso lift and rotation, two arms per SPEC §2.1, pan/tilt head.
@@ -16,7 +19,25 @@ const GOLEM3_TOML: &str = include_str!("../../../robots/golem3.toml");
 const WAM_TOML: &str = include_str!("../../../robots/wam.toml");
 const PR2_TOML: &str = include_str!("../../../robots/pr2.toml");
 
-/// A loaded robot with its description (groups, grippers, head, base).
+/// How a robot file is loaded: xacro arguments, where packages are, its SRDF.
+#[derive(Debug, Clone, Default)]
+pub struct LoadOptions {
+    /// `name:=value` arguments for xacro.
+    pub xacro_args: Vec<(String, String)>,
+    pub packages: PackagePaths,
+    /// The SRDF; when `None`, `<stem>.srdf` beside the file is used if there is one.
+    pub srdf: Option<PathBuf>,
+}
+
+static DEFAULT_OPTIONS: OnceLock<LoadOptions> = OnceLock::new();
+
+/// Sets the options [`load`] uses (the CLI's `--xacro-arg`, `--package-path`,
+/// `--srdf`); only the first call counts.
+pub fn set_default_options(options: LoadOptions) {
+    let _ = DEFAULT_OPTIONS.set(options);
+}
+
+/// A loaded robot with its description/// A loaded robot with its description (groups, grippers, head, base).
 #[derive(Debug, Clone)]
 pub struct NamedRobot {
     pub model: RobotModel,
@@ -26,6 +47,8 @@ pub struct NamedRobot {
     pub default_tip: String,
     /// `golem3`, `wam`, `pr2`, or the file path.
     pub label: String,
+    /// The robot's SRDF, when it has one (its allowed-collision matrix is used).
+    pub srdf: Option<Srdf>,
 }
 
 impl NamedRobot {
@@ -42,14 +65,26 @@ impl NamedRobot {
             default_base,
             default_tip,
             label: label.into(),
+            srdf: None,
         }
     }
 }
 
-/// Loads `golem3`, `wam`, `pr2`, or a URDF or xacro file path. A file's description is
-/// the `<stem>.toml` beside it when there is one (for `arm.urdf.xacro`: `arm.urdf.toml`
-/// or `arm.toml`); otherwise one arm runs from its root to its deepest leaf.
+/// Loads `golem3`, `wam`, `pr2`, or a URDF or xacro file path, with the options the
+/// binary set ([`set_default_options`]). A file's description comes from its SRDF
+/// (`--srdf`, or `<stem>.srdf` beside it) and the `<stem>.toml` beside it (for
+/// `arm.urdf.xacro`: `arm.urdf.toml` or `arm.toml`), the TOML adding what SRDF lacks
+/// (gripper widths, camera, self-filter boxes); with neither, one arm runs from the
+/// root to the tool the URDF most likely means ([`RobotDescription::minimal`]).
 pub fn load(name_or_path: &str) -> Result<NamedRobot, RobotError> {
+    load_with(
+        name_or_path,
+        DEFAULT_OPTIONS.get_or_init(LoadOptions::default),
+    )
+}
+
+/// [`load`] with explicit options.
+pub fn load_with(name_or_path: &str, options: &LoadOptions) -> Result<NamedRobot, RobotError> {
     let builtin = |urdf: &str, toml: &str| -> Result<NamedRobot, RobotError> {
         let model = RobotModel::from_urdf_str(urdf, None)?;
         let description = RobotDescription::from_toml(toml, &model)?;
@@ -64,23 +99,56 @@ pub fn load(name_or_path: &str) -> Result<NamedRobot, RobotError> {
             .is_some_and(|e| e.eq_ignore_ascii_case("urdf") || e.eq_ignore_ascii_case("xacro"))
             || Path::new(path).exists() =>
         {
-            let model = RobotModel::from_urdf_file(path)?;
-            // `arm.urdf` → `arm.toml`; `arm.urdf.xacro` → `arm.urdf.toml` or `arm.toml`.
-            let p = Path::new(path);
-            let stem = p.with_extension("");
-            let beside = [p.with_extension("toml"), stem.with_extension("toml")]
-                .into_iter()
-                .find(|c| c.is_file())
-                .unwrap_or_else(|| p.with_extension("toml"));
-            let description = if beside.is_file() {
-                let text = tabula_geom::input::read_text(&beside, Format::Robot)?;
-                RobotDescription::from_toml(&text, &model)
-                    .map_err(|e| RobotError::Description(format!("{}: {e}", beside.display())))?
-            } else {
-                RobotDescription::minimal(&model, &model.name)
-            };
-            Ok(NamedRobot::new(model, description, path))
+            load_file(Path::new(path), options)
         }
         other => Err(RobotError::UnknownRobot(other.into())),
     }
+}
+
+fn load_file(p: &Path, options: &LoadOptions) -> Result<NamedRobot, RobotError> {
+    let model = RobotModel::from_file_with(p, &options.xacro_args, &options.packages)?;
+    // `arm.urdf` → `arm.toml`; `arm.urdf.xacro` → `arm.urdf.toml` or `arm.toml`.
+    let stem = p.with_extension("");
+    let beside = |ext: &str| {
+        [p.with_extension(ext), stem.with_extension(ext)]
+            .into_iter()
+            .find(|c| c.is_file())
+    };
+    let srdf_path = options.srdf.clone().or_else(|| beside("srdf"));
+    let srdf = match &srdf_path {
+        Some(s) => Some(Srdf::from_file(s, &model)?),
+        None => None,
+    };
+    let toml = match beside("toml") {
+        Some(t) => {
+            let text = tabula_geom::input::read_text(&t, Format::Robot)?;
+            Some(
+                RobotDescription::from_toml(&text, &model)
+                    .map_err(|e| RobotError::Description(format!("{}: {e}", t.display())))?,
+            )
+        }
+        None => None,
+    };
+    let description = match (toml, &srdf) {
+        (Some(mut d), Some(s)) => {
+            // The TOML's arms win; the SRDF's named states join arms of the same name,
+            // and its other arm groups are added.
+            for arm in s.arms(&model) {
+                match d.arms.iter_mut().find(|a| a.name == arm.name) {
+                    Some(a) => a.named.extend(arm.named),
+                    None => d.arms.push(arm),
+                }
+            }
+            d
+        }
+        (Some(d), None) => d,
+        (None, Some(s)) if !s.arms(&model).is_empty() => RobotDescription {
+            arms: s.arms(&model),
+            ..RobotDescription::minimal(&model, &model.name)
+        },
+        (None, _) => RobotDescription::minimal(&model, &model.name),
+    };
+    let mut robot = NamedRobot::new(model, description, &p.display().to_string());
+    robot.srdf = srdf;
+    Ok(robot)
 }
