@@ -338,13 +338,27 @@ fn act(
             }
             ArmAction::Named { name, .. } => {
                 let group_desc = robot.description.arm(arm)?;
-                let named = match name.as_str() {
-                    "tuck" | "tucked" => &group_desc.tucked,
-                    other => bail!("no named pose `{other}` for arm `{arm}`; named poses: tuck"),
+                let named = match (group_desc.named.get(name.as_str()), name.as_str()) {
+                    (Some(state), _) => state,
+                    (None, "tuck" | "tucked") if !group_desc.tucked.is_empty() => {
+                        &group_desc.tucked
+                    }
+                    (None, other) => {
+                        let mut known: Vec<&str> =
+                            group_desc.named.keys().map(String::as_str).collect();
+                        if !group_desc.tucked.is_empty() {
+                            known.push("tuck");
+                        }
+                        bail!(
+                            "no named pose `{other}` for arm `{arm}`; named poses: {}",
+                            if known.is_empty() {
+                                "none".to_string()
+                            } else {
+                                known.join(", ")
+                            }
+                        )
+                    }
                 };
-                if named.is_empty() {
-                    bail!("arm `{arm}` has no `tuck` pose in its description");
-                }
                 let goal: Vec<f64> = group
                     .joint_names()
                     .iter()

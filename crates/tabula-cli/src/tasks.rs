@@ -171,8 +171,9 @@ pub fn scene_robot_named(
 ) -> Result<(String, tabula_robot::robots::NamedRobot)> {
     let name = scene_robot(world, wanted)?;
     let r = world.robot(&name)?;
-    let robot =
+    let mut robot =
         tabula_robot::robots::NamedRobot::new(r.model.clone(), r.description.clone(), &name);
+    robot.srdf = r.srdf.clone();
     Ok((name, robot))
 }
 

@@ -1,4 +1,5 @@
-//! Triangle meshes from OBJ and STL files (ASCII and binary), for collision shapes.
+//! Triangle meshes from COLLADA, OBJ, STL (ASCII and binary) and PLY files, for
+//! collision shapes.
 
 use crate::Vec3;
 use std::path::Path;
@@ -162,9 +163,10 @@ pub fn parse_mesh(
                 fan(&mut triangles, face, points.len())?;
             }
         }
+        "dae" => (points, triangles) = read_collada(bytes).map_err(fail)?,
         other => {
             return Err(fail(format!(
-                "unsupported mesh format `{}` (use .obj, .stl or .ply)",
+                "unsupported mesh format `{}` (use .dae, .obj, .stl or .ply)",
                 crate::input::clip(other, 20)
             )));
         }
@@ -189,6 +191,38 @@ pub fn parse_mesh(
     }
     let s = Vec3::from_array(scale);
     Ok((points.into_iter().map(|p| p * s).collect(), triangles))
+}
+
+/// The triangles of every mesh a COLLADA (`.dae`) file places in its scene, in metres
+/// (its `<unit>` and node transforms applied, as RViz and MoveIt read it), through the
+/// `mesh-loader` crate. Its own (ad hoc) object/OBJ/STL readers stay ours because
+/// they are bounded and fuzzed; COLLADA's scene graph is what the crate is for.
+fn read_collada(bytes: &[u8]) -> Result<(Vec<Vec3>, Vec<[u32; 3]>), String> {
+    let scene = crate::guard::catch_quietly(|| mesh_loader::collada::from_slice(bytes))
+        .map_err(|_| "the COLLADA file could not be read".to_string())?
+        .map_err(|e| format!("COLLADA: {}", crate::input::clip(&e.to_string(), 200)))?;
+    let (mut points, mut triangles) = (Vec::new(), Vec::new());
+    for mesh in &scene.meshes {
+        let offset = points.len();
+        points.extend(
+            mesh.vertices
+                .iter()
+                .map(|v| Vec3::new(v[0] as f64, v[1] as f64, v[2] as f64)),
+        );
+        for f in &mesh.faces {
+            if f.iter().any(|&i| i as usize >= mesh.vertices.len()) {
+                return Err(format!(
+                    "COLLADA face refers to a vertex beyond its mesh's {}",
+                    mesh.vertices.len()
+                ));
+            }
+            triangles.push(f.map(|i| i + offset as u32));
+        }
+    }
+    if triangles.is_empty() {
+        return Err("the COLLADA file places no triangles in its scene".into());
+    }
+    Ok((points, triangles))
 }
 
 /// Enclosed volume of a triangle mesh (divergence theorem; orientation-consistent).

@@ -19,8 +19,11 @@ pub fn table_height(robot: &NamedRobot) -> f64 {
 pub fn robot_world(
     robot: &NamedRobot,
     chain: Chain,
-    params: WorldParams,
+    mut params: WorldParams,
 ) -> Result<CollisionWorld, crate::WorldError> {
+    if params.srdf.is_none() {
+        params.srdf = robot.srdf.clone();
+    }
     CollisionWorld::new(robot.model.clone(), chain, Pose::IDENTITY, None, params)
 }
 

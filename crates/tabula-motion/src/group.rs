@@ -126,12 +126,16 @@ impl MoveGroup {
         params: MoveGroupParams,
     ) -> Result<Self, MoveError> {
         let (group, chain) = arm_and_chain(robot, arm)?;
+        let mut world_params = params.world.clone();
+        if world_params.srdf.is_none() {
+            world_params.srdf = robot.srdf.clone();
+        }
         let world = CollisionWorld::new(
             robot.model.clone(),
             chain,
             world_from_root,
             Some(state.model_values(&robot.model)),
-            params.world.clone(),
+            world_params,
         )?;
         Self::assemble(robot, group, world, params)
     }

@@ -57,6 +57,10 @@ pub struct WorldParams {
     /// more than this between two (m). With the padding at least this large, a path
     /// whose checked configurations are all valid cannot touch anything in between.
     pub max_step_displacement: f64,
+    /// The robot's SRDF: when it has an allowed-collision matrix, that matrix is used
+    /// (adjacent links always allowed) and nothing is sampled, as MoveIt does.
+    #[serde(skip)]
+    pub srdf: Option<tabula_robot::srdf::Srdf>,
 }
 
 impl Default for WorldParams {
@@ -68,6 +72,7 @@ impl Default for WorldParams {
             always_fraction: 0.95,
             link_padding: Default::default(),
             max_step_displacement: 0.01,
+            srdf: None,
         }
     }
 }
@@ -178,10 +183,12 @@ fn coarse_motion_radius(chain: &Chain) -> Vec<f64> {
     motion_radius
 }
 
-/// A link shape for planning: meshes as their convex hull (conservative); an
-/// unreadable mesh leaves the link without that shape.
-fn shape_of(g: &Geometry) -> Option<(SharedShape, Pose)> {
-    g.collision_shape(false).ok()
+/// A link shape for planning: meshes as their convex hull (conservative). A mesh that
+/// cannot be read is an error naming the link: a link planned without its geometry
+/// would let paths pass through it.
+fn shape_of(link: &str, g: &Geometry) -> Result<(SharedShape, Pose), WorldError> {
+    g.collision_shape(false)
+        .map_err(|m| WorldError::Robot(format!("link `{link}`: collision geometry: {m}")))
 }
 
 impl CollisionWorld {
@@ -208,10 +215,11 @@ impl CollisionWorld {
             let shapes: Vec<(SharedShape, Pose)> = link
                 .collision
                 .iter()
-                .filter_map(|s| {
-                    shape_of(&s.geometry).map(|(shape, local)| (shape, s.link_from_shape * local))
+                .map(|s| {
+                    shape_of(&link.name, &s.geometry)
+                        .map(|(shape, local)| (shape, s.link_from_shape * local))
                 })
-                .collect();
+                .collect::<Result<_, _>>()?;
             if !shapes.is_empty() {
                 bodies.push(LinkBody {
                     link: li,
@@ -506,6 +514,21 @@ impl CollisionWorld {
                     break;
                 }
             }
+        }
+        if let Some(srdf) = self
+            .params
+            .srdf
+            .as_ref()
+            .filter(|s| s.has_collision_matrix())
+        {
+            for a in 0..n {
+                for b in a + 1..n {
+                    if srdf.allows(&self.bodies[a].name, &self.bodies[b].name) {
+                        self.allowed.insert((a, b));
+                    }
+                }
+            }
+            return;
         }
         let mut collided = vec![0usize; n * n];
         let mut rng = ChaCha8Rng::seed_from_u64(self.params.acm_seed);

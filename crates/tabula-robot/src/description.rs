@@ -147,11 +147,11 @@ impl RobotDescription {
         Ok(d)
     }
 
-    /// One arm from the model's root to its deepest leaf, numeric IK, nothing else: what
-    /// a bare URDF says.
+    /// One arm from the model's root to the tool it most likely has
+    /// ([`RobotModel::default_tool`]), numeric IK, nothing else: what a bare URDF says.
     pub fn minimal(model: &RobotModel, name: &str) -> Self {
         let root = model.roots.first().copied().unwrap_or(0);
-        let leaf = model.deepest_leaf();
+        let leaf = model.default_tool();
         Self {
             name: name.into(),
             arms: vec![ArmGroup {

@@ -37,7 +37,12 @@ pub fn set_default_options(options: LoadOptions) {
     let _ = DEFAULT_OPTIONS.set(options);
 }
 
-/// A loaded robot with its description/// A loaded robot with its description (groups, grippers, head, base).
+/// The options [`load`] uses.
+pub fn default_options() -> &'static LoadOptions {
+    DEFAULT_OPTIONS.get_or_init(LoadOptions::default)
+}
+
+/// A loaded robot with its description (groups, grippers, head, base).
 #[derive(Debug, Clone)]
 pub struct NamedRobot {
     pub model: RobotModel,

@@ -24,6 +24,8 @@ pub struct PlacedRobot {
     pub name: String,
     pub model: tabula_robot::RobotModel,
     pub description: RobotDescription,
+    /// The robot's SRDF, when it has one (planners use its collision matrix).
+    pub srdf: Option<tabula_robot::srdf::Srdf>,
     pub world_from_root: Pose,
     /// Every joint's value, model order.
     pub values: Vec<f64>,

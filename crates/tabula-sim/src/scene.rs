@@ -129,6 +129,40 @@ pub struct RobotSpec {
     pub joints: std::collections::BTreeMap<String, f64>,
     /// An object the robot starts holding in a gripper.
     pub hold: Option<HoldSpec>,
+    /// xacro arguments when `urdf` is a .xacro file (`{ ur_type = "ur5e" }`).
+    #[serde(default, skip_serializing_if = "std::collections::BTreeMap::is_empty")]
+    pub xacro_args: std::collections::BTreeMap<String, String>,
+    /// The robot's MoveIt SRDF, relative to the scene file (default: the `.srdf`
+    /// beside the URDF, if any).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub srdf: Option<String>,
+}
+
+impl RobotSpec {
+    /// The robot this entry names: a built-in name, or a URDF/xacro file relative to
+    /// the scene's folder `base_dir`, with the entry's xacro arguments and SRDF on top
+    /// of the process's loading options (`--package-path`, `--xacro-arg`).
+    pub fn load(
+        &self,
+        base_dir: Option<&std::path::Path>,
+    ) -> Result<tabula_robot::robots::NamedRobot, tabula_robot::RobotError> {
+        let relative = |p: &str| match base_dir {
+            Some(d) if std::path::Path::new(p).is_relative() => d.join(p),
+            _ => std::path::PathBuf::from(p),
+        };
+        let source = match std::path::Path::new(&self.urdf).extension() {
+            Some(_) => relative(&self.urdf).display().to_string(),
+            None => self.urdf.clone(),
+        };
+        let mut options = tabula_robot::robots::default_options().clone();
+        options
+            .xacro_args
+            .extend(self.xacro_args.iter().map(|(k, v)| (k.clone(), v.clone())));
+        if let Some(s) = &self.srdf {
+            options.srdf = Some(relative(s));
+        }
+        tabula_robot::robots::load_with(&source, &options)
+    }
 }
 
 /// A held object: placed at `tool_link` and gripped by closing `finger_joint`.

@@ -636,14 +636,9 @@ impl SimWorld {
 
     /// Robot links as kinematic bodies at their FK poses (collision geometry).
     pub fn add_robot(&mut self, r: &crate::scene::RobotSpec) -> Result<(), SimError> {
-        let source = match (&self.base_dir, Path::new(&r.urdf).extension()) {
-            (Some(d), Some(_)) if Path::new(&r.urdf).is_relative() => {
-                d.join(&r.urdf).display().to_string()
-            }
-            _ => r.urdf.clone(),
-        };
-        let robot =
-            tabula_robot::robots::load(&source).map_err(|e| SimError::Robot(e.to_string()))?;
+        let robot = r
+            .load(self.base_dir.as_deref())
+            .map_err(|e| SimError::Robot(e.to_string()))?;
         let model = &robot.model;
         let mut values = model.mid_configuration();
         for (joint, v) in &r.joints {
@@ -662,11 +657,12 @@ impl SimWorld {
         for (li, link) in model.links.iter().enumerate() {
             let mut colliders = Vec::new();
             for s in &link.collision {
-                // A robot whose mesh files are missing or broken still loads, without
-                // that shape.
-                if let Ok((shape, local)) = s.geometry.collision_shape(true) {
-                    colliders.push((shape, s.link_from_shape * local));
-                }
+                // A robot whose collision mesh is missing or broken is refused: a link
+                // without its geometry would pass through the scene.
+                let (shape, local) = s.geometry.collision_shape(true).map_err(|m| {
+                    SimError::Robot(format!("link `{}`: collision geometry: {m}", link.name))
+                })?;
+                colliders.push((shape, s.link_from_shape * local));
             }
             if colliders.is_empty() {
                 continue;
@@ -689,6 +685,7 @@ impl SimWorld {
             name: r.name.get_ref().clone(),
             model: robot.model,
             description: robot.description,
+            srdf: robot.srdf,
             world_from_root,
             values,
         });
