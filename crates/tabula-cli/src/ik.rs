@@ -102,6 +102,23 @@ pub struct FkArgs {
     /// Joint values in chain order (default: all zero).
     #[arg(long, num_args = 1.., allow_negative_numbers = true, value_parser = crate::args::finite)]
     joints: Option<Vec<f64>>,
+    /// Print JSON: `base`, `tip`, `joint_names`, `joints`, `xyz`, `quat_xyzw`, `rpy`.
+    #[arg(long)]
+    json: bool,
+}
+
+/// Kinematics works without meshes; say which ones are missing, once each.
+fn warn_unreadable_meshes(robot: &robots::NamedRobot) {
+    let missing = &robot.model.unreadable_meshes;
+    for u in missing.iter().take(5) {
+        eprintln!("warning: {u} (kinematics only; collision checks refuse this robot)");
+    }
+    if missing.len() > 5 {
+        eprintln!(
+            "warning: … and {} more unreadable meshes",
+            missing.len() - 5
+        );
+    }
 }
 
 #[derive(serde::Deserialize, Default)]
@@ -584,6 +601,7 @@ fn run_bench(a: BenchArgs) -> Result<()> {
 
 fn fk(a: FkArgs) -> Result<()> {
     let robot = robots::load(&a.robot.robot)?;
+    warn_unreadable_meshes(&robot);
     let base = a
         .robot
         .base
@@ -614,6 +632,20 @@ fn fk(a: FkArgs) -> Result<()> {
     let pose: Pose = chain.fk(&q)?;
     let [r, p, y] = rpy_from_quat(pose.rotation);
     let t: Vec3 = pose.translation;
+    if a.json {
+        let quat = pose.rotation;
+        let out = serde_json::json!({
+            "base": base,
+            "tip": tip,
+            "joint_names": chain.joint_names,
+            "joints": q,
+            "xyz": [t.x, t.y, t.z],
+            "quat_xyzw": [quat.x, quat.y, quat.z, quat.w],
+            "rpy": [r, p, y],
+        });
+        println!("{}", serde_json::to_string_pretty(&out)?);
+        return Ok(());
+    }
     println!(
         "{base} → {tip}: xyz {:.6} {:.6} {:.6}  rpy {:.6} {:.6} {:.6}",
         t.x, t.y, t.z, r, p, y
@@ -623,6 +655,7 @@ fn fk(a: FkArgs) -> Result<()> {
 
 fn info(a: RobotArgs) -> Result<()> {
     let robot = robots::load(&a.robot)?;
+    warn_unreadable_meshes(&robot);
     let m = &robot.model;
     for link in [&a.base, &a.tip].into_iter().flatten() {
         m.link(link)?;

@@ -163,7 +163,7 @@ pub fn parse_mesh(
                 fan(&mut triangles, face, points.len())?;
             }
         }
-        "dae" => (points, triangles) = read_collada(bytes).map_err(fail)?,
+        "dae" => (points, triangles) = crate::collada::read(bytes).map_err(fail)?,
         other => {
             return Err(fail(format!(
                 "unsupported mesh format `{}` (use .dae, .obj, .stl or .ply)",
@@ -191,38 +191,6 @@ pub fn parse_mesh(
     }
     let s = Vec3::from_array(scale);
     Ok((points.into_iter().map(|p| p * s).collect(), triangles))
-}
-
-/// The triangles of every mesh a COLLADA (`.dae`) file places in its scene, in metres
-/// (its `<unit>` and node transforms applied, as RViz and MoveIt read it), through the
-/// `mesh-loader` crate. Its own (ad hoc) object/OBJ/STL readers stay ours because
-/// they are bounded and fuzzed; COLLADA's scene graph is what the crate is for.
-fn read_collada(bytes: &[u8]) -> Result<(Vec<Vec3>, Vec<[u32; 3]>), String> {
-    let scene = crate::guard::catch_quietly(|| mesh_loader::collada::from_slice(bytes))
-        .map_err(|_| "the COLLADA file could not be read".to_string())?
-        .map_err(|e| format!("COLLADA: {}", crate::input::clip(&e.to_string(), 200)))?;
-    let (mut points, mut triangles) = (Vec::new(), Vec::new());
-    for mesh in &scene.meshes {
-        let offset = points.len();
-        points.extend(
-            mesh.vertices
-                .iter()
-                .map(|v| Vec3::new(v[0] as f64, v[1] as f64, v[2] as f64)),
-        );
-        for f in &mesh.faces {
-            if f.iter().any(|&i| i as usize >= mesh.vertices.len()) {
-                return Err(format!(
-                    "COLLADA face refers to a vertex beyond its mesh's {}",
-                    mesh.vertices.len()
-                ));
-            }
-            triangles.push(f.map(|i| i + offset as u32));
-        }
-    }
-    if triangles.is_empty() {
-        return Err("the COLLADA file places no triangles in its scene".into());
-    }
-    Ok((points, triangles))
 }
 
 /// Enclosed volume of a triangle mesh (divergence theorem; orientation-consistent).
@@ -278,6 +246,45 @@ pub fn mesh_shape(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A tetrahedron 10 units tall (the declared centimetres are ignored, as MoveIt and
+    /// RViz ignore them), placed 100 units up by a node inside a node turned a quarter
+    /// about x then translated: the order of nested transforms matters.
+    pub(crate) const TETRA_DAE: &str = r##"<?xml version="1.0"?>
+<COLLADA xmlns="http://www.collada.org/2005/11/COLLADASchema" version="1.4.1">
+<asset><unit meter="0.01" name="centimeter"/><up_axis>Z_UP</up_axis></asset>
+<library_geometries><geometry id="g" name="g"><mesh>
+<source id="p"><float_array id="pa" count="12">0 0 0 10 0 0 0 10 0 0 0 10</float_array>
+<technique_common><accessor source="#pa" count="4" stride="3"><param name="X" type="float"/><param name="Y" type="float"/><param name="Z" type="float"/></accessor></technique_common></source>
+<vertices id="v"><input semantic="POSITION" source="#p"/></vertices>
+<triangles count="4"><input semantic="VERTEX" source="#v" offset="0"/><p>0 2 1 0 1 3 0 3 2 1 2 3</p></triangles>
+</mesh></geometry></library_geometries>
+<library_visual_scenes><visual_scene id="s"><node id="outer"><translate>5 0 0</translate><rotate>1 0 0 90</rotate><node id="n"><translate>0 -100 0</translate><instance_geometry url="#g"/></node></node></visual_scene></library_visual_scenes>
+<scene><instance_visual_scene url="#s"/></scene></COLLADA>"##;
+
+    #[test]
+    fn collada_meshes_are_read_in_metres_with_their_node_transforms() {
+        let (points, triangles) = parse_mesh(TETRA_DAE.as_bytes(), "dae", [1.0; 3]).unwrap();
+        assert_eq!(triangles.len(), 4);
+        // Inner node: y from -100 to -90 and z 0..10; turned +90° about x, y → z and
+        // z → -y; then 5 along x.
+        let lo = points.iter().fold(Vec3::MAX, |a, p| a.min(*p));
+        let hi = points.iter().fold(Vec3::MIN, |a, p| a.max(*p));
+        assert!(lo.abs_diff_eq(Vec3::new(5.0, -10.0, -100.0), 1e-9), "{lo}");
+        assert!(hi.abs_diff_eq(Vec3::new(15.0, 0.0, -90.0), 1e-9), "{hi}");
+        assert!((mesh_volume(&points, &triangles).abs() - 1000.0 / 6.0).abs() < 1e-6);
+        for bad in [
+            "",
+            "<COLLADA/>",
+            "<COLLADA><asset></COLLADA>",
+            &TETRA_DAE.replace("0 2 1 0 1 3", "0 2 9 0 1 3"),
+        ] {
+            assert!(
+                parse_mesh(bad.as_bytes(), "dae", [1.0; 3]).is_err(),
+                "{bad:.40}"
+            );
+        }
+    }
 
     fn binary_stl(header: &[u8], count: u32, triangles: usize) -> Vec<u8> {
         let mut b = header.to_vec();

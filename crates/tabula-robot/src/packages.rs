@@ -20,8 +20,11 @@ pub struct PackagePaths {
     /// Folders named on the command line (`--package-path`), searched before the
     /// environment's.
     pub extra: Vec<PathBuf>,
-    cache: Mutex<HashMap<(String, Option<PathBuf>), Option<PathBuf>>>,
+    cache: Mutex<HashMap<CacheKey, Option<PathBuf>>>,
 }
+
+/// A package name and the folder it was searched from.
+type CacheKey = (String, Option<PathBuf>);
 
 impl Clone for PackagePaths {
     fn clone(&self) -> Self {
