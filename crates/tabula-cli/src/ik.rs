@@ -99,7 +99,8 @@ pub struct BenchArgs {
 pub struct FkArgs {
     #[command(flatten)]
     robot: RobotArgs,
-    /// Joint values in chain order (default: all zero).
+    /// Joint values in chain order (default: zero, or the nearest limit when zero is
+    /// outside it).
     #[arg(long, num_args = 1.., allow_negative_numbers = true, value_parser = crate::args::finite)]
     joints: Option<Vec<f64>>,
     /// Print JSON: `base`, `tip`, `joint_names`, `joints`, `xyz`, `quat_xyzw`, `rpy`.
@@ -613,7 +614,11 @@ fn fk(a: FkArgs) -> Result<()> {
         .clone()
         .unwrap_or_else(|| robot.default_tip.clone());
     let chain = Chain::new(&robot.model, &base, &tip)?;
-    let q = a.joints.unwrap_or_else(|| vec![0.0; chain.dof()]);
+    let q = a.joints.unwrap_or_else(|| {
+        (0..chain.dof())
+            .map(|i| 0.0f64.clamp(chain.lower[i], chain.upper[i]))
+            .collect()
+    });
     if q.len() == chain.dof() {
         for (i, v) in q.iter().enumerate() {
             // Continuous joints have no limits; their angle is still an angle.

@@ -66,7 +66,10 @@ pub fn init_logging(verbosity: u8) {
         .with_default(level)
         .with_target("zenoh", network)
         .with_target("zenoh_transport", network)
-        .with_target("zenoh_link_tcp", network);
+        .with_target("zenoh_link_tcp", network)
+        // xacro-rs warns of style in published descriptions (`M_PI` redefined); the
+        // expansion's errors reach the user as tabula's own.
+        .with_target("xacro_rs", network);
     let _ = tracing_subscriber::registry()
         .with(
             tracing_subscriber::fmt::layer()

@@ -237,10 +237,38 @@ pub fn mesh_shape(
     if mesh_volume(points, triangles) >= 0.95 * hull_volume {
         return Ok(hull);
     }
+    let key = crate::shape_cache::key(points, triangles);
+    if let Some(shape) = crate::shape_cache::load(key).and_then(|parts| compound_of(&parts)) {
+        return Ok(shape);
+    }
     // V-HACD is third-party code on arbitrary input: a panic there is a mesh error.
     let (pts, tris) = (points.to_vec(), triangles.to_vec());
-    crate::guard::catch_quietly(move || SharedShape::convex_decomposition(&pts, &tris))
-        .map_err(|_| "convex decomposition failed".to_string())
+    let shape = crate::guard::catch_quietly(move || SharedShape::convex_decomposition(&pts, &tris))
+        .map_err(|_| "convex decomposition failed".to_string())?;
+    if let Some(compound) = shape.as_compound() {
+        let parts: Vec<Vec<Vec3>> = compound
+            .shapes()
+            .iter()
+            .filter_map(|(pose, part)| {
+                let points = part.as_convex_polyhedron()?.points();
+                Some(points.iter().map(|p| *pose * *p).collect())
+            })
+            .collect();
+        if parts.len() == compound.shapes().len() {
+            crate::shape_cache::store(key, &parts);
+        }
+    }
+    Ok(shape)
+}
+
+/// A compound of the convex hulls of `parts` (`None` if any part is degenerate).
+fn compound_of(parts: &[Vec<Vec3>]) -> Option<crate::parry::shape::SharedShape> {
+    use crate::parry::shape::SharedShape;
+    let shapes = parts
+        .iter()
+        .map(|p| SharedShape::convex_hull(p).map(|s| (crate::Pose::IDENTITY, s)))
+        .collect::<Option<Vec<_>>>()?;
+    Some(SharedShape::compound(shapes))
 }
 
 #[cfg(test)]

@@ -183,11 +183,13 @@ fn coarse_motion_radius(chain: &Chain) -> Vec<f64> {
     motion_radius
 }
 
-/// A link shape for planning: meshes as their convex hull (conservative). A mesh that
-/// cannot be read is an error naming the link: a link planned without its geometry
-/// would let paths pass through it.
+/// A link shape for planning: a mesh as its convex hull when that hull is within 5 % of
+/// the mesh's volume, else as its convex decomposition (a hull can be far bigger than
+/// the link: the PR2's torso shell would swallow its own tucked fingers); decompositions
+/// are cached on disk. A mesh that cannot be read is an error naming the link: a link
+/// planned without its geometry would let paths pass through it.
 fn shape_of(link: &str, g: &Geometry) -> Result<(SharedShape, Pose), WorldError> {
-    g.collision_shape(false)
+    g.collision_shape(true)
         .map_err(|m| WorldError::Robot(format!("link `{link}`: collision geometry: {m}")))
 }
 
