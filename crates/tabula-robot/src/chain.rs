@@ -100,6 +100,10 @@ impl Chain {
             tip_offset: Pose::IDENTITY,
         };
         let mut pending = Pose::IDENTITY;
+        // Joints on the path: a mimic joint met before its master (climbing out of a
+        // finger, say) still follows it.
+        let on_path: std::collections::HashSet<usize> =
+            climb.iter().chain(descend.iter()).copied().collect();
         let steps = climb
             .iter()
             .map(|&j| (j, true))
@@ -126,7 +130,7 @@ impl Chain {
                 let var = match chain.joint_indices.iter().position(|&k| k == master) {
                     Some(v) => Some(v),
                     // A mimic joint whose master is outside the chain stays at its offset.
-                    None if joint.mimic.is_some() => None,
+                    None if joint.mimic.is_some() && !on_path.contains(&master) => None,
                     None => {
                         let m = &model.joints[master];
                         chain.joint_names.push(m.name.clone());

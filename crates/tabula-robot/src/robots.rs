@@ -121,7 +121,12 @@ fn load_file(p: &Path, options: &LoadOptions) -> Result<NamedRobot, RobotError> 
     };
     let srdf_path = options.srdf.clone().or_else(|| beside("srdf"));
     let srdf = match &srdf_path {
-        Some(s) => Some(Srdf::from_file(s, &model)?),
+        Some(s) => Some(Srdf::from_file_with(
+            s,
+            &model,
+            &options.xacro_args,
+            &options.packages,
+        )?),
         None => None,
     };
     let toml = match beside("toml") {

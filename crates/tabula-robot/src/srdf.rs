@@ -72,7 +72,22 @@ pub struct Srdf {
 impl Srdf {
     /// Reads and checks the SRDF at `path` against `model`.
     pub fn from_file(path: &Path, model: &RobotModel) -> Result<Self, RobotError> {
-        let text = tabula_geom::input::read_text(path, tabula_geom::input::Format::Robot)?;
+        Self::from_file_with(path, model, &[], &Default::default())
+    }
+
+    /// [`Self::from_file`] for an SRDF that may be xacro (`panda_arm.srdf.xacro`,
+    /// `ur.srdf.xacro`), expanded with `xacro_args` as MoveIt's launch files do.
+    pub fn from_file_with(
+        path: &Path,
+        model: &RobotModel,
+        xacro_args: &[(String, String)],
+        packages: &crate::packages::PackagePaths,
+    ) -> Result<Self, RobotError> {
+        let text = if crate::xacro::is_xacro(path) {
+            crate::xacro::expand(path, xacro_args, packages)?
+        } else {
+            tabula_geom::input::read_text(path, tabula_geom::input::Format::Robot)?
+        };
         Self::parse(&text, model).map_err(|e| match e {
             RobotError::Description(m) => {
                 RobotError::Description(format!("{}: {m}", path.display()))

@@ -221,3 +221,25 @@ proptest! {
         let _ = RobotModel::from_urdf_str(&text, None);
     }
 }
+
+/// A chain that meets a mimic joint before its master (from one fingertip to the other)
+/// moves both: the gap between parallel fingers is twice the master's travel.
+#[test]
+fn a_mimic_joint_before_its_master_on_a_chain_follows_it() {
+    let urdf = r#"<robot name="g"><link name="hand"/>
+      <link name="left"/><joint name="f1" type="prismatic"><parent link="hand"/><child link="left"/><axis xyz="0 1 0"/><limit lower="0" upper="0.04" effort="1" velocity="1"/></joint>
+      <link name="right"/><joint name="f2" type="prismatic"><parent link="hand"/><child link="right"/><axis xyz="0 -1 0"/><limit lower="0" upper="0.04" effort="1" velocity="1"/><mimic joint="f1" multiplier="1" offset="0.001"/></joint>
+      </robot>"#;
+    let m = RobotModel::from_urdf_str(urdf, None).unwrap();
+    for (base, tip) in [("right", "left"), ("left", "right")] {
+        let c = Chain::new(&m, base, tip).unwrap();
+        assert_eq!(c.joint_names, ["f1"], "{base} → {tip}");
+        for v in [0.0, 0.01, 0.04] {
+            let gap = c.fk(&[v]).unwrap().translation.length();
+            assert!(
+                (gap - (2.0 * v + 0.001)).abs() < 1e-12,
+                "{base} → {tip} at {v}: {gap}"
+            );
+        }
+    }
+}

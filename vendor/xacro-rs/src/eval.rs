@@ -30,6 +30,12 @@ pub(crate) use scope::*;
 
 // Re-export EvalError publicly so it can be accessed from error module
 pub use interpreter::EvalError;
+
+/// tabula: sets the folder relative `load_yaml` paths resolve in (this thread).
+#[cfg(feature = "yaml")]
+pub(crate) fn set_yaml_base_dir(dir: Option<std::path::PathBuf>) {
+    interpreter::yaml_utils::YAML_BASE_DIR.with(|b| *b.borrow_mut() = dir);
+}
 #[cfg(test)]
 mod property_tests {
 

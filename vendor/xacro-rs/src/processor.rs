@@ -543,6 +543,10 @@ impl XacroProcessor {
         // Always notify extensions to prevent stale file context
         if let Some(file) = file_path {
             ctx.set_source_file(file.to_path_buf());
+            // tabula: relative `load_yaml` paths resolve beside the top file, as
+            // Python xacro resolves them beside the file being processed.
+            #[cfg(feature = "yaml")]
+            crate::eval::set_yaml_base_dir(file.parent().map(std::path::Path::to_path_buf));
             Self::notify_file_change(&self.extensions, Some(file));
         } else {
             // For run_from_string, clear file context in extensions

@@ -159,6 +159,13 @@ pub(super) fn yaml_to_python_literal(
 }
 
 #[cfg(feature = "yaml")]
+thread_local! {
+    /// tabula: the folder relative `load_yaml` paths resolve in.
+    pub(crate) static YAML_BASE_DIR: std::cell::RefCell<Option<std::path::PathBuf>> =
+        const { std::cell::RefCell::new(None) };
+}
+
+#[cfg(feature = "yaml")]
 /// Load a YAML file and convert it to a Python dict literal string
 ///
 /// # Arguments
@@ -173,8 +180,13 @@ pub(super) fn load_yaml_file(
     path: &str,
     yaml_tag_handler_registry: Option<&crate::eval::yaml_tag_handler::YamlTagHandlerRegistry>,
 ) -> Result<String, crate::error::XacroError> {
+    // tabula: a relative path resolves beside the top file (see `set_yaml_base_dir`).
+    let resolved = YAML_BASE_DIR.with(|b| match b.borrow().as_ref() {
+        Some(dir) if std::path::Path::new(path).is_relative() => dir.join(path),
+        _ => std::path::PathBuf::from(path),
+    });
     // Read file contents
-    let contents = std::fs::read_to_string(path).map_err(|source| {
+    let contents = std::fs::read_to_string(&resolved).map_err(|source| {
         crate::error::XacroError::YamlLoadError {
             path: path.to_string(),
             source,
