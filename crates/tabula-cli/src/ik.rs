@@ -108,8 +108,12 @@ pub struct FkArgs {
     json: bool,
 }
 
-/// Kinematics works without meshes; say which ones are missing, once each.
+/// Kinematics works without meshes; say which ones are missing, once each, and what
+/// the URDF said that was ignored.
 fn warn_unreadable_meshes(robot: &robots::NamedRobot) {
+    for note in &robot.model.ignored {
+        eprintln!("warning: {note}");
+    }
     let missing = &robot.model.unreadable_meshes;
     for u in missing.iter().take(5) {
         eprintln!("warning: {u} (kinematics only; collision checks refuse this robot)");

@@ -17,6 +17,7 @@ mod progress;
 #[cfg(feature = "ros")]
 mod remote;
 mod report;
+mod robot;
 #[cfg(feature = "ros")]
 mod serve;
 #[cfg(feature = "ros")]
@@ -134,6 +135,11 @@ enum Command {
     Perceive(perceive::PerceiveArgs),
     /// Task planning in PDDL: plan, validate, benchmark (Fast Downward's role).
     Plan(plan::PlanArgs),
+    /// Robot files: the description a URDF and its SRDF give (`robot describe`).
+    Robot {
+        #[command(subcommand)]
+        command: robot::RobotCommand,
+    },
     /// Serve the simulator as a ROS 2 robot over zenoh (rmw_zenoh's conventions): point
     /// clouds, joint states and TF out, trajectories and gripper commands in, and the
     /// driver services `place`/`clear`/`pick-place --connect` drive it through.
@@ -228,6 +234,7 @@ fn main() {
         #[cfg(feature = "ros")]
         Command::Graph(args) => graph::run(args),
         Command::Plan(args) => plan::run(args),
+        Command::Robot { command } => robot::run(command),
         Command::Motion { command } => motion::run(command),
         Command::Perceive(args) => perceive::run(args),
         Command::Place(args) => place::run(args),

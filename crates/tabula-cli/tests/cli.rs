@@ -1126,3 +1126,103 @@ fn perceive_refuses_non_finite_options() {
         );
     }
 }
+
+/// A robot as a ROS description package brings it: a workspace folder with a package
+/// manifest, a xacro top file that takes an argument and finds its own package, a
+/// COLLADA collision mesh, and a MoveIt SRDF beside the URDF — loaded by `ik fk`,
+/// described by `robot describe`, and moved to an SRDF group state by `arm --dry-run`.
+#[test]
+fn a_robot_package_with_xacro_dae_and_srdf_runs_through_the_cli() {
+    let ws = std::env::temp_dir().join(format!("tabula-cli-pkg-{}", std::process::id()));
+    let pkg = ws.join("src/cell_description");
+    std::fs::create_dir_all(pkg.join("urdf")).unwrap();
+    std::fs::create_dir_all(pkg.join("meshes")).unwrap();
+    std::fs::write(
+        pkg.join("package.xml"),
+        "<package><name>cell_description</name></package>",
+    )
+    .unwrap();
+    let cube = "-0.03 -0.03 -0.03 0.03 -0.03 -0.03 0.03 0.03 -0.03 -0.03 0.03 -0.03 -0.03 -0.03 0.03 0.03 -0.03 0.03 0.03 0.03 0.03 -0.03 0.03 0.03";
+    let faces = "0 2 1 0 3 2 4 5 6 4 6 7 0 1 5 0 5 4 1 2 6 1 6 5 2 3 7 2 7 6 3 0 4 3 4 7";
+    std::fs::write(
+        pkg.join("meshes/link.dae"),
+        format!(r##"<?xml version="1.0"?><COLLADA xmlns="http://www.collada.org/2005/11/COLLADASchema" version="1.4.1"><library_geometries><geometry id="g"><mesh><source id="p"><float_array id="pa" count="24">{cube}</float_array><technique_common><accessor source="#pa" count="8" stride="3"/></technique_common></source><vertices id="v"><input semantic="POSITION" source="#p"/></vertices><triangles count="12"><input semantic="VERTEX" source="#v" offset="0"/><p>{faces}</p></triangles></mesh></geometry></library_geometries><library_visual_scenes><visual_scene id="s"><node><instance_geometry url="#g"/></node></visual_scene></library_visual_scenes><scene><instance_visual_scene url="#s"/></scene></COLLADA>"##),
+    )
+    .unwrap();
+    let mut links = String::new();
+    let mut parent = "${prefix}base".to_string();
+    for k in 1..=3 {
+        links += &format!(
+            r#"<link name="${{prefix}}link{k}"><collision><geometry><mesh filename="package://cell_description/meshes/link.dae"/></geometry></collision></link>
+<joint name="${{prefix}}j{k}" type="revolute"><parent link="{parent}"/><child link="${{prefix}}link{k}"/><origin xyz="0 0 0.25"/><axis xyz="0 {a} {b}"/><limit lower="-2.5" upper="2.5" effort="1" velocity="1"/></joint>"#,
+            a = k % 2,
+            b = (k + 1) % 2
+        );
+        parent = format!("${{prefix}}link{k}");
+    }
+    let xacro = format!(
+        r#"<robot name="cell" xmlns:xacro="http://www.ros.org/wiki/xacro"><xacro:arg name="prefix" default=""/><xacro:property name="prefix" value="$(arg prefix)"/><xacro:include filename="$(find cell_description)/urdf/parts.xacro"/><link name="${{prefix}}base"/>{links}<xacro:tool_frame/></robot>"#
+    );
+    std::fs::write(pkg.join("urdf/arm.urdf.xacro"), xacro).unwrap();
+    std::fs::write(
+        pkg.join("urdf/parts.xacro"),
+        r#"<robot xmlns:xacro="http://www.ros.org/wiki/xacro"><xacro:macro name="tool_frame"><link name="${prefix}tool0"/><joint name="${prefix}jt" type="fixed"><parent link="${prefix}link3"/><child link="${prefix}tool0"/><origin xyz="0 0 0.1"/></joint></xacro:macro></robot>"#,
+    )
+    .unwrap();
+    std::fs::write(
+        pkg.join("urdf/arm.urdf.srdf"),
+        r#"<robot name="cell"><group name="manipulator"><chain base_link="a_base" tip_link="a_tool0"/></group>
+<group_state name="home" group="manipulator"><joint name="a_j1" value="0.3"/><joint name="a_j2" value="0.5"/><joint name="a_j3" value="-0.4"/></group_state>
+<disable_collisions link1="a_link1" link2="a_link3" reason="Never"/></robot>"#,
+    )
+    .unwrap();
+    let top = pkg.join("urdf/arm.urdf.xacro");
+    let top = top.to_str().unwrap();
+    let fk = tabula_json(&[
+        "ik",
+        "fk",
+        "--robot",
+        top,
+        "--xacro-arg",
+        "prefix:=a_",
+        "--json",
+        "--joints",
+        "0",
+        "0",
+        "0",
+    ]);
+    assert_eq!(fk["tip"], "a_tool0", "{fk}");
+    assert!(
+        (fk["xyz"][2].as_f64().unwrap() - 0.85).abs() < 1e-12,
+        "{fk}"
+    );
+    let described = tabula(&["robot", "describe", top, "--xacro-arg", "prefix:=a_"]);
+    let text = String::from_utf8_lossy(&described.stdout);
+    assert!(
+        described.status.success()
+            && text.contains("name = \"manipulator\"")
+            && text.contains("[arm.named.home]"),
+        "{text}"
+    );
+    let scene = ws.join("cell.toml");
+    std::fs::write(
+        &scene,
+        format!("[floor]\nsize = [3.0, 3.0]\n\n[[robot]]\nname = \"cell\"\nurdf = \"{top}\"\nxacro_args = {{ prefix = \"a_\" }}\npose = {{ xyz = [0.0, 0.0, 0.0] }}\n"),
+    )
+    .unwrap();
+    let moved = tabula_json(&[
+        "arm",
+        "--scene",
+        scene.to_str().unwrap(),
+        "--dry-run",
+        "--json",
+        "named",
+        "--arm",
+        "manipulator",
+        "home",
+    ]);
+    assert_eq!(moved["arm"], "manipulator", "{moved}");
+    let joints = &moved["joints"];
+    assert!(joints.to_string().contains("a_j2"), "{moved}");
+    std::fs::remove_dir_all(&ws).ok();
+}

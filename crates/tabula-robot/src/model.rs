@@ -190,6 +190,9 @@ pub struct RobotModel {
     /// them; anything that checks collisions must refuse the robot
     /// ([`Self::require_meshes`]).
     pub unreadable_meshes: Vec<UnreadableMesh>,
+    /// What the URDF says that was ignored, one sentence each (a `<mimic>` on a fixed
+    /// joint), for the caller to warn about.
+    pub ignored: Vec<String>,
 }
 
 /// A mesh a link names that is not there (or is not a file).
@@ -417,8 +420,21 @@ impl RobotModel {
                 mimic: None,
             });
         }
+        let mut ignored_mimics = Vec::new();
         for (ji, j) in robot.joints.iter().enumerate() {
             if let Some(m) = &j.mimic {
+                // A fixed joint cannot move, so its mimic says nothing (MotionBenchMaker's
+                // Panda fixes its fingers this way); a fixed master leaves the mimic still.
+                let fixed = |k: usize| joints[k].kind == JointKind::Fixed;
+                if fixed(ji) || joint_index.get(&m.joint).is_some_and(|&mi| fixed(mi)) {
+                    ignored_mimics.push(format!(
+                        "joint `{}`: <mimic joint=\"{}\"> ignored: {} is fixed",
+                        j.name,
+                        tabula_geom::input::clip(&m.joint, 80),
+                        if fixed(ji) { "the joint" } else { "its master" }
+                    ));
+                    continue;
+                }
                 let problem = match joint_index.get(&m.joint) {
                     None => Some("not in the URDF"),
                     Some(&mi) if mi == ji => Some("itself"),
@@ -487,6 +503,7 @@ impl RobotModel {
             link_index,
             joint_index,
             unreadable_meshes: meshes.unreadable.into_inner(),
+            ignored: ignored_mimics,
         })
     }
 

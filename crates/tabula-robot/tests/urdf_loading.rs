@@ -243,3 +243,21 @@ fn a_mimic_joint_before_its_master_on_a_chain_follows_it() {
         }
     }
 }
+
+/// MotionBenchMaker's Panda fixes its fingers and keeps their `<mimic>`: ignored with a
+/// note, not refused.
+#[test]
+fn a_mimic_on_a_fixed_joint_is_ignored_with_a_note() {
+    let urdf = r#"<robot name="g"><link name="hand"/>
+      <link name="left"/><joint name="f1" type="fixed"><parent link="hand"/><child link="left"/></joint>
+      <link name="right"/><joint name="f2" type="fixed"><parent link="hand"/><child link="right"/><mimic joint="f1"/></joint>
+      </robot>"#;
+    let m = RobotModel::from_urdf_str(urdf, None).unwrap();
+    assert!(m.joints.iter().all(|j| j.mimic.is_none()));
+    assert_eq!(m.ignored.len(), 1);
+    assert!(
+        m.ignored[0].contains("f2") && m.ignored[0].contains("fixed"),
+        "{:?}",
+        m.ignored
+    );
+}
