@@ -100,7 +100,12 @@ impl RobotFileArgs {
         if let Some(s) = &self.srdf
             && !s.is_file()
         {
-            return Err(format!("--srdf {}: no such file", s.display()));
+            let what = if s.exists() {
+                "not a regular file"
+            } else {
+                "no such file"
+            };
+            return Err(format!("--srdf {}: {what}", s.display()));
         }
         tabula_robot::robots::set_default_options(tabula_robot::robots::LoadOptions {
             xacro_args: self.xacro_args.clone(),

@@ -226,6 +226,15 @@ impl Srdf {
             }
         }
         for s in &self.group_states {
+            let known = |j: &str| {
+                model.joint(j).is_some() || self.virtual_joints.iter().any(|v| v.name == j)
+            };
+            if let Some(j) = s.values.keys().find(|j| !known(j)) {
+                return bad(format!(
+                    "group state `{}` sets joint `{j}`, which the URDF lacks",
+                    s.name
+                ));
+            }
             if !names.contains(s.group.as_str()) {
                 return bad(format!(
                     "group state `{}` is for unknown group `{}`",
