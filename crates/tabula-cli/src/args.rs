@@ -38,6 +38,24 @@ pub fn rate(s: &str) -> Result<f64, String> {
     }
 }
 
+/// The largest seed accepted: 2^53 − 1, exact in JSON and far from where seed + trial
+/// would wrap (a run of seeds counts up from the one given).
+pub const MAX_SEED: u64 = (1 << 53) - 1;
+
+/// A random seed: a whole number from 0 to [`MAX_SEED`].
+pub fn seed(s: &str) -> Result<u64, String> {
+    s.trim()
+        .parse::<u64>()
+        .ok()
+        .filter(|v| *v <= MAX_SEED)
+        .ok_or_else(|| {
+            format!(
+                "`{}` is not a seed: a whole number from 0 to {MAX_SEED}",
+                tabula_geom::input::clip(s, 40)
+            )
+        })
+}
+
 /// A count of runs, poses, scenes or repetitions: 1 to 1,000,000 (each unit of work is
 /// at least microseconds, so the cap is days of work; beyond it a typo, never a wish).
 pub fn count(s: &str) -> Result<usize, String> {
@@ -150,6 +168,8 @@ mod tests {
         }
         assert_eq!(count("1000000"), Ok(1_000_000));
         assert!(pixels("4294967295").is_err());
+        assert!(seed("18446744073709551615").is_err() && seed("-1").is_err());
+        assert_eq!(seed("9007199254740991"), Ok(MAX_SEED));
         assert_eq!(
             xacro_arg("ur_type:=ur5e"),
             Ok(("ur_type".into(), "ur5e".into()))

@@ -65,7 +65,7 @@ pub enum BenchCommand {
         #[arg(long, default_value_t = 50, value_parser = crate::args::count_u64)]
         scenes: u64,
         /// First scene seed (scenes use seed, seed + 1, …).
-        #[arg(long, default_value_t = 1)]
+        #[arg(long, default_value_t = 1, value_parser = crate::args::seed)]
         seed: u64,
         /// Parameters (TOML, `ClearParams`).
         #[arg(long)]
@@ -90,7 +90,7 @@ pub enum BenchCommand {
         #[arg(long, default_value_t = 20, value_parser = crate::args::count_u64)]
         trials: u64,
         /// First task seed (tasks use seed, seed + 1, …).
-        #[arg(long, default_value_t = 1)]
+        #[arg(long, default_value_t = 1, value_parser = crate::args::seed)]
         seed: u64,
         /// Parameters (TOML, `PlaceParams`).
         #[arg(long)]

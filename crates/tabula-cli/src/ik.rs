@@ -54,7 +54,7 @@ pub struct SolveArgs {
     #[command(flatten)]
     robot: RobotArgs,
     /// Target tip pose in the base frame: x y z (m) roll pitch yaw (rad, URDF convention).
-    #[arg(long, num_args = 6, allow_negative_numbers = true, value_names = ["X", "Y", "Z", "ROLL", "PITCH", "YAW"], value_parser = crate::args::finite)]
+    #[arg(long, required = true, num_args = 6, allow_negative_numbers = true, value_names = ["X", "Y", "Z", "ROLL", "PITCH", "YAW"], value_parser = crate::args::finite)]
     pose: Vec<f64>,
     /// Seed configuration (one value per chain joint); default mid-range.
     #[arg(long, num_args = 1.., allow_negative_numbers = true, value_parser = crate::args::finite)]
@@ -79,7 +79,7 @@ pub struct BenchArgs {
     #[arg(long, default_value_t = 10_000, value_parser = crate::args::count)]
     poses: usize,
     /// Seed of the target generator.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, value_parser = crate::args::seed)]
     seed: u64,
     #[arg(long)]
     position_only: bool,

@@ -15,7 +15,7 @@ pub enum MotionCommand {
         robot: String,
         #[arg(long, default_value_t = 200, value_parser = crate::args::count)]
         problems: usize,
-        #[arg(long, default_value_t = 1)]
+        #[arg(long, default_value_t = 1, value_parser = crate::args::seed)]
         seed: u64,
         /// Planning time limit per problem (s).
         #[arg(long, default_value_t = 1.0, value_parser = crate::args::seconds)]

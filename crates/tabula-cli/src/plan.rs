@@ -44,7 +44,7 @@ enum PlanCommand {
     Generate {
         #[arg(long, default_value_t = 10, value_parser = crate::args::objects)]
         objects: usize,
-        #[arg(long, default_value_t = 1)]
+        #[arg(long, default_value_t = 1, value_parser = crate::args::seed)]
         seed: u64,
     },
 }

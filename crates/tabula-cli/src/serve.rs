@@ -30,7 +30,7 @@ pub struct ServeArgs {
     #[arg(long)]
     pub zenoh_config: Option<PathBuf>,
     /// Camera noise seed of commands outside judged runs.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, value_parser = crate::args::seed)]
     pub seed: u64,
     /// How often /joint_states and /tf are published on their own (Hz, 0: after
     /// commands only).

@@ -75,7 +75,7 @@ pub struct CaptureArgs {
     #[arg(long)]
     labels: Option<PathBuf>,
     /// Noise seed.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, value_parser = crate::args::seed)]
     seed: u64,
     /// Write binary instead of ASCII (PCD, or PLY when `--out` ends in `.ply`).
     #[arg(long)]

@@ -24,7 +24,7 @@ pub struct TaskRunArgs {
     #[arg(long)]
     pub params: Option<PathBuf>,
     /// Camera noise seed.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, value_parser = crate::args::seed)]
     pub seed: u64,
     #[arg(long)]
     pub json: bool,
@@ -205,7 +205,18 @@ pub fn parse_params<T: serde::de::DeserializeOwned + Validate>(
     origin: &str,
 ) -> Result<T> {
     check_toml_numbers(text).map_err(|e| anyhow::anyhow!("{origin}: {e}"))?;
-    let params: T = toml::from_str(text).with_context(|| origin.to_string())?;
+    let params: T = toml::from_str(text).map_err(|e| {
+        // toml's message names the key and lists the valid ones; its display puts that
+        // on a later line, after a source excerpt, where a one-line error loses it.
+        let line = e.span().map_or(1, |s| {
+            text.as_bytes()[..s.start.min(text.len())]
+                .iter()
+                .filter(|&&b| b == b'\n')
+                .count()
+                + 1
+        });
+        anyhow::anyhow!("{origin}: line {line}: {}", e.message().trim())
+    })?;
     params
         .validate()
         .map_err(|e| anyhow::anyhow!("{origin}: {e}"))?;

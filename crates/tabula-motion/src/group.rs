@@ -11,7 +11,9 @@ use crate::rrt::{
 use crate::world::{CollisionWorld, WorldError, WorldParams};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
-use tabula_geom::input::{Validate, check_count, check_in, check_positive, nested};
+use tabula_geom::input::{
+    Validate, check_count, check_in, check_non_negative, check_positive, nested,
+};
 use tabula_geom::parry::shape::SharedShape;
 use tabula_geom::{Pose, Vec3};
 use tabula_robot::description::{ArmGroup, Gripper};
@@ -71,6 +73,12 @@ pub enum MoveError {
     /// IK solutions exist but every one collides.
     #[error("every IK solution for the pose collides ({0})")]
     GoalInCollision(String),
+    /// A joint goal that is not a valid configuration (outside the limits, colliding).
+    #[error("the joint goal is invalid: {0}")]
+    JointGoalInvalid(String),
+    /// The start state is not a valid configuration.
+    #[error("the start is invalid: {0}")]
+    StartInvalid(String),
     #[error("no collision-free path: {0}")]
     NoPath(String),
     /// A Cartesian line could be followed only part of the way.
@@ -264,7 +272,8 @@ impl MoveGroup {
         let t0 = thread_cpu();
         let mut path =
             rrt_connect(&self.world, start, goals, &self.params.planner).map_err(|e| match e {
-                PlanError::GoalInvalid(why) => MoveError::GoalInCollision(why),
+                PlanError::GoalInvalid(why) => MoveError::JointGoalInvalid(why),
+                PlanError::StartInvalid(why) => MoveError::StartInvalid(why),
                 other => MoveError::NoPath(other.to_string()),
             })?;
         let mut rng = ChaCha8Rng::seed_from_u64(self.params.planner.seed);
@@ -276,7 +285,10 @@ impl MoveGroup {
     pub fn plan_to_pose(&self, start: &[f64], world_from_tip: &Pose) -> Result<Plan, MoveError> {
         let t0 = thread_cpu();
         let goals = self.valid_ik(world_from_tip, start)?;
-        let mut plan = self.plan_to_joints(start, &goals)?;
+        let mut plan = self.plan_to_joints(start, &goals).map_err(|e| match e {
+            MoveError::JointGoalInvalid(why) => MoveError::GoalInCollision(why),
+            other => other,
+        })?;
         plan.planning_time = thread_cpu() - t0;
         Ok(plan)
     }
@@ -469,7 +481,8 @@ impl Validate for MoveGroupParams {
         check_positive(at, "cartesian_step", self.cartesian_step)?;
         check_positive(at, "cartesian_max_jump", self.cartesian_max_jump)?;
         check_count(at, "pose_goal_solutions", self.pose_goal_solutions, 1)?;
-        check_positive(at, "cartesian_tolerance", self.cartesian_tolerance)?;
+        // 0 is the default: the straight line itself, no tolerance.
+        check_non_negative(at, "cartesian_tolerance", self.cartesian_tolerance)?;
         check_positive(
             at,
             "cartesian_angle_tolerance",

@@ -241,14 +241,14 @@ pub fn rrt_connect(
         .first_collision(start)
         .map_err(|e| PlanError::StartInvalid(e.to_string()))?
     {
-        return Err(PlanError::StartInvalid(format!("{} touches {}", c.0, c.1)));
+        return Err(PlanError::StartInvalid(world.why_invalid(start, &c)));
     }
     let mut valid_goals = Vec::new();
     let mut last_problem = None;
     for g in goals {
         match world.first_collision(g) {
             Ok(None) => valid_goals.push(g.clone()),
-            Ok(Some(c)) => last_problem = Some(format!("{} touches {}", c.0, c.1)),
+            Ok(Some(c)) => last_problem = Some(world.why_invalid(g, &c)),
             Err(e) => return Err(PlanError::GoalInvalid(e.to_string())),
         }
     }

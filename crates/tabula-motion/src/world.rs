@@ -890,6 +890,39 @@ impl CollisionWorld {
         Ok(self.model.forward_kinematics(&values)?)
     }
 
+    /// Why `q` is invalid, given the pair [`Self::first_collision`] reported: a joint
+    /// outside its limits (named, with the value and the limits), a contact, or a link
+    /// only within its padding of something — three different things to fix.
+    pub fn why_invalid(&self, q: &[f64], (a, b): &(String, String)) -> String {
+        if a == "joint limits" {
+            return match self.chain.joint_names.iter().position(|n| n == b) {
+                Some(i) => format!(
+                    "joint `{b}` = {:.4} is outside its limits [{:.4}, {:.4}]",
+                    q.get(i).copied().unwrap_or(f64::NAN),
+                    self.chain.lower[i],
+                    self.chain.upper[i]
+                ),
+                None => format!("joint `{b}` is outside its limits"),
+            };
+        }
+        let mut bare = self.clone();
+        let padding = bare
+            .bodies
+            .iter()
+            .find(|l| &l.name == a || &l.name == b)
+            .map_or(self.params.padding, |l| l.padding);
+        for body in &mut bare.bodies {
+            body.padding = 0.0;
+        }
+        match bare.first_collision(q) {
+            Ok(None) => format!(
+                "{a} is within the {:.0} mm padding of {b}, without touching it",
+                padding * 1e3
+            ),
+            _ => format!("{a} touches {b}"),
+        }
+    }
+
     /// The first colliding pair at `q` (names), or `None` when `q` is valid. Joint limits
     /// count: a configuration outside them is reported as `("joint limits", name)`.
     pub fn first_collision(&self, q: &[f64]) -> Result<Option<(String, String)>, WorldError> {

@@ -1783,6 +1783,68 @@ fn scenes(c: &mut Corpus) {
 }
 
 fn params(c: &mut Corpus) {
+    // Motion parameters through `tabula arm --dry-run`: the defaults written out load,
+    // a misspelt key is named with the valid ones, and goals say what is wrong with them.
+    let scene = repo("scenes/clutter.toml");
+    let joints = ["0.3", "-0.5", "0", "2.0", "0", "0.4", "0"];
+    for (name, toml, class, expect, needle) in [
+        (
+            "motion-defaults",
+            "cartesian_tolerance = 0.0\n[world]\npadding = 0.01\n",
+            "odd-legal",
+            Ok,
+            "move-joints",
+        ),
+        (
+            "motion-unknown-key",
+            "[world]\npaddin = 0.01\n",
+            "garbage",
+            Error,
+            "expected one of",
+        ),
+        (
+            "motion-tolerance-negative",
+            "cartesian_tolerance = -0.1\n",
+            "garbage",
+            Error,
+            "cartesian_tolerance",
+        ),
+    ] {
+        let f = c.file(&format!("params/{name}.toml"), toml);
+        let mut args = vec![
+            "arm",
+            "--scene",
+            &scene,
+            "--dry-run",
+            "--params",
+            &f,
+            "--json",
+            "move-joints",
+        ];
+        args.extend(joints);
+        c.case(&format!("params-{name}"), class, expect, &args);
+        c.needs(needle);
+    }
+    let mut beyond = vec!["arm", "--scene", &scene, "--dry-run", "move-joints", "9"];
+    beyond.extend(&joints[1..]);
+    c.case("arm-joint-beyond-limit", "garbage", NoSolution, &beyond);
+    c.needs("outside its limits");
+    c.case(
+        "ik-solve-no-pose",
+        "malformed",
+        Usage,
+        &["ik", "solve", "--robot", "wam"],
+    );
+    c.needs("--pose");
+    for seed in ["18446744073709551615", "9007199254740992"] {
+        c.case(
+            &format!("seed-{seed}"),
+            "overflow",
+            Usage,
+            &["plan", "generate", "--objects", "3", "--seed", seed],
+        );
+        c.needs("not a seed");
+    }
     let cloud = "@cloud/valid-binary.pcd";
     for (name, toml, class) in [
         ("nan", "min_height = nan", "garbage"),
