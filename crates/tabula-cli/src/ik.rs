@@ -177,11 +177,17 @@ pub fn setup(args: &RobotArgs, kind: SolverKind) -> Result<Setup> {
             Some(Ok(a)) => Some(a),
             _ => None,
         };
-    let (solver, solver_name): (Box<dyn IkSolver>, &'static str) = match (kind, analytic) {
-        (SolverKind::Analytic | SolverKind::Auto, Some(a)) => (Box::new(a), "analytic-golem3"),
-        (SolverKind::Analytic, None) => bail!(
-            "no analytic solver for `{base}` → `{tip}` of {}: the closed form covers the Golem-III arms \
-             (torso_lift_link → right_tool_link / left_tool_link); use --solver numeric",
+    let parallel3 = tabula_robot::ik::ThreeParallelIk::new(&chain);
+    let (solver, solver_name): (Box<dyn IkSolver>, &'static str) = match (kind, analytic, parallel3)
+    {
+        (SolverKind::Analytic | SolverKind::Auto, Some(a), _) => (Box::new(a), "analytic-golem3"),
+        (SolverKind::Analytic | SolverKind::Auto, None, Some(p)) => {
+            (Box::new(p), "analytic-3-parallel")
+        }
+        (SolverKind::Analytic, None, None) => bail!(
+            "no analytic solver for `{base}` → `{tip}` of {}: the closed forms cover the Golem-III arms \
+             (torso_lift_link → right_tool_link / left_tool_link) and 6R arms with axes 2–4 parallel and \
+             axes 5 and 6 meeting (UR-type); use --solver numeric",
             robot.label
         ),
         _ => (

@@ -14,7 +14,8 @@ use tabula_geom::Vec3;
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Deserialize, serde::Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum IkKind {
-    /// Damped least squares with restarts: any chain.
+    /// Damped least squares with restarts: any chain; closed form instead for full
+    /// poses when the chain is UR-type (axes 2–4 parallel, 5 and 6 meeting).
     Numeric,
     /// The closed form of seed 001 (SPEC §2.2), right arm.
     Golem3Right,
@@ -272,7 +273,11 @@ impl ArmGroup {
         numeric: NumericIkParams,
     ) -> Result<Box<dyn IkSolver + Send + Sync>, RobotError> {
         Ok(match self.ik {
-            IkKind::Numeric => Box::new(NumericIk::new(self.chain(model)?, numeric)),
+            // Closed form where the chain allows it (UR-type arms), numeric otherwise.
+            IkKind::Numeric => Box::new(crate::ik::AutoIk::new(NumericIk::new(
+                self.chain(model)?,
+                numeric,
+            ))),
             IkKind::Golem3Right => Box::new(Golem3Ik::new(
                 model,
                 ArmSide::Right,

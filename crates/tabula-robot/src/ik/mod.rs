@@ -1,12 +1,16 @@
 //! Inverse kinematics: one [`IkSolver`] trait, a numeric solver for any chain and the
 //! closed-form Golem-III solver of seed 001.
 
+mod auto;
 pub mod bench;
 mod golem3;
 mod numeric;
+mod parallel3;
 
+pub use auto::AutoIk;
 pub use golem3::{ArmSide, Golem3Ik, Golem3Params};
 pub use numeric::{NumericIk, NumericIkParams};
+pub use parallel3::ThreeParallelIk;
 
 use crate::{Chain, RobotError};
 use tabula_geom::{Pose, Vec3, pose_is_finite, rotation_angle_between, wrap_angle};

@@ -1,0 +1,269 @@
+//! Closed-form IK of 6R arms shaped like Universal Robots' (and Kinova's, Doosan's,
+//! Techman's): axes 2, 3 and 4 parallel, axes 5 and 6 intersecting. Detected from the
+//! chain's geometry, not from names or DH tables, and solved by Paden–Kahan subproblems
+//! as IK-Geo does (Elias & Wen, 2022): every solution, up to eight.
+//!
+//! With the joints in product-of-exponentials form (axis `h_i` through point `o_i` at
+//! zero), and the points on axes 5 and 6 both taken at their intersection:
+//! 1. `h·R1ᵀ(p_0T − o_1 − R06 p_6T) = h·(o_5 − o_1)` (rotations about the parallel
+//!    axis `h` keep the component along it): subproblem 4 in θ1;
+//! 2. `h·R5 h6 = h·R1ᵀ R06 h6`: subproblem 4 in θ5;
+//! 3. `R6 R06ᵀ R1 h = R5ᵀ h`: subproblem 1 in θ6; then θ2+θ3+θ4 from `R234`;
+//! 4. the planar part `R2(p_23 + R3 p_34) = δ`: subproblem 3 in θ3, 1 in θ2; θ4 last.
+//!
+//! Every candidate is checked by forward kinematics before it is returned.
+
+use super::{IkError, IkMode, IkSolution, IkSolver, joint_distance, pose_error, validate_request};
+use crate::Chain;
+use tabula_geom::{Mat3, Pose, Vec3};
+
+/// Geometry checks (parallel, intersecting) are relative to this (m or rad).
+const TOL: f64 = 1e-9;
+/// A returned solution reaches the target within this (m, rad).
+const ACCEPT: f64 = 1e-6;
+
+/// The solver of one matching chain.
+#[derive(Debug, Clone)]
+pub struct ThreeParallelIk {
+    chain: Chain,
+    /// Joint axes and points at zero (base frame), the points on axes 5 and 6 moved to
+    /// their intersection.
+    h: [Vec3; 6],
+    o: [Vec3; 6],
+    /// Tip at zero.
+    tip_zero: Pose,
+}
+
+impl ThreeParallelIk {
+    /// The solver for `chain`, or `None` when the chain is not of this family (six
+    /// revolute joints, one variable each with multiplier ±1, axes 2–4 parallel, axes 1
+    /// and 2 not, axes 5 and 6 meeting in a point).
+    pub fn new(chain: &Chain) -> Option<Self> {
+        if chain.elements.len() != 6 || chain.dof() != 6 {
+            return None;
+        }
+        let mut frame = Pose::IDENTITY;
+        let (mut h, mut o) = ([Vec3::ZERO; 6], [Vec3::ZERO; 6]);
+        for (i, e) in chain.elements.iter().enumerate() {
+            if e.prismatic || e.var != i || (e.multiplier.abs() - 1.0).abs() > 1e-12 {
+                return None;
+            }
+            frame *= e.pre;
+            h[i] = (frame.rotation * e.axis).normalize();
+            o[i] = frame.translation;
+        }
+        let tip_zero = frame * chain.tip_offset;
+        let parallel = |a: Vec3, b: Vec3| a.cross(b).length() < TOL;
+        if !(parallel(h[1], h[2]) && parallel(h[1], h[3])) || parallel(h[0], h[1]) {
+            return None;
+        }
+        if parallel(h[4], h[5]) || parallel(h[1], h[4]) {
+            return None;
+        }
+        let meet = intersection(o[4], h[4], o[5], h[5])?;
+        o[4] = meet;
+        o[5] = meet;
+        Some(Self {
+            chain: chain.clone(),
+            h,
+            o,
+            tip_zero,
+        })
+    }
+
+    /// Joint angles (θ, before multiplier and offset) reaching `target`, unchecked: at
+    /// most 2 (θ1) × 2 (θ5) × 2 (θ3).
+    fn candidates(&self, target: &Pose) -> ([[f64; 6]; 8], usize) {
+        let (h, o) = (&self.h, &self.o);
+        let k = h[1];
+        let r06 =
+            Mat3::from_quat(target.rotation) * Mat3::from_quat(self.tip_zero.rotation).transpose();
+        let p_6t = self.tip_zero.translation - o[5];
+        let x = target.translation - o[0] - r06 * p_6t;
+        let mut out = ([[0.0; 6]; 8], 0);
+        // 1: hᵀ rot(h1, −θ1) x = h·(o5 − o1)  ⇔  hᵀ rot(−h1, θ1) x = d.
+        for t1 in subproblem4(k, x, -h[0], k.dot(o[4] - o[0])) {
+            let r1 = Mat3::from_axis_angle(h[0], t1);
+            let r16 = r1.transpose() * r06;
+            // 2: hᵀ rot(h5, θ5) h6 = hᵀ R1ᵀ R06 h6.
+            for t5 in subproblem4(k, h[5], h[4], k.dot(r16 * h[5])) {
+                let r5 = Mat3::from_axis_angle(h[4], t5);
+                // 3: rot(h6, θ6) (R06ᵀ R1 h) = R5ᵀ h.
+                let Some(t6) = subproblem1(r16.transpose() * k, r5.transpose() * k, h[5]) else {
+                    continue;
+                };
+                let r6 = Mat3::from_axis_angle(h[5], t6);
+                let r234 = r16 * r6.transpose() * r5.transpose();
+                let v = any_perpendicular(k);
+                let Some(t234) = subproblem1(v, r234 * v, k) else {
+                    continue;
+                };
+                // 4: δ = R1ᵀ x − p_12 − R234 p_45 = R2 (p_23 + R3 p_34).
+                let delta = r1.transpose() * x - (o[1] - o[0]) - r234 * (o[4] - o[3]);
+                let (p23, p34) = (o[2] - o[1], o[3] - o[2]);
+                let d =
+                    (delta.length_squared() - p23.length_squared() - p34.length_squared()) / 2.0;
+                for t3 in subproblem4(p23, p34, h[2], d) {
+                    let arm = p23 + Mat3::from_axis_angle(h[2], t3) * p34;
+                    let Some(t2) = subproblem1(arm, delta, h[1]) else {
+                        continue;
+                    };
+                    if out.1 < 8 {
+                        out.0[out.1] = [t1, t2, t3, t234 - t2 - t3, t5, t6];
+                        out.1 += 1;
+                    }
+                }
+            }
+        }
+        out
+    }
+}
+
+impl IkSolver for ThreeParallelIk {
+    fn chain(&self) -> &Chain {
+        &self.chain
+    }
+
+    fn solve(&self, target: &Pose, mode: IkMode, seed: &[f64]) -> Result<Vec<IkSolution>, IkError> {
+        validate_request(&self.chain, target, mode, seed)?;
+        if mode != IkMode::Full {
+            return Err(IkError::UnsupportedMode(
+                "orientation-free goals (closed form is for full poses)",
+            ));
+        }
+        let mut found: Vec<IkSolution> = Vec::with_capacity(8);
+        let (candidates, count) = self.candidates(target);
+        for theta in &candidates[..count] {
+            let Some(joints) = self.within_limits(theta, seed) else {
+                continue;
+            };
+            let reached = self.chain.fk_unchecked(&joints);
+            let (position_error, rotation_error) = pose_error(&reached, target, mode);
+            if position_error > ACCEPT || rotation_error > ACCEPT {
+                continue;
+            }
+            if found
+                .iter()
+                .any(|s| joint_distance(&self.chain, &s.joints, &joints) < 1e-6)
+            {
+                continue;
+            }
+            found.push(IkSolution {
+                joints,
+                position_error,
+                rotation_error,
+            });
+        }
+        if found.is_empty() {
+            return Err(IkError::NoSolution);
+        }
+        found.sort_by(|a, b| {
+            joint_distance(&self.chain, &a.joints, seed).total_cmp(&joint_distance(
+                &self.chain,
+                &b.joints,
+                seed,
+            ))
+        });
+        Ok(found)
+    }
+}
+
+impl ThreeParallelIk {
+    /// Chain variables from joint angles: through each element's multiplier and offset,
+    /// then the 2π-equivalent nearest the seed within the limits (`None` if none is).
+    fn within_limits(&self, theta: &[f64; 6], seed: &[f64]) -> Option<Vec<f64>> {
+        let tau = std::f64::consts::TAU;
+        (0..6)
+            .map(|i| {
+                let e = &self.chain.elements[i];
+                let q = (theta[i] - e.offset) / e.multiplier;
+                let (lo, hi) = (self.chain.lower[i], self.chain.upper[i]);
+                let k = ((seed[i] - q) / tau).round();
+                [k, k - 1.0, k + 1.0]
+                    .into_iter()
+                    .map(|k| q + k * tau)
+                    .filter(|v| (lo - 1e-9..=hi + 1e-9).contains(v))
+                    .min_by(|a, b| (a - seed[i]).abs().total_cmp(&(b - seed[i]).abs()))
+                    .or_else(|| {
+                        // Limits narrower than the seed's neighbourhood: any turn inside.
+                        (-4..=4)
+                            .map(|k| q + k as f64 * tau)
+                            .find(|v| (lo - 1e-9..=hi + 1e-9).contains(v))
+                    })
+                    .map(|v| v.clamp(lo, hi))
+            })
+            .collect()
+    }
+}
+
+/// θ with `rot(k, θ) p = q` (p and q at the same height along k), `None` when p or q
+/// lies on the axis (any θ, or none).
+fn subproblem1(p: Vec3, q: Vec3, k: Vec3) -> Option<f64> {
+    let pp = p - k * k.dot(p);
+    let qp = q - k * k.dot(q);
+    if pp.length() < TOL || qp.length() < TOL {
+        return None;
+    }
+    Some(k.dot(pp.cross(qp)).atan2(pp.dot(qp)))
+}
+
+/// Every θ with `hᵀ rot(k, θ) p = d` (none, one or two): `A cos θ + B sin θ = C`.
+fn subproblem4(h: Vec3, p: Vec3, k: Vec3, d: f64) -> Roots {
+    let along = k * k.dot(p);
+    let a = h.dot(p - along);
+    let b = h.dot(k.cross(p));
+    let c = d - h.dot(along);
+    let r = a.hypot(b);
+    let scale = h.length() * p.length() + d.abs() + 1.0;
+    if r < TOL * scale || c.abs() > r + 1e-12 * scale {
+        return Roots::default();
+    }
+    let phi = b.atan2(a);
+    let spread = (c / r).clamp(-1.0, 1.0).acos();
+    if spread < 1e-12 {
+        Roots {
+            values: [phi, 0.0],
+            len: 1,
+        }
+    } else {
+        Roots {
+            values: [phi + spread, phi - spread],
+            len: 2,
+        }
+    }
+}
+
+/// Up to two angles, without allocating (the solver's inner loops run per solve).
+#[derive(Default)]
+struct Roots {
+    values: [f64; 2],
+    len: usize,
+}
+
+impl IntoIterator for Roots {
+    type Item = f64;
+    type IntoIter = std::iter::Take<std::array::IntoIter<f64, 2>>;
+    fn into_iter(self) -> Self::IntoIter {
+        self.values.into_iter().take(self.len)
+    }
+}
+
+/// The point where the lines (a + s u) and (b + t v) meet, `None` if they do not.
+fn intersection(a: Vec3, u: Vec3, b: Vec3, v: Vec3) -> Option<Vec3> {
+    let n = u.cross(v);
+    let nn = n.length_squared();
+    if nn < TOL {
+        return None;
+    }
+    let w = b - a;
+    if (w.dot(n)).abs() / nn.sqrt() > 1e-7 {
+        return None; // skew lines: a common normal of non-zero length
+    }
+    let s = w.cross(v).dot(n) / nn;
+    Some(a + u * s)
+}
+
+fn any_perpendicular(k: Vec3) -> Vec3 {
+    let t = if k.x.abs() < 0.9 { Vec3::X } else { Vec3::Y };
+    k.cross(t).normalize()
+}
