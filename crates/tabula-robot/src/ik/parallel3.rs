@@ -149,7 +149,7 @@ impl IkSolver for ThreeParallelIk {
                 continue;
             }
             found.push(IkSolution {
-                joints,
+                joints: joints.to_vec(),
                 position_error,
                 rotation_error,
             });
@@ -171,28 +171,23 @@ impl IkSolver for ThreeParallelIk {
 impl ThreeParallelIk {
     /// Chain variables from joint angles: through each element's multiplier and offset,
     /// then the 2π-equivalent nearest the seed within the limits (`None` if none is).
-    fn within_limits(&self, theta: &[f64; 6], seed: &[f64]) -> Option<Vec<f64>> {
+    fn within_limits(&self, theta: &[f64; 6], seed: &[f64]) -> Option<[f64; 6]> {
         let tau = std::f64::consts::TAU;
-        (0..6)
-            .map(|i| {
-                let e = &self.chain.elements[i];
-                let q = (theta[i] - e.offset) / e.multiplier;
-                let (lo, hi) = (self.chain.lower[i], self.chain.upper[i]);
-                let k = ((seed[i] - q) / tau).round();
-                [k, k - 1.0, k + 1.0]
-                    .into_iter()
-                    .map(|k| q + k * tau)
-                    .filter(|v| (lo - 1e-9..=hi + 1e-9).contains(v))
-                    .min_by(|a, b| (a - seed[i]).abs().total_cmp(&(b - seed[i]).abs()))
-                    .or_else(|| {
-                        // Limits narrower than the seed's neighbourhood: any turn inside.
-                        (-4..=4)
-                            .map(|k| q + k as f64 * tau)
-                            .find(|v| (lo - 1e-9..=hi + 1e-9).contains(v))
-                    })
-                    .map(|v| v.clamp(lo, hi))
-            })
-            .collect()
+        let mut out = [0.0; 6];
+        for i in 0..6 {
+            let e = &self.chain.elements[i];
+            let q = (theta[i] - e.offset) / e.multiplier;
+            let (lo, hi) = (self.chain.lower[i] - 1e-9, self.chain.upper[i] + 1e-9);
+            // The whole turn of q nearest the seed, else the nearest one inside.
+            let near = q + ((seed[i] - q) / tau).round() * tau;
+            let best = [near, near - tau, near + tau]
+                .into_iter()
+                .filter(|v| (lo..=hi).contains(v))
+                .min_by(|a, b| (a - seed[i]).abs().total_cmp(&(b - seed[i]).abs()))
+                .or_else(|| (-4..=4).map(|k| q + f64::from(k) * tau).find(|v| (lo..=hi).contains(v)))?;
+            out[i] = best.clamp(self.chain.lower[i], self.chain.upper[i]);
+        }
+        Some(out)
     }
 }
 
