@@ -103,8 +103,11 @@ fn package_map(name: &str) -> Option<PathBuf> {
     })
 }
 
-/// Package `name` at `root`: the root itself, `root/name`, or a folder one level down
-/// whose manifest names it (directory names may differ: `pkg-master`).
+/// Package `name` at `root`: the root itself, `root/name`, or a folder one or two levels
+/// down whose manifest names it (directory names may differ, `pkg-master`; a workspace's
+/// `src/` holds repositories that hold packages). Hidden folders and the system's
+/// (`/proc`, `/sys`, `/dev`) are not entered; at most [`MAX_ENTRIES_SCANNED`] folders
+/// are looked into per root.
 fn package_in(root: &Path, name: &str) -> Option<PathBuf> {
     if is_package_named(root, name) {
         return Some(root.to_path_buf());
@@ -113,12 +116,43 @@ fn package_in(root: &Path, name: &str) -> Option<PathBuf> {
     if direct.is_dir() {
         return Some(direct);
     }
-    let entries = std::fs::read_dir(root).ok()?;
-    entries
-        .take(MAX_ENTRIES_SCANNED)
-        .flatten()
-        .map(|e| e.path())
-        .find(|p| p.is_dir() && manifest_name(p).as_deref() == Some(name))
+    let mut budget = MAX_ENTRIES_SCANNED;
+    let mut level = vec![root.to_path_buf()];
+    for _depth in 0..2 {
+        let mut next = Vec::new();
+        for dir in &level {
+            for sub in subfolders(dir, &mut budget) {
+                if manifest_name(&sub).as_deref() == Some(name) {
+                    return Some(sub);
+                }
+                next.push(sub);
+            }
+        }
+        level = next;
+    }
+    None
+}
+
+/// The folders in `dir` worth searching, counted against `budget`.
+fn subfolders(dir: &Path, budget: &mut usize) -> Vec<PathBuf> {
+    if matches!(dir.to_str(), Some("/proc" | "/sys" | "/dev")) {
+        return Vec::new();
+    }
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return Vec::new();
+    };
+    let mut out = Vec::new();
+    for e in entries.flatten() {
+        if *budget == 0 {
+            break;
+        }
+        *budget -= 1;
+        let hidden = e.file_name().to_string_lossy().starts_with('.');
+        if !hidden && e.file_type().is_ok_and(|t| t.is_dir()) {
+            out.push(e.path());
+        }
+    }
+    out
 }
 
 /// True when `dir` is package `name`: its manifest says so, or it has none and its

@@ -184,7 +184,11 @@ impl ThreeParallelIk {
                 .into_iter()
                 .filter(|v| (lo..=hi).contains(v))
                 .min_by(|a, b| (a - seed[i]).abs().total_cmp(&(b - seed[i]).abs()))
-                .or_else(|| (-4..=4).map(|k| q + f64::from(k) * tau).find(|v| (lo..=hi).contains(v)))?;
+                .or_else(|| {
+                    (-4..=4)
+                        .map(|k| q + f64::from(k) * tau)
+                        .find(|v| (lo..=hi).contains(v))
+                })?;
             out[i] = best.clamp(self.chain.lower[i], self.chain.upper[i]);
         }
         Some(out)

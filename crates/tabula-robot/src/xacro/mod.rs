@@ -81,7 +81,15 @@ fn run(path: &Path, args: &[(String, String)], packages: PackagePaths) -> Result
     for (k, v) in args {
         builder = builder.with_arg(k.clone(), v.clone());
     }
-    builder.build().run(path).map_err(|e| e.to_string())
+    // xacro-rs puts the reason on lines below its summary; one line keeps both.
+    builder.build().run(path).map_err(|e| {
+        e.to_string()
+            .lines()
+            .map(str::trim)
+            .filter(|l| !l.is_empty())
+            .collect::<Vec<_>>()
+            .join(" ")
+    })
 }
 
 type Outcome = Result<Result<String, String>, String>;
