@@ -76,8 +76,8 @@ impl ThreeParallelIk {
     fn candidates(&self, target: &Pose) -> ([[f64; 6]; 8], usize) {
         let (h, o) = (&self.h, &self.o);
         let k = h[1];
-        let r06 =
-            Mat3::from_quat(target.rotation) * Mat3::from_quat(self.tip_zero.rotation).transpose();
+        let r06 = Mat3::from_quat(target.rotation.normalize())
+            * Mat3::from_quat(self.tip_zero.rotation).transpose();
         let p_6t = self.tip_zero.translation - o[5];
         let x = target.translation - o[0] - r06 * p_6t;
         let mut out = ([[0.0; 6]; 8], 0);
