@@ -37,9 +37,6 @@ fn describe(name: &str) -> Result<()> {
     let Some(srdf) = &robot.srdf else {
         return Ok(());
     };
-    for w in &srdf.warnings {
-        eprintln!("warning: SRDF: {w}");
-    }
     for ee in &srdf.end_effectors {
         println!("{}", gripper_template(&robot, ee));
     }

@@ -129,6 +129,10 @@ fn load_file(p: &Path, options: &LoadOptions) -> Result<NamedRobot, RobotError> 
         )?),
         None => None,
     };
+    // What MoveIt would skip with a warning, said once per load.
+    for w in srdf.iter().flat_map(|s| &s.warnings) {
+        tracing::warn!("SRDF {}: {w}", srdf_path.as_deref().unwrap_or(p).display());
+    }
     let toml = match beside("toml") {
         Some(t) => {
             let text = tabula_geom::input::read_text(&t, Format::Robot)?;

@@ -242,29 +242,29 @@ impl Srdf {
                 ));
             }
         }
+        // Entries naming links the URDF lacks are dropped; one warning names them all.
         let known = |l: &str| model.link(l).is_ok();
-        let mut warnings = Vec::new();
-        let mut keep_pair = |(a, b): &(String, String), what: &str| {
-            let ok = known(a) && known(b);
-            if !ok {
-                warnings.push(format!(
-                    "{what} {a} / {b} skipped: the URDF lacks {}",
-                    if known(a) { b } else { a }
-                ));
+        let mut missing = BTreeSet::new();
+        let before = self.disabled.len() + self.enabled.len() + self.disabled_default.len();
+        let mut keep = |l: &String| {
+            if !known(l) {
+                missing.insert(l.clone());
             }
-            ok
+            known(l)
         };
-        self.disabled.retain(|p| keep_pair(p, "disable_collisions"));
-        self.enabled.retain(|p| keep_pair(p, "enable_collisions"));
-        self.disabled_default.retain(|l| {
-            let ok = known(l);
-            if !ok {
-                warnings.push(format!(
-                    "disable_default_collisions {l} skipped: the URDF lacks it"
-                ));
-            }
-            ok
-        });
+        self.disabled.retain(|(a, b)| keep(a) & keep(b));
+        self.enabled.retain(|(a, b)| keep(a) & keep(b));
+        self.disabled_default.retain(|l| keep(l));
+        let skipped =
+            before - self.disabled.len() - self.enabled.len() - self.disabled_default.len();
+        let mut warnings = Vec::new();
+        if skipped > 0 {
+            let names: Vec<&str> = missing.iter().map(String::as_str).collect();
+            warnings.push(format!(
+                "{skipped} collision entries skipped: the URDF lacks link(s) {}",
+                tabula_geom::input::clip(&names.join(", "), 400)
+            ));
+        }
         self.warnings.extend(warnings);
         Ok(())
     }
