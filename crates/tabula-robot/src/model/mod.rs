@@ -7,8 +7,14 @@
 use crate::RobotError;
 use crate::packages::PackagePaths;
 use std::collections::HashMap;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use tabula_geom::{Pose, Vec3, pose_from_xyz_rpy};
+
+mod default_tool;
+mod geometry;
+
+pub use geometry::{Geometry, Shape, UnreadableMesh, resolve_mesh_path};
+use geometry::{MeshContext, convert_geometry};
 
 /// How a joint moves.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -83,88 +89,6 @@ pub fn joint_motion(kind: JointKind, axis: Vec3, q: f64) -> Pose {
     }
 }
 
-/// Shape of a visual or collision element.
-#[derive(Debug, Clone, PartialEq)]
-pub enum Geometry {
-    Box {
-        half_extents: Vec3,
-    },
-    /// Along the z axis of the shape frame.
-    Cylinder {
-        radius: f64,
-        length: f64,
-    },
-    /// Along the z axis of the shape frame; `length` excludes the caps.
-    Capsule {
-        radius: f64,
-        length: f64,
-    },
-    Sphere {
-        radius: f64,
-    },
-    /// A mesh file, `package://` already resolved to a path.
-    Mesh {
-        path: PathBuf,
-        scale: Vec3,
-    },
-}
-
-impl Geometry {
-    /// The vertices of a mesh geometry, scaled; `None` for primitives and unreadable
-    /// files.
-    pub fn hull_points(&self) -> Option<Vec<Vec3>> {
-        match self {
-            Geometry::Mesh { path, scale } => tabula_geom::mesh::load_mesh(path, scale.to_array())
-                .ok()
-                .map(|(p, _)| p),
-            _ => None,
-        }
-    }
-
-    /// The one URDF-geometry → collision-shape path (simulator, planner and tools all
-    /// use it): the parry shape and its pose in the URDF shape frame (parry's cylinders
-    /// stand along y, URDF's along z). Meshes become solids by
-    /// [`tabula_geom::mesh::mesh_shape`]; a missing or broken mesh is an error the caller
-    /// reports or skips.
-    pub fn collision_shape(
-        &self,
-        decompose: bool,
-    ) -> Result<(tabula_geom::parry::shape::SharedShape, Pose), String> {
-        use tabula_geom::parry::shape::SharedShape;
-        let y_to_z = Pose::from_rotation(tabula_geom::Quat::from_rotation_x(
-            std::f64::consts::FRAC_PI_2,
-        ));
-        Ok(match self {
-            Geometry::Box { half_extents } => (
-                SharedShape::cuboid(half_extents.x, half_extents.y, half_extents.z),
-                Pose::IDENTITY,
-            ),
-            Geometry::Cylinder { radius, length } => {
-                (SharedShape::cylinder(length / 2.0, *radius), y_to_z)
-            }
-            Geometry::Capsule { radius, length } => (
-                SharedShape::capsule_z(length / 2.0, *radius),
-                Pose::IDENTITY,
-            ),
-            Geometry::Sphere { radius } => (SharedShape::ball(*radius), Pose::IDENTITY),
-            Geometry::Mesh { path, scale } => {
-                let (points, triangles) = tabula_geom::mesh::load_mesh(path, scale.to_array())
-                    .map_err(|e| e.to_string())?;
-                let shape = tabula_geom::mesh::mesh_shape(&points, &triangles, decompose)
-                    .map_err(|m| format!("mesh `{}`: {m}", path.display()))?;
-                (shape, Pose::IDENTITY)
-            }
-        })
-    }
-}
-
-/// A placed shape on a link.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Shape {
-    pub link_from_shape: Pose,
-    pub geometry: Geometry,
-}
-
 /// One URDF link.
 #[derive(Debug, Clone)]
 pub struct Link {
@@ -193,33 +117,6 @@ pub struct RobotModel {
     /// What the URDF says that was ignored, one sentence each (a `<mimic>` on a fixed
     /// joint), for the caller to warn about.
     pub ignored: Vec<String>,
-}
-
-/// A mesh a link names that is not there (or is not a file).
-#[derive(Debug, Clone, PartialEq)]
-pub struct UnreadableMesh {
-    pub link: String,
-    /// `visual` or `collision`.
-    pub role: &'static str,
-    pub filename: String,
-    pub problem: String,
-}
-
-impl std::fmt::Display for UnreadableMesh {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(
-            f,
-            "link `{}`: {} mesh `{}` {}",
-            self.link, self.role, self.filename, self.problem
-        )
-    }
-}
-
-/// Where mesh references resolve, and what could not be.
-struct MeshContext<'a> {
-    base_dir: Option<&'a Path>,
-    packages: &'a PackagePaths,
-    unreadable: std::cell::RefCell<Vec<UnreadableMesh>>,
 }
 
 impl RobotModel {
@@ -600,112 +497,6 @@ impl RobotModel {
         }
         Ok(root_from_link)
     }
-
-    /// The link an arm most likely ends at, for a URDF with no description: down from
-    /// the first root along the moving joints, through a branch only into subtrees of
-    /// at least three moving joints (arms, not fingers: the first by name when there
-    /// are several), stopping where the moving joints end or split into fingers; then
-    /// the tool frame below that link if one is named so (`tcp`, `tool`, `flange`,
-    /// `ee`), never a finger, a camera frame or a self-collision helper (`_sc`).
-    pub fn default_tool(&self) -> usize {
-        let mut link = self.roots.first().copied().unwrap_or(0);
-        loop {
-            let mut arms: Vec<(usize, &str)> = self.links[link]
-                .child_joints
-                .iter()
-                .map(|&j| self.joints[j].child)
-                .filter(|&c| {
-                    self.moving_depth(c, link) >= 3
-                        || (self.is_only_moving_child(link, c) && !self.is_finger(c))
-                })
-                .map(|c| (c, self.links[c].name.as_str()))
-                .collect();
-            arms.sort_by(|a, b| a.1.cmp(b.1));
-            match arms.first() {
-                Some(&(next, _)) => link = next,
-                None => break,
-            }
-        }
-        self.tool_frame_below(link).unwrap_or(link)
-    }
-
-    /// The most moving (single-axis, not mimic) joints on a path from `link` down,
-    /// counting the joint into `link` from `parent`.
-    fn moving_depth(&self, link: usize, parent: usize) -> usize {
-        let own = self.links[link].parent_joint.map_or(0, |j| {
-            let joint = &self.joints[j];
-            (joint.parent == parent && joint.kind.is_single_axis() && joint.mimic.is_none())
-                as usize
-        });
-        let below = self.links[link]
-            .child_joints
-            .iter()
-            .map(|&j| self.moving_depth(self.joints[j].child, link))
-            .max()
-            .unwrap_or(0);
-        own + below
-    }
-
-    /// True when `child` is the one child of `link` whose subtree moves at all.
-    fn is_only_moving_child(&self, link: usize, child: usize) -> bool {
-        let moving: Vec<usize> = self.links[link]
-            .child_joints
-            .iter()
-            .map(|&j| self.joints[j].child)
-            .filter(|&c| self.moving_depth(c, link) > 0)
-            .collect();
-        moving == [child]
-    }
-
-    /// True for a link a gripper's finger joint moves: named so, driving a mimic, or on
-    /// a prismatic joint of a few centimetres.
-    fn is_finger(&self, link: usize) -> bool {
-        let Some(j) = self.links[link].parent_joint else {
-            return false;
-        };
-        let name = self.links[link].name.to_ascii_lowercase();
-        let joint = &self.joints[j];
-        ["finger", "gripper", "jaw", "knuckle"]
-            .iter()
-            .any(|k| name.contains(k))
-            || self
-                .joints
-                .iter()
-                .any(|o| o.mimic.as_ref().is_some_and(|m| m.master == j))
-            || (joint.kind == JointKind::Prismatic
-                && joint.limits.upper - joint.limits.lower <= 0.15)
-    }
-
-    /// A link hung on fixed joints below `link` whose name says it is the tool frame.
-    fn tool_frame_below(&self, link: usize) -> Option<usize> {
-        let mut fixed_below = Vec::new();
-        let mut stack = vec![link];
-        while let Some(l) = stack.pop() {
-            for &j in &self.links[l].child_joints {
-                if self.joints[j].kind == JointKind::Fixed {
-                    fixed_below.push(self.joints[j].child);
-                    stack.push(self.joints[j].child);
-                }
-            }
-        }
-        let name = |l: usize| self.links[l].name.to_ascii_lowercase();
-        let excluded = |n: &str| {
-            [
-                "finger", "camera", "optical", "_sc", "sensor", "ft_frame", "inertia",
-            ]
-            .iter()
-            .any(|x| n.contains(x))
-        };
-        ["tcp", "tool", "grasp", "end_effector", "ee_link", "flange"]
-            .iter()
-            .find_map(|key| {
-                fixed_below
-                    .iter()
-                    .copied()
-                    .filter(|&l| name(l).contains(key) && !excluded(&name(l)))
-                    .min_by_key(|&l| (name(l).len(), name(l)))
-            })
-    }
 }
 
 /// `value` when finite and within the policy's ±1e6 (INPUT_POLICY.md).
@@ -771,121 +562,6 @@ fn checked_pose(owner: &str, p: &urdf_rs::Pose) -> Result<Pose, RobotError> {
         }
     }
     Ok(pose_from_xyz_rpy(p.xyz.0, p.rpy.0))
-}
-
-fn convert_geometry(
-    owner: &str,
-    role: &'static str,
-    g: &urdf_rs::Geometry,
-    meshes: &MeshContext,
-) -> Result<Geometry, RobotError> {
-    let check = |field: &'static str, v: f64| {
-        let v = checked_value(owner, field, v)?;
-        if v >= 0.0 {
-            Ok(v)
-        } else {
-            Err(RobotError::NonFinite {
-                joint: owner.to_string(),
-                field,
-                value: v,
-            })
-        }
-    };
-    Ok(match g {
-        urdf_rs::Geometry::Box { size } => Geometry::Box {
-            half_extents: Vec3::new(
-                check("box size", size.0[0])?,
-                check("box size", size.0[1])?,
-                check("box size", size.0[2])?,
-            ) * 0.5,
-        },
-        urdf_rs::Geometry::Cylinder { radius, length } => Geometry::Cylinder {
-            radius: check("cylinder radius", *radius)?,
-            length: check("cylinder length", *length)?,
-        },
-        urdf_rs::Geometry::Capsule { radius, length } => Geometry::Capsule {
-            radius: check("capsule radius", *radius)?,
-            length: check("capsule length", *length)?,
-        },
-        urdf_rs::Geometry::Sphere { radius } => Geometry::Sphere {
-            radius: check("sphere radius", *radius)?,
-        },
-        urdf_rs::Geometry::Mesh { filename, scale } => {
-            let s = scale.as_ref().map(|s| s.0).unwrap_or([1.0; 3]);
-            for v in s {
-                checked_value(owner, "mesh scale", v)?;
-            }
-            let bad_mesh = |problem: &str| RobotError::BadMesh {
-                owner: owner.to_string(),
-                filename: tabula_geom::input::clip(filename, 200),
-                problem: problem.to_string(),
-            };
-            // `package://pkg/../..` must stay inside the package (and so inside the
-            // robot's folder tree), as ROS's resolver keeps it.
-            if let Some(rest) = filename.strip_prefix("package://")
-                && Path::new(rest)
-                    .components()
-                    .any(|c| matches!(c, std::path::Component::ParentDir))
-            {
-                return Err(bad_mesh("climbs out of its package with `..`"));
-            }
-            let resolved = resolve_mesh_path(filename, meshes.base_dir, meshes.packages);
-            if let Ok(p) = &resolved
-                && p.exists()
-                && !p.is_file()
-            {
-                // A device or folder named as a mesh is a hostile file, not a missing one.
-                return Err(bad_mesh(&format!(
-                    "resolves to {}, which is not a regular file",
-                    p.display()
-                )));
-            }
-            // A file-loaded URDF's meshes are checked where they are named, not when a
-            // collision world first needs them: kinematics goes on without them, and
-            // collision users refuse the robot (`require_meshes`).
-            let problem = match &resolved {
-                Err(problem) => Some(problem.clone()),
-                Ok(p) if meshes.base_dir.is_some() && !p.is_file() => {
-                    Some(format!("resolves to {}, which is missing", p.display()))
-                }
-                Ok(_) => None,
-            };
-            if let Some(problem) = problem {
-                meshes.unreadable.borrow_mut().push(UnreadableMesh {
-                    link: owner.to_string(),
-                    role,
-                    filename: tabula_geom::input::clip(filename, 200),
-                    problem,
-                });
-            }
-            let path = resolved.unwrap_or_else(|_| PathBuf::from(filename));
-            Geometry::Mesh {
-                path,
-                scale: Vec3::from_array(s),
-            }
-        }
-    })
-}
-
-/// Resolves a URDF mesh reference without ROS: `package://pkg/rest` through the
-/// package resolver ([`PackagePaths`]: package folders, `ROS_PACKAGE_PATH`, the folders
-/// above the URDF); `file://` as an absolute path; relative paths against the URDF's
-/// folder. The error names every folder searched.
-pub fn resolve_mesh_path(
-    filename: &str,
-    base_dir: Option<&Path>,
-    packages: &PackagePaths,
-) -> Result<PathBuf, String> {
-    if filename.starts_with("package://") {
-        return packages.resolve_url(filename, base_dir);
-    }
-    if let Some(abs) = filename.strip_prefix("file://") {
-        return Ok(PathBuf::from(abs));
-    }
-    Ok(match base_dir {
-        Some(dir) if Path::new(filename).is_relative() => dir.join(filename),
-        _ => PathBuf::from(filename),
-    })
 }
 
 #[cfg(test)]
