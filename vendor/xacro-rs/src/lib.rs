@@ -53,6 +53,7 @@
 #![warn(clippy::std_instead_of_core)]
 
 mod directives;
+pub mod budget;
 pub mod error;
 mod eval;
 mod expand;

@@ -71,6 +71,12 @@ pub fn expand(
 }
 
 fn run(path: &Path, args: &[(String, String)], packages: PackagePaths) -> Result<String, String> {
+    // The expansion stops itself at the same deadline the caller waits for, and at a
+    // substitution larger than a robot file may be (a property that doubles itself).
+    xacro_rs::budget::set(
+        Some(Instant::now() + TIME_LIMIT),
+        Format::Robot.max_bytes() as usize,
+    );
     let mut builder = xacro_rs::XacroProcessor::builder()
         .with_extension(Box::new(find::FindPackage {
             packages,

@@ -40,6 +40,8 @@ impl<const MAX_SUBSTITUTION_DEPTH: usize> EvalContext<MAX_SUBSTITUTION_DEPTH> {
 
         while should_continue(&result) && iteration < MAX_SUBSTITUTION_DEPTH {
             let next = process_fn(&result)?;
+            // tabula: the thread's time and text budget (see `budget`).
+            crate::budget::check(next.len())?;
 
             // Short-circuit: if result didn't change, we're done
             if next == result {

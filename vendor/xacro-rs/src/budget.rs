@@ -1,0 +1,34 @@
+//! tabula: a per-thread budget for one expansion (a deadline and the largest text a
+//! substitution may produce), so that an expansion that runs away stops by itself
+//! instead of only being abandoned by its caller (which, in a long-lived process,
+//! would leave it allocating).
+
+use std::cell::Cell;
+use std::time::Instant;
+
+thread_local! {
+    static DEADLINE: Cell<Option<Instant>> = const { Cell::new(None) };
+    static MAX_TEXT: Cell<usize> = const { Cell::new(usize::MAX) };
+}
+
+/// Sets this thread's budget for the expansions it runs next.
+pub fn set(deadline: Option<Instant>, max_text_bytes: usize) {
+    DEADLINE.with(|d| d.set(deadline));
+    MAX_TEXT.with(|m| m.set(max_text_bytes));
+}
+
+/// An error when the deadline has passed or `text_len` is over the budget.
+pub(crate) fn check(text_len: usize) -> Result<(), crate::XacroError> {
+    if DEADLINE.with(Cell::get).is_some_and(|d| Instant::now() > d) {
+        return Err(crate::XacroError::Include(
+            "the expansion ran out of time (macros or properties that multiply?)".into(),
+        ));
+    }
+    let max = MAX_TEXT.with(Cell::get);
+    if text_len > max {
+        return Err(crate::XacroError::Include(format!(
+            "a substitution produced {text_len} bytes, over the {max}-byte limit"
+        )));
+    }
+    Ok(())
+}
