@@ -9,12 +9,30 @@ use std::time::Instant;
 thread_local! {
     static DEADLINE: Cell<Option<Instant>> = const { Cell::new(None) };
     static MAX_TEXT: Cell<usize> = const { Cell::new(usize::MAX) };
+    static NODES_LEFT: Cell<u64> = const { Cell::new(u64::MAX) };
 }
 
-/// Sets this thread's budget for the expansions it runs next.
-pub fn set(deadline: Option<Instant>, max_text_bytes: usize) {
+/// Sets this thread's budget for the expansions it runs next: a deadline, the largest
+/// text a substitution may produce, and how many XML nodes may be expanded in all.
+pub fn set(deadline: Option<Instant>, max_text_bytes: usize, max_nodes: u64) {
     DEADLINE.with(|d| d.set(deadline));
     MAX_TEXT.with(|m| m.set(max_text_bytes));
+    NODES_LEFT.with(|n| n.set(max_nodes));
+}
+
+/// [`check`] for one more expanded node, counted against the node budget.
+pub(crate) fn check_node() -> Result<(), crate::XacroError> {
+    let left = NODES_LEFT.with(|n| {
+        let v = n.get().saturating_sub(1);
+        n.set(v);
+        v
+    });
+    if left == 0 {
+        return Err(crate::XacroError::Include(
+            "the expansion visits more XML nodes than a robot description has (macros that multiply?)".into(),
+        ));
+    }
+    check(0)
 }
 
 /// An error when the deadline has passed or `text_len` is over the budget.

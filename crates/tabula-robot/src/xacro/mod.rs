@@ -16,6 +16,9 @@ use tabula_geom::input::{Format, read_text};
 /// bound inside the crate's depth limit (50), and a description that has not expanded
 /// in this long is not one anybody meant.
 const TIME_LIMIT: Duration = Duration::from_secs(20);
+/// Most XML nodes an expansion may visit: the PR2, the largest published description
+/// tried, visits a few thousand; a macro bomb would allocate until the time limit.
+const MAX_NODES: u64 = 2_000_000;
 /// Most memory an expansion may add to the process (resident): the largest published
 /// descriptions (PR2, Fetch) expand in well under 100 MiB.
 const MEMORY_LIMIT: u64 = 768 << 20;
@@ -76,6 +79,7 @@ fn run(path: &Path, args: &[(String, String)], packages: PackagePaths) -> Result
     xacro_rs::budget::set(
         Some(Instant::now() + TIME_LIMIT),
         Format::Robot.max_bytes() as usize,
+        MAX_NODES,
     );
     let mut builder = xacro_rs::XacroProcessor::builder()
         .with_extension(Box::new(find::FindPackage {

@@ -50,7 +50,7 @@ pub(crate) fn expand_node(
     ctx: &XacroContext,
 ) -> Result<Vec<XMLNode>, XacroError> {
     // tabula: the thread's time budget (see `budget`).
-    crate::budget::check(0)?;
+    crate::budget::check_node()?;
     // Check recursion depth at entry to catch infinite loops early
     if *ctx.recursion_depth.borrow() >= ctx.max_recursion_depth {
         return Err(XacroError::MacroRecursionLimit {
