@@ -337,34 +337,7 @@ fn act(
                 group.plan_to_pose(&start, &target)
             }
             ArmAction::Named { name, .. } => {
-                let group_desc = robot.description.arm(arm)?;
-                let named = match (group_desc.named.get(name.as_str()), name.as_str()) {
-                    (Some(state), _) => state,
-                    (None, "tuck" | "tucked") if !group_desc.tucked.is_empty() => {
-                        &group_desc.tucked
-                    }
-                    (None, other) => {
-                        let mut known: Vec<&str> =
-                            group_desc.named.keys().map(String::as_str).collect();
-                        if !group_desc.tucked.is_empty() {
-                            known.push("tuck");
-                        }
-                        bail!(
-                            "no named pose `{other}` for arm `{arm}`; named poses: {}",
-                            if known.is_empty() {
-                                "none".to_string()
-                            } else {
-                                known.join(", ")
-                            }
-                        )
-                    }
-                };
-                let goal: Vec<f64> = group
-                    .joint_names()
-                    .iter()
-                    .zip(&start)
-                    .map(|(n, s)| named.get(n).copied().unwrap_or(*s))
-                    .collect();
+                let goal = named_configuration(robot, arm, name, group.joint_names(), &start)?;
                 out.action = format!("named {name}");
                 group.plan_to_joints(&start, &[goal])
             }
@@ -384,6 +357,42 @@ fn act(
     let after = driver.joint_state()?;
     out.joints = after.names.into_iter().zip(after.positions).collect();
     Ok(out)
+}
+
+/// The configuration of arm `arm` named `name` in the robot's description (SRDF group
+/// states; `tuck` for a description's tucked pose); joints it leaves out keep their
+/// value in `current` (ordered as `joint_names`). An unknown name lists the known ones.
+pub fn named_configuration(
+    robot: &NamedRobot,
+    arm: &str,
+    name: &str,
+    joint_names: &[String],
+    current: &[f64],
+) -> Result<Vec<f64>> {
+    let group_desc = robot.description.arm(arm)?;
+    let named = match (group_desc.named.get(name), name) {
+        (Some(state), _) => state,
+        (None, "tuck" | "tucked") if !group_desc.tucked.is_empty() => &group_desc.tucked,
+        (None, other) => {
+            let mut known: Vec<&str> = group_desc.named.keys().map(String::as_str).collect();
+            if !group_desc.tucked.is_empty() {
+                known.push("tuck");
+            }
+            bail!(
+                "no named pose `{other}` for arm `{arm}`; named poses: {}",
+                if known.is_empty() {
+                    "none".to_string()
+                } else {
+                    known.join(", ")
+                }
+            )
+        }
+    };
+    Ok(joint_names
+        .iter()
+        .zip(current)
+        .map(|(n, s)| named.get(n).copied().unwrap_or(*s))
+        .collect())
 }
 
 /// No plan for the command: exit status 2, like every "no solution".

@@ -101,6 +101,8 @@ pub struct Plan {
     pub start: Vec<f64>,
     pub path: Vec<Vec<f64>>,
     pub trajectory: JointTrajectory,
+    /// Joint velocities at each of the trajectory's samples.
+    pub velocities: Vec<Vec<f64>>,
     pub planning_time: f64,
 }
 
@@ -393,6 +395,7 @@ impl MoveGroup {
                 times: t.times,
                 positions: t.positions,
             },
+            velocities: t.velocities,
             path,
             planning_time,
         }

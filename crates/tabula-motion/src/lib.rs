@@ -5,6 +5,8 @@
 pub mod bench;
 pub mod goals;
 pub mod group;
+pub mod mbm;
+pub mod moveit;
 pub mod rrt;
 pub mod world;
 

@@ -397,11 +397,13 @@ fn shortcut_spaced(
     }
 }
 
-/// A timed trajectory: samples `(t, q)`.
+/// A timed trajectory: samples `(t, q, q̇)`.
 #[derive(Debug, Clone)]
 pub struct Trajectory {
     pub times: Vec<f64>,
     pub positions: Vec<Vec<f64>>,
+    /// Joint velocities at each sample (exact, from the profile).
+    pub velocities: Vec<Vec<f64>>,
 }
 
 impl Trajectory {
@@ -418,6 +420,7 @@ impl Trajectory {
 pub fn time_parameterize(path: &[Vec<f64>], vmax: &[f64], amax: &[f64], dt: f64) -> Trajectory {
     let mut times = vec![0.0];
     let mut positions = vec![path.first().cloned().unwrap_or_default()];
+    let mut velocities = vec![vec![0.0; positions[0].len()]];
     let mut t_start = 0.0;
     for w in path.windows(2) {
         let (a, b) = (&w[0], &w[1]);
@@ -444,16 +447,31 @@ pub fn time_parameterize(path: &[Vec<f64>], vmax: &[f64], amax: &[f64], dt: f64)
                 1.0 - 0.5 * vs / ta * r * r
             }
         };
+        let ds_of = |t: f64| {
+            if t < ta {
+                vs / ta * t
+            } else if t < duration - ta {
+                vs
+            } else {
+                vs / ta * (duration - t).max(0.0)
+            }
+        };
         let n = (duration / dt.max(1e-6)).ceil().max(1.0) as usize;
         for i in 1..=n {
             let t = (i as f64 * duration / n as f64).min(duration);
             let s = s_of(t).clamp(0.0, 1.0);
+            let ds = ds_of(t);
             times.push(t_start + t);
             positions.push(a.iter().zip(b).map(|(x, y)| x + (y - x) * s).collect());
+            velocities.push(a.iter().zip(b).map(|(x, y)| (y - x) * ds).collect());
         }
         t_start += duration;
     }
-    Trajectory { times, positions }
+    Trajectory {
+        times,
+        positions,
+        velocities,
+    }
 }
 
 impl Validate for PlannerParams {

@@ -1,4 +1,7 @@
-//! `tabula motion …`: motion planning benchmarks.
+//! `tabula motion …`: plan a motion (MoveIt's core job), and the planning benchmarks.
+
+mod mbm;
+mod plan;
 
 use anyhow::{Result, bail};
 use clap::Subcommand;
@@ -8,11 +11,25 @@ use tabula_robot::{Chain, robots};
 
 #[derive(Subcommand)]
 pub enum MotionCommand {
+    /// Plan a collision-free motion for a robot's group in a scene (tabula TOML or MoveIt
+    /// YAML) to joints, a pose, a named state or a MoveIt motion plan request.
+    Plan(plan::PlanArgs),
     /// RRT-Connect on generated tabletop reach problems (table, shelf, boxes).
     Bench {
-        /// wam or pr2.
+        /// wam or pr2 (generated problems); with --mbm, the problems' robot (URDF or
+        /// xacro; its SRDF with --srdf).
         #[arg(long, default_value = "wam")]
         robot: String,
+        /// MotionBenchMaker problems: a folder of set folders of sceneNNNN.yaml +
+        /// requestNNNN.yaml, or the same as .tar.bz2.
+        #[arg(long)]
+        mbm: Option<std::path::PathBuf>,
+        /// With --mbm: write every solved path (JSON) for outside checking.
+        #[arg(long, requires = "mbm")]
+        paths: Option<std::path::PathBuf>,
+        /// With --mbm: motion parameters (TOML, `MoveGroupParams`).
+        #[arg(long, requires = "mbm")]
+        params: Option<std::path::PathBuf>,
         #[arg(long, default_value_t = 200, value_parser = crate::args::count)]
         problems: usize,
         #[arg(long, default_value_t = 1, value_parser = crate::args::seed)]
@@ -30,13 +47,34 @@ pub enum MotionCommand {
 
 pub fn run(cmd: MotionCommand) -> Result<()> {
     match cmd {
+        MotionCommand::Plan(args) => plan::run(args)?,
         MotionCommand::Bench {
             robot,
+            mbm: Some(mbm_path),
+            paths,
+            params,
+            seed,
+            timeout,
+            json,
+            ..
+        } => mbm::run(mbm::MbmRun {
+            problems: &mbm_path,
+            robot: &robot,
+            params: params.as_deref(),
+            seed,
+            timeout,
+            json,
+            paths: paths.as_ref(),
+        })?,
+        MotionCommand::Bench {
+            robot,
+            mbm: None,
             problems,
             seed,
             timeout,
             json,
             report: report_dir,
+            ..
         } => {
             if robot != "wam" && robot != "pr2" {
                 bail!("--robot must be wam or pr2 (the generated scenes are sized for them)");

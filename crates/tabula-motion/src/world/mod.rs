@@ -2,8 +2,9 @@
 //! geometry, padded), the objects around it, objects attached to links, and an allowed
 //! collision matrix computed the way MoveIt's setup assistant does.
 
-use rand::SeedableRng;
-use rand_chacha::ChaCha8Rng;
+mod allowed;
+mod edit;
+
 use std::cell::Cell;
 use std::collections::HashSet;
 use tabula_geom::input::{Validate, check_in, check_non_negative, check_positive};
@@ -94,6 +95,8 @@ pub struct WorldObject {
     pub shape: SharedShape,
     pub world_from_object: Pose,
     aabb: Aabb,
+    /// Robot bodies allowed to touch it (a planning scene's matrix).
+    allowed_bodies: Vec<usize>,
 }
 
 /// An object carried by a link (e.g. held in the gripper): checked against the world and
@@ -304,15 +307,6 @@ impl CollisionWorld {
         self.objects.iter().map(|o| o.name.clone()).collect()
     }
 
-    fn rebuild_allowed_matrix(&mut self) {
-        let n = self.bodies.len();
-        self.allowed_matrix = vec![false; n * n];
-        for &(a, b) in &self.allowed {
-            self.allowed_matrix[a * n + b] = true;
-            self.allowed_matrix[b * n + a] = true;
-        }
-    }
-
     /// Anchors of every body (and the element → joint map they need).
     fn compute_anchors(&mut self) -> Result<(), WorldError> {
         let base = self.model.link(&self.chain.base_link)?;
@@ -496,110 +490,6 @@ impl CollisionWorld {
             .collect())
     }
 
-    /// MoveIt-style allowed collision matrix: adjacent links (through fixed joints too),
-    /// pairs that never collide over many random configurations, and pairs that always do.
-    fn compute_allowed_collisions(&mut self) {
-        let n = self.bodies.len();
-        let body_of_link: std::collections::HashMap<usize, usize> = self
-            .bodies
-            .iter()
-            .enumerate()
-            .map(|(b, lb)| (lb.link, b))
-            .collect();
-        // Adjacent: the nearest ancestor with geometry.
-        for (b, lb) in self.bodies.iter().enumerate() {
-            let mut l = lb.link;
-            while let Some(j) = self.model.links[l].parent_joint {
-                l = self.model.joints[j].parent;
-                if let Some(&p) = body_of_link.get(&l) {
-                    self.allowed.insert((b.min(p), b.max(p)));
-                    break;
-                }
-            }
-        }
-        if let Some(srdf) = self
-            .params
-            .srdf
-            .as_ref()
-            .filter(|s| s.has_collision_matrix())
-        {
-            for a in 0..n {
-                for b in a + 1..n {
-                    if srdf.allows(&self.bodies[a].name, &self.bodies[b].name) {
-                        self.allowed.insert((a, b));
-                    }
-                }
-            }
-            return;
-        }
-        let mut collided = vec![0usize; n * n];
-        let mut rng = ChaCha8Rng::seed_from_u64(self.params.acm_seed);
-        let samples = self.params.acm_samples.max(1);
-        let active = self.model.active_joints();
-        let mut values = self.values.clone();
-        for _ in 0..samples {
-            for &j in &active {
-                let l = self.model.joints[j].limits;
-                let (lo, hi) = if l.lower.is_finite() && l.upper.is_finite() {
-                    (l.lower, l.upper)
-                } else {
-                    (-std::f64::consts::PI, std::f64::consts::PI)
-                };
-                values[j] = if hi > lo {
-                    rand::RngExt::random_range(&mut rng, lo..=hi)
-                } else {
-                    lo
-                };
-            }
-            let poses = self.model.forward_kinematics(&values).unwrap_or_default();
-            for a in 0..n {
-                for b in a + 1..n {
-                    if self.bodies_touch(&poses, a, b, self.params.padding) {
-                        collided[a * n + b] += 1;
-                    }
-                }
-            }
-        }
-        // "Always" as MoveIt's setup assistant counts it: in ≥ 95 % of the samples.
-        for a in 0..n {
-            for b in a + 1..n {
-                let c = collided[a * n + b];
-                if c == 0 || c as f64 >= self.params.always_fraction * samples as f64 {
-                    self.allowed.insert((a, b));
-                }
-            }
-        }
-    }
-
-    fn bodies_touch(&self, root_from_link: &[Pose], a: usize, b: usize, margin: f64) -> bool {
-        let (la, lb) = (&self.bodies[a], &self.bodies[b]);
-        for (sa, pa) in &la.shapes {
-            let wa = root_from_link[la.link] * *pa;
-            for (sb, pb) in &lb.shapes {
-                let wb = root_from_link[lb.link] * *pb;
-                if query::contact(&wa, sa.as_ref(), &wb, sb.as_ref(), margin)
-                    .ok()
-                    .flatten()
-                    .is_some()
-                {
-                    return true;
-                }
-            }
-        }
-        false
-    }
-
-    /// Link pairs the matrix allows, by name (for inspection and tests).
-    pub fn allowed_pairs(&self) -> Vec<(String, String)> {
-        let mut v: Vec<(String, String)> = self
-            .allowed
-            .iter()
-            .map(|&(a, b)| (self.bodies[a].name.clone(), self.bodies[b].name.clone()))
-            .collect();
-        v.sort();
-        v
-    }
-
     /// Adds a fixed object.
     pub fn add_object(
         &mut self,
@@ -607,18 +497,39 @@ impl CollisionWorld {
         shape: SharedShape,
         world_from_object: Pose,
     ) -> Result<(), WorldError> {
-        if self.objects.iter().any(|o| o.name == name)
-            || self.attached.iter().any(|o| o.name == name)
-        {
-            return Err(WorldError::NameTaken(name.into()));
+        self.add_objects(vec![(name.to_string(), shape, world_from_object)])
+    }
+
+    /// Adds fixed objects (names unique among them and in the world), rebuilding the
+    /// broad phase once: objects may overlap one another, they are static.
+    pub fn add_objects(
+        &mut self,
+        objects: Vec<(String, SharedShape, Pose)>,
+    ) -> Result<(), WorldError> {
+        let mut taken: HashSet<&str> = self
+            .objects
+            .iter()
+            .map(|o| o.name.as_str())
+            .chain(self.attached.iter().map(|o| o.name.as_str()))
+            .collect();
+        for (name, _, pose) in &objects {
+            if !taken.insert(name) {
+                return Err(WorldError::NameTaken(name.clone()));
+            }
+            if !tabula_geom::pose_is_finite(pose) {
+                return Err(WorldError::NonFinite);
+            }
         }
-        let aabb = shape.compute_aabb(&world_from_object);
-        self.objects.push(WorldObject {
-            name: name.into(),
-            shape,
-            world_from_object,
-            aabb,
-        });
+        for (name, shape, world_from_object) in objects {
+            let aabb = shape.compute_aabb(&world_from_object);
+            self.objects.push(WorldObject {
+                name,
+                shape,
+                world_from_object,
+                aabb,
+                allowed_bodies: Vec::new(),
+            });
+        }
         self.rebuild_bvh();
         Ok(())
     }
@@ -905,22 +816,27 @@ impl CollisionWorld {
                 None => format!("joint `{b}` is outside its limits"),
             };
         }
-        let mut bare = self.clone();
-        let padding = bare
+        let padding = self
             .bodies
             .iter()
             .find(|l| &l.name == a || &l.name == b)
             .map_or(self.params.padding, |l| l.padding);
-        for body in &mut bare.bodies {
-            body.padding = 0.0;
-        }
-        match bare.first_collision(q) {
+        match self.exact_collision(q) {
             Ok(None) => format!(
                 "{a} is within the {:.0} mm padding of {b}, without touching it",
                 padding * 1e3
             ),
             _ => format!("{a} touches {b}"),
         }
+    }
+
+    /// The first colliding pair at `q` on the exact geometry (no padding).
+    pub fn exact_collision(&self, q: &[f64]) -> Result<Option<(String, String)>, WorldError> {
+        let mut bare = self.clone();
+        for body in &mut bare.bodies {
+            body.padding = 0.0;
+        }
+        bare.first_collision(q)
     }
 
     /// The first colliding pair at `q` (names), or `None` when `q` is valid. Joint limits
@@ -981,7 +897,7 @@ impl CollisionWorld {
                 continue;
             }
             for o in self.objects_near(aabb) {
-                if hits_object(w, s, aabb, o, self.bodies[*b].padding) {
+                if !o.allowed_bodies.contains(b) && hits_object(w, s, aabb, o, self.bodies[*b].padding) {
                     return Ok(Some((self.bodies[*b].name.clone(), o.name.clone())));
                 }
             }

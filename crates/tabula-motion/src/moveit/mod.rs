@@ -1,0 +1,183 @@
+//! MoveIt's messages as files: planning scenes and motion plan requests in YAML (what
+//! MoveIt, `ros2 topic echo` and MotionBenchMaker write), read with bounded size and
+//! counts, and turned into a [`CollisionWorld`], a start and goals for it.
+
+mod request;
+mod scene;
+mod yaml;
+
+pub use request::{Goal, MotionRequest};
+pub use scene::{AllowedCollisions, AttachedObject, PlanningScene, SceneObject};
+
+use crate::world::CollisionWorld;
+use tabula_geom::Pose;
+
+/// Why a scene or a request was refused.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum MoveItError {
+    #[error("YAML: {0}")]
+    Yaml(String),
+    #[error("`{path}`: {why}")]
+    Field { path: String, why: String },
+    #[error("too large: {0}")]
+    TooLarge(String),
+    /// The scene does not fit the robot (a frame or joint it lacks).
+    #[error("{0}")]
+    Scene(String),
+    /// The request does not fit the robot or its group.
+    #[error("{0}")]
+    Request(String),
+}
+
+/// Bounds on what one file may hold.
+#[derive(Debug, Clone)]
+pub struct Limits {
+    /// Text size (bytes) parsed at all.
+    pub bytes: usize,
+    /// Collision objects in a scene (and goal sets in a request).
+    pub objects: usize,
+    /// Shapes (primitives and meshes) over all objects of a scene.
+    pub parts: usize,
+    /// Vertices of one mesh.
+    pub mesh_vertices: usize,
+    /// Largest dimension of a primitive (m).
+    pub max_size: f64,
+}
+
+impl Default for Limits {
+    /// A scene of ten thousand objects is already far beyond a workcell (MBM's have 4–30);
+    /// beyond that an occupancy map is the right model.
+    fn default() -> Self {
+        Self {
+            bytes: tabula_geom::input::Format::Scene.max_bytes() as usize,
+            objects: 10_000,
+            parts: 50_000,
+            mesh_vertices: 1_000_000,
+            max_size: 1e3,
+        }
+    }
+}
+
+/// The YAML tree of `text`, refused above the size limit. serde_yaml bounds nesting
+/// depth and alias expansion (a "billion laughs" document is an error, not a hang).
+fn parse_yaml(text: &str, limits: &Limits) -> Result<serde_yaml::Value, MoveItError> {
+    if text.len() > limits.bytes {
+        return Err(MoveItError::TooLarge(format!(
+            "{} bytes of YAML, over the limit of {}",
+            text.len(),
+            limits.bytes
+        )));
+    }
+    serde_yaml::from_str(text).map_err(|e| MoveItError::Yaml(e.to_string()))
+}
+
+/// A request made concrete for a world whose chain is the request's group: the start
+/// configuration and every goal configuration (joint goals) or tip pose (pose goals).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Problem {
+    pub start: Vec<f64>,
+    pub joint_goals: Vec<Vec<f64>>,
+    /// `world_from_tip` targets.
+    pub pose_goals: Vec<Pose>,
+    /// What was ignored on the way (values of fixed joints).
+    pub notes: Vec<String>,
+}
+
+impl MotionRequest {
+    /// Applies the start state to `world` (joints outside the group move the rest of
+    /// the robot) and resolves the goals against its chain: every group joint named in
+    /// a joint goal, no other; a pose goal's link the tip or fixed to it.
+    pub fn problem(&self, world: &mut CollisionWorld) -> Result<Problem, MoveItError> {
+        let ignored = world
+            .set_joint_values(&self.start)
+            .map_err(|e| MoveItError::Request(format!("start state: {e}")))?;
+        let mut notes = fixed_joints_note("the start state", &ignored);
+        let start = world.chain_values();
+        let names = world.chain.joint_names.clone();
+        let mut joint_goals = Vec::new();
+        let mut pose_goals = Vec::new();
+        for goal in &self.goals {
+            match goal {
+                Goal::Joints(values) => joint_goals.push(joint_goal(&names, values, &mut notes, world)?),
+                Goal::Pose {
+                    link,
+                    frame_id,
+                    position,
+                    link_offset,
+                    orientation,
+                } => {
+                    let orientation = orientation.ok_or_else(|| {
+                        MoveItError::Request(format!(
+                            "the goal for `{link}` gives a position only; give its orientation too"
+                        ))
+                    })?;
+                    let tip_from_link = world.tip_from_link(link).ok_or_else(|| {
+                        MoveItError::Request(format!(
+                            "goal link `{link}` is not the group's tip `{}` nor fixed to it",
+                            world.chain.tip_link
+                        ))
+                    })?;
+                    let frame = if frame_id.is_empty() || frame_id == "world" {
+                        world.world_from_root()
+                    } else {
+                        world.world_from_link(frame_id.trim_start_matches('/')).map_err(|_| {
+                            MoveItError::Request(format!("goal frame `{frame_id}` is not a link of the robot"))
+                        })?
+                    };
+                    let frame_from_link = Pose::from_parts(
+                        *position - orientation * *link_offset,
+                        orientation,
+                    );
+                    pose_goals.push(frame * frame_from_link * tip_from_link.inverse());
+                }
+            }
+        }
+        Ok(Problem {
+            start,
+            joint_goals,
+            pose_goals,
+            notes,
+        })
+    }
+}
+
+/// One note naming the fixed joints a message gave values for (none: no note).
+pub(crate) fn fixed_joints_note(what: &str, ignored: &[String]) -> Vec<String> {
+    if ignored.is_empty() {
+        return Vec::new();
+    }
+    vec![format!(
+        "{what} gives values for fixed joints ({}): ignored",
+        ignored.join(", ")
+    )]
+}
+
+fn joint_goal(
+    names: &[String],
+    values: &[(String, f64)],
+    notes: &mut Vec<String>,
+    world: &CollisionWorld,
+) -> Result<Vec<f64>, MoveItError> {
+    let mut q = vec![None; names.len()];
+    for (name, v) in values {
+        match names.iter().position(|n| n == name) {
+            Some(i) => q[i] = Some(*v),
+            None if world.joint_is_fixed(name) => {
+                notes.extend(fixed_joints_note("the goal", std::slice::from_ref(name)))
+            }
+            None => {
+                return Err(MoveItError::Request(format!(
+                    "goal joint `{name}` is not in the group ({})",
+                    names.join(", ")
+                )));
+            }
+        }
+    }
+    names
+        .iter()
+        .zip(q)
+        .map(|(n, v)| {
+            v.ok_or_else(|| MoveItError::Request(format!("the joint goal does not give `{n}`")))
+        })
+        .collect()
+}
