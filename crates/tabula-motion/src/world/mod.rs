@@ -3,7 +3,10 @@
 //! collision matrix computed the way MoveIt's setup assistant does.
 
 mod allowed;
+mod cover;
 mod edit;
+
+use cover::Cover;
 
 use std::cell::Cell;
 use std::collections::HashSet;
@@ -84,6 +87,8 @@ struct LinkBody {
     name: String,
     padding: f64,
     shapes: Vec<(SharedShape, Pose)>,
+    /// Each shape's sphere cover (in the link frame, like the shapes).
+    covers: Vec<Cover>,
     /// Moves with the planning joints.
     moving: bool,
 }
@@ -147,6 +152,36 @@ pub struct CollisionWorld {
 struct Anchor {
     element: Option<usize>,
     offset: Pose,
+}
+
+/// A body shape placed for one query.
+struct Placed<'a> {
+    body: usize,
+    pose: Pose,
+    shape: &'a SharedShape,
+    aabb: Aabb,
+    /// Its cover's balls in the query's ball list.
+    balls: std::ops::Range<usize>,
+}
+
+/// Whether every ball is farther than `pad` from the object (so the shape they cover is).
+fn balls_clear_of(balls: &[(Vec3, f64)], o: &WorldObject, pad: f64) -> bool {
+    balls.iter().all(|(c, r)| {
+        let reach = r + pad;
+        let near = Aabb::new(*c - Vec3::splat(reach), *c + Vec3::splat(reach));
+        !near.intersects(&o.aabb)
+            || o.shape.distance_to_point(&o.world_from_object, *c, true) > reach
+    })
+}
+
+/// Whether every ball of one cover is farther than `pad` from every ball of the other.
+fn balls_apart(a: &[(Vec3, f64)], b: &[(Vec3, f64)], pad: f64) -> bool {
+    a.iter().all(|(ca, ra)| {
+        b.iter().all(|(cb, rb)| {
+            let reach = ra + rb + pad;
+            (*ca - *cb).length_squared() > reach * reach
+        })
+    })
 }
 
 /// Per link: does a chain joint (or a joint mimicking one) lie on its path to the root?
@@ -227,6 +262,7 @@ impl CollisionWorld {
                 .collect::<Result<_, _>>()?;
             if !shapes.is_empty() {
                 bodies.push(LinkBody {
+                    covers: shapes.iter().map(|(s, p)| Cover::of(s).placed(p)).collect(),
                     link: li,
                     padding: params
                         .link_padding
@@ -730,6 +766,7 @@ impl CollisionWorld {
                         .unwrap_or(self.params.padding),
                     name: link.into(),
                     shapes: Vec::new(),
+                    covers: Vec::new(),
                     moving: true,
                 });
                 let root_poses = self.model.forward_kinematics(&self.values)?;
@@ -854,7 +891,8 @@ impl CollisionWorld {
         }
         let n = self.bodies.len();
         // Shapes in the world frame with their boxes, grown by their link's padding.
-        let placed = self.placed_shapes(&poses, true);
+        let mut balls = Vec::new();
+        let placed = self.placed_shapes(&poses, true, &mut balls);
         let attached: Vec<(usize, Pose, &Attached, Aabb)> = self
             .attached
             .iter()
@@ -891,32 +929,34 @@ impl CollisionWorld {
                 }
                 None => hits(p1, s1, &o.world_from_object, &o.shape, pad),
             };
-        // Robot against the world (only what moves can newly collide).
-        for (b, w, s, aabb) in &placed {
-            if !self.bodies[*b].moving {
+        // Robot against the world (only what moves can newly collide): the exact query
+        // only where the shape's cover is within the padding of the object.
+        for p in &placed {
+            let (b, pad) = (p.body, self.bodies[p.body].padding);
+            if !self.bodies[b].moving {
                 continue;
             }
-            for o in self.objects_near(aabb) {
-                if !o.allowed_bodies.contains(b) && hits_object(w, s, aabb, o, self.bodies[*b].padding) {
-                    return Ok(Some((self.bodies[*b].name.clone(), o.name.clone())));
+            for o in self.objects_near(&p.aabb) {
+                if !o.allowed_bodies.contains(&b)
+                    && !balls_clear_of(&balls[p.balls.clone()], o, pad)
+                    && hits_object(&p.pose, p.shape, &p.aabb, o, pad)
+                {
+                    return Ok(Some((self.bodies[b].name.clone(), o.name.clone())));
                 }
             }
         }
         // Robot against itself.
         for i in 0..placed.len() {
             for k in i + 1..placed.len() {
-                let (a, b) = (placed[i].0, placed[k].0);
+                let (pi, pk) = (&placed[i], &placed[k]);
+                let (a, b) = (pi.body, pk.body);
                 if !self.self_pair_checked(a, b) {
                     continue;
                 }
-                if placed[i].3.intersects(&placed[k].3)
-                    && hits(
-                        &placed[i].1,
-                        placed[i].2,
-                        &placed[k].1,
-                        placed[k].2,
-                        self.bodies[a].padding.max(self.bodies[b].padding),
-                    )
+                let pad = self.bodies[a].padding.max(self.bodies[b].padding);
+                if pi.aabb.intersects(&pk.aabb)
+                    && !balls_apart(&balls[pi.balls.clone()], &balls[pk.balls.clone()], pad)
+                    && hits(&pi.pose, pi.shape, &pk.pose, pk.shape, pad)
                 {
                     return Ok(Some((
                         self.bodies[a].name.clone(),
@@ -933,12 +973,12 @@ impl CollisionWorld {
                     return Ok(Some((a.name.clone(), o.name.clone())));
                 }
             }
-            for (b, bw, s, baabb) in &placed {
-                if a.touch.contains(b) || *b >= n {
+            for p in &placed {
+                if a.touch.contains(&p.body) || p.body >= n {
                     continue;
                 }
-                if aabb.intersects(baabb) && hits(w, &a.shape, bw, s, pad) {
-                    return Ok(Some((a.name.clone(), self.bodies[*b].name.clone())));
+                if aabb.intersects(&p.aabb) && hits(w, &a.shape, &p.pose, p.shape, pad) {
+                    return Ok(Some((a.name.clone(), self.bodies[p.body].name.clone())));
                 }
             }
         }
@@ -946,27 +986,31 @@ impl CollisionWorld {
     }
 
     /// Every body shape placed at `poses`, with its box (grown by the link's padding if
-    /// `padded`).
-    fn placed_shapes(
-        &self,
+    /// `padded`) and its cover's balls in the world (in `balls`).
+    fn placed_shapes<'a>(
+        &'a self,
         poses: &[Pose],
         padded: bool,
-    ) -> Vec<(usize, Pose, &SharedShape, Aabb)> {
+        balls: &mut Vec<(Vec3, f64)>,
+    ) -> Vec<Placed<'a>> {
         let mut placed = Vec::new();
         for (b, lb) in self.bodies.iter().enumerate() {
-            for (s, p) in &lb.shapes {
+            for ((s, p), cover) in lb.shapes.iter().zip(&lb.covers) {
                 let w = poses[b] * *p;
-                let aabb = s.compute_aabb(&w);
-                placed.push((
-                    b,
-                    w,
-                    s,
-                    if padded {
+                let aabb = cover.aabb_at(&poses[b]);
+                let first = balls.len();
+                balls.extend(cover.spheres.iter().map(|(c, r)| (poses[b] * *c, *r)));
+                placed.push(Placed {
+                    body: b,
+                    pose: w,
+                    shape: s,
+                    aabb: if padded {
                         aabb.loosened(lb.padding)
                     } else {
                         aabb
                     },
-                ));
+                    balls: first..balls.len(),
+                });
             }
         }
         placed
@@ -999,7 +1043,8 @@ impl CollisionWorld {
             }
         }
         let mut best = cap;
-        let placed = self.placed_shapes(&poses, false);
+        let mut balls = Vec::new();
+        let placed = self.placed_shapes(&poses, false, &mut balls);
         let consider = |p1: &Pose,
                         s1: &SharedShape,
                         a1: &Aabb,
@@ -1028,16 +1073,16 @@ impl CollisionWorld {
                 *best = best.min(d.distance);
             }
         };
-        for (b, w, s, aabb) in &placed {
-            if !self.bodies[*b].moving {
+        for p in &placed {
+            if !self.bodies[p.body].moving {
                 continue;
             }
-            let reach = aabb.loosened(best);
+            let reach = p.aabb.loosened(best);
             for o in self.objects_near(&reach) {
                 consider(
-                    w,
-                    s,
-                    aabb,
+                    &p.pose,
+                    p.shape,
+                    &p.aabb,
                     &o.world_from_object,
                     &o.shape,
                     &o.aabb,
@@ -1047,18 +1092,12 @@ impl CollisionWorld {
         }
         for i in 0..placed.len() {
             for k in i + 1..placed.len() {
-                let (a, b) = (placed[i].0, placed[k].0);
-                if !self.self_pair_checked(a, b) {
+                let (pi, pk) = (&placed[i], &placed[k]);
+                if !self.self_pair_checked(pi.body, pk.body) {
                     continue;
                 }
                 consider(
-                    &placed[i].1,
-                    placed[i].2,
-                    &placed[i].3,
-                    &placed[k].1,
-                    placed[k].2,
-                    &placed[k].3,
-                    &mut best,
+                    &pi.pose, pi.shape, &pi.aabb, &pk.pose, pk.shape, &pk.aabb, &mut best,
                 );
             }
         }
@@ -1077,9 +1116,9 @@ impl CollisionWorld {
                     &mut best,
                 );
             }
-            for (b, bw, s, baabb) in &placed {
-                if !att.touch.contains(b) {
-                    consider(&w, &att.shape, &aabb, bw, s, baabb, &mut best);
+            for p in &placed {
+                if !att.touch.contains(&p.body) {
+                    consider(&w, &att.shape, &aabb, &p.pose, p.shape, &p.aabb, &mut best);
                 }
             }
         }
