@@ -37,15 +37,22 @@ pub fn run(r: MbmRun) -> Result<()> {
         }
         w
     };
-    let progress = crate::progress::spinner(&format!("{} MotionBenchMaker problems", problems.len()));
+    let progress =
+        crate::progress::spinner(&format!("{} MotionBenchMaker problems", problems.len()));
     let results = mbm::run(
         &problems,
         &params.planner,
         |group| {
             let arm = robot.description.arm(group).map_err(|e| e.to_string())?;
             let chain = arm.chain(&robot.model).map_err(|e| e.to_string())?;
-            CollisionWorld::new(robot.model.clone(), chain, Pose::IDENTITY, None, world_params.clone())
-                .map_err(|e| e.to_string())
+            CollisionWorld::new(
+                robot.model.clone(),
+                chain,
+                Pose::IDENTITY,
+                None,
+                world_params.clone(),
+            )
+            .map_err(|e| e.to_string())
         },
         |_| {},
     );
@@ -110,6 +117,9 @@ fn print_report(report: &MbmReport, timeout: f64) {
         println!("  not solved: {set} {index:04}: {why}");
     }
     if report.not_solved.len() > 20 {
-        println!("  … and {} more (--json lists all)", report.not_solved.len() - 20);
+        println!(
+            "  … and {} more (--json lists all)",
+            report.not_solved.len() - 20
+        );
     }
 }

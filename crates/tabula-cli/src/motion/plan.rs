@@ -119,7 +119,10 @@ pub fn run(a: PlanArgs) -> Result<()> {
         .timeout
         .or(request.as_ref().and_then(|r| r.allowed_planning_time))
         .unwrap_or(params.planner.timeout_s);
-    let group_name = a.group.clone().or(request.as_ref().map(|r| r.group.clone()));
+    let group_name = a
+        .group
+        .clone()
+        .or(request.as_ref().map(|r| r.group.clone()));
     let (robot, mut group, mut notes) = setup(&a, group_name.as_deref(), &params)?;
     let (start, goals) = start_and_goals(&a, &robot, &mut group, request.as_ref(), &mut notes)?;
     for n in &notes {
@@ -189,7 +192,13 @@ fn setup(
         .ok_or_else(|| anyhow!("--robot is required (a URDF or xacro file, or wam/pr2/golem3) unless the scene is a tabula scene"))?;
     let robot = robots::load(robot_name)?;
     let arm = arm_name(&robot, group)?;
-    let mut g = MoveGroup::new(&robot, &arm, &JointState::default(), Pose::IDENTITY, params.clone())?;
+    let mut g = MoveGroup::new(
+        &robot,
+        &arm,
+        &JointState::default(),
+        Pose::IDENTITY,
+        params.clone(),
+    )?;
     let mut notes = Vec::new();
     if let Some(path) = &a.scene {
         let scene = PlanningScene::from_yaml(&read_text(path, Format::Scene)?, &Limits::default())
@@ -206,7 +215,12 @@ fn arm_name(robot: &NamedRobot, group: Option<&str>) -> Result<String> {
     match group {
         Some(g) => {
             robot.description.arm(g).map_err(|_| {
-                let known: Vec<&str> = robot.description.arms.iter().map(|a| a.name.as_str()).collect();
+                let known: Vec<&str> = robot
+                    .description
+                    .arms
+                    .iter()
+                    .map(|a| a.name.as_str())
+                    .collect();
                 anyhow!("no planning group `{g}`; groups: {}", known.join(", "))
             })?;
             Ok(g.to_string())
@@ -216,7 +230,9 @@ fn arm_name(robot: &NamedRobot, group: Option<&str>) -> Result<String> {
             .arms
             .first()
             .map(|a| a.name.clone())
-            .ok_or_else(|| anyhow!("the robot has no planning group (give an SRDF with a chain group)")),
+            .ok_or_else(|| {
+                anyhow!("the robot has no planning group (give an SRDF with a chain group)")
+            }),
     }
 }
 
@@ -266,7 +282,10 @@ fn start_and_goals(
         check_length("--goal-joints", q, &names)?;
         Goals::Joints(vec![q.clone()])
     } else if let Some(p) = &a.goal_pose {
-        Goals::Poses(vec![pose_from_xyz_rpy([p[0], p[1], p[2]], [p[3], p[4], p[5]])])
+        Goals::Poses(vec![pose_from_xyz_rpy(
+            [p[0], p[1], p[2]],
+            [p[3], p[4], p[5]],
+        )])
     } else if let Some(n) = &a.goal_named {
         Goals::Joints(vec![named_configuration(robot, &arm, n, &names, &start)?])
     } else {
@@ -309,7 +328,13 @@ fn print_plan(a: &PlanArgs, group: &MoveGroup, plan: &Plan, notes: Vec<String>) 
     let path_length: f64 = plan
         .path
         .windows(2)
-        .map(|w| w[0].iter().zip(&w[1]).map(|(x, y)| (x - y).powi(2)).sum::<f64>().sqrt())
+        .map(|w| {
+            w[0].iter()
+                .zip(&w[1])
+                .map(|(x, y)| (x - y).powi(2))
+                .sum::<f64>()
+                .sqrt()
+        })
         .sum();
     let t = &plan.trajectory;
     let duration = t.times.last().copied().unwrap_or(0.0);

@@ -105,7 +105,9 @@ fn solve(base: &CollisionWorld, p: &MbmProblem, params: &PlannerParams) -> Outco
             why: "pose goals are not benchmarked (MotionBenchMaker's are joint goals)".into(),
         };
     }
-    for (what, q) in std::iter::once(("start", &problem.start)).chain(problem.joint_goals.iter().map(|g| ("goal", g))) {
+    for (what, q) in std::iter::once(("start", &problem.start))
+        .chain(problem.joint_goals.iter().map(|g| ("goal", g)))
+    {
         if let Ok(Some((a, b))) = world.exact_collision(q) {
             return Outcome::Invalid {
                 why: format!("{what}: {}", world.why_invalid(q, &(a, b))),
@@ -126,9 +128,11 @@ fn solve(base: &CollisionWorld, p: &MbmProblem, params: &PlannerParams) -> Outco
                 path: path.waypoints,
             }
         }
-        Err(e @ (PlanError::StartInvalid(_) | PlanError::GoalInvalid(_) | PlanError::NoValidGoal)) => {
-            Outcome::Unsolved { why: format!("{e} (valid without the padding)") }
-        }
+        Err(
+            e @ (PlanError::StartInvalid(_) | PlanError::GoalInvalid(_) | PlanError::NoValidGoal),
+        ) => Outcome::Unsolved {
+            why: format!("{e} (valid without the padding)"),
+        },
         Err(e) => Outcome::Unsolved { why: e.to_string() },
     }
 }
@@ -224,7 +228,12 @@ impl MbmReport {
         names.dedup();
         let sets = names
             .iter()
-            .map(|s| (s.to_string(), Tally::of(results.iter().filter(|r| r.set == *s))))
+            .map(|s| {
+                (
+                    s.to_string(),
+                    Tally::of(results.iter().filter(|r| r.set == *s)),
+                )
+            })
             .collect();
         let not_solved = results
             .iter()

@@ -98,7 +98,9 @@ impl MotionRequest {
         let mut pose_goals = Vec::new();
         for goal in &self.goals {
             match goal {
-                Goal::Joints(values) => joint_goals.push(joint_goal(&names, values, &mut notes, world)?),
+                Goal::Joints(values) => {
+                    joint_goals.push(joint_goal(&names, values, &mut notes, world)?)
+                }
                 Goal::Pose {
                     link,
                     frame_id,
@@ -120,14 +122,16 @@ impl MotionRequest {
                     let frame = if frame_id.is_empty() || frame_id == "world" {
                         world.world_from_root()
                     } else {
-                        world.world_from_link(frame_id.trim_start_matches('/')).map_err(|_| {
-                            MoveItError::Request(format!("goal frame `{frame_id}` is not a link of the robot"))
-                        })?
+                        world
+                            .world_from_link(frame_id.trim_start_matches('/'))
+                            .map_err(|_| {
+                                MoveItError::Request(format!(
+                                    "goal frame `{frame_id}` is not a link of the robot"
+                                ))
+                            })?
                     };
-                    let frame_from_link = Pose::from_parts(
-                        *position - orientation * *link_offset,
-                        orientation,
-                    );
+                    let frame_from_link =
+                        Pose::from_parts(*position - orientation * *link_offset, orientation);
                     pose_goals.push(frame * frame_from_link * tip_from_link.inverse());
                 }
             }

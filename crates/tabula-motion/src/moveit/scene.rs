@@ -92,7 +92,9 @@ impl PlanningScene {
         if let Some(state) = root.get("robot_state") {
             scene.joints = joint_state(&state)?;
             for a in state.list("attached_collision_objects")? {
-                scene.attached.push(attached_object(&a, &mut budget, limits)?);
+                scene
+                    .attached
+                    .push(attached_object(&a, &mut budget, limits)?);
             }
         }
         for f in root.list("fixed_frame_transforms")? {
@@ -104,8 +106,12 @@ impl PlanningScene {
             scene.fixed_frames.push((child, pose));
         }
         if let Some(world) = root.get("world") {
-            scene.objects = collision_objects(&world.list("collision_objects")?, &mut budget, limits)?;
-            if world.get("octomap").is_some_and(|o| o.get("octomap").is_some()) {
+            scene.objects =
+                collision_objects(&world.list("collision_objects")?, &mut budget, limits)?;
+            if world
+                .get("octomap")
+                .is_some_and(|o| o.get("octomap").is_some())
+            {
                 return Err(world.error(
                     "octomaps in a scene are not supported: give the cloud as occupancy instead",
                 ));
@@ -405,9 +411,7 @@ fn primitive(node: &Node, limits: &Limits) -> Result<(SharedShape, Pose), MoveIt
         }
         other => return Err(kind_error(node, other)),
     };
-    shape
-        .collision_shape(false)
-        .map_err(|m| node.error(m))
+    shape.collision_shape(false).map_err(|m| node.error(m))
 }
 
 fn kind_error(node: &Node, kind: &str) -> MoveItError {
@@ -435,7 +439,10 @@ fn mesh(node: &Node, limits: &Limits) -> Result<SharedShape, MoveItError> {
     for t in &triangles {
         let idx = t.need("vertex_indices")?;
         let v = idx.numbers()?;
-        if v.len() != 3 || v.iter().any(|&i| i < 0.0 || i.fract() != 0.0 || i as usize >= points.len()) {
+        if v.len() != 3
+            || v.iter()
+                .any(|&i| i < 0.0 || i.fract() != 0.0 || i as usize >= points.len())
+        {
             return Err(idx.error(format!(
                 "three vertex indices below {} expected",
                 points.len()
@@ -458,7 +465,11 @@ fn allowed_collisions(node: &Node) -> Result<AllowedCollisions, MoveItError> {
             .unwrap_or_else(|| row.clone())
             .items()?
             .iter()
-            .map(|v| v.value.as_bool().ok_or_else(|| v.error("expected true or false")))
+            .map(|v| {
+                v.value
+                    .as_bool()
+                    .ok_or_else(|| v.error("expected true or false"))
+            })
             .collect::<Result<Vec<bool>, _>>()?;
         if values.len() != names.len() {
             return Err(row.error(format!(

@@ -124,10 +124,7 @@ impl<'a> Node<'a> {
     }
 
     /// Exactly `N` numbers, either as a list or as a map with the keys `names`.
-    fn fixed<const N: usize>(
-        &self,
-        names: [&str; N],
-    ) -> Result<[f64; N], MoveItError> {
+    fn fixed<const N: usize>(&self, names: [&str; N]) -> Result<[f64; N], MoveItError> {
         let mut out = [0.0; N];
         if self.value.is_sequence() {
             let v = self.numbers()?;
@@ -188,4 +185,3 @@ impl<'a> Node<'a> {
         Ok(Pose::from_parts(t, r))
     }
 }
-

@@ -150,7 +150,11 @@ impl CollisionWorld {
         for a in 0..n {
             for b in a + 1..n {
                 let (na, nb) = (&self.bodies[a].name, &self.bodies[b].name);
-                let listed = acm.names.iter().position(|x| x == na).zip(acm.names.iter().position(|x| x == nb));
+                let listed = acm
+                    .names
+                    .iter()
+                    .position(|x| x == na)
+                    .zip(acm.names.iter().position(|x| x == nb));
                 let verdict = match listed {
                     Some((i, k)) => Some(acm.allowed[i][k] || acm.allowed[k][i]),
                     None => match (default(na), default(nb)) {
@@ -171,7 +175,9 @@ impl CollisionWorld {
             }
         }
         for (i, name) in acm.names.iter().enumerate() {
-            let Some(o) = object(self, name) else { continue };
+            let Some(o) = object(self, name) else {
+                continue;
+            };
             for (k, other) in acm.names.iter().enumerate() {
                 if acm.allowed[i][k] || acm.allowed[k][i] {
                     if let Some(b) = body(self, other) {

@@ -81,7 +81,11 @@ impl Cover {
     pub fn placed(self, pose: &tabula_geom::Pose) -> Self {
         Self {
             local_aabb: self.local_aabb.transform_by(pose),
-            spheres: self.spheres.into_iter().map(|(c, r)| (*pose * c, r)).collect(),
+            spheres: self
+                .spheres
+                .into_iter()
+                .map(|(c, r)| (*pose * c, r))
+                .collect(),
         }
     }
 
@@ -112,7 +116,14 @@ fn slab_spheres(points: &[Vec3], edges: &[[u32; 2]], aabb: &Aabb) -> Vec<(Vec3, 
     let step = (hi - lo) / slabs as f64;
     (0..slabs)
         .filter_map(|k| {
-            let (a, b) = (lo + step * k as f64, if k + 1 == slabs { hi } else { lo + step * (k + 1) as f64 });
+            let (a, b) = (
+                lo + step * k as f64,
+                if k + 1 == slabs {
+                    hi
+                } else {
+                    lo + step * (k + 1) as f64
+                },
+            );
             let mut piece: Vec<Vec3> = points
                 .iter()
                 .filter(|p| p[axis] >= a && p[axis] <= b)
@@ -168,9 +179,19 @@ mod tests {
             SharedShape::cone(0.2, 0.1),
         ];
         for _ in 0..20 {
-            let s = Vec3::new(rng.random_range(0.01..0.5), rng.random_range(0.01..0.5), rng.random_range(0.01..0.5));
+            let s = Vec3::new(
+                rng.random_range(0.01..0.5),
+                rng.random_range(0.01..0.5),
+                rng.random_range(0.01..0.5),
+            );
             let pts: Vec<Vec3> = (0..40)
-                .map(|_| Vec3::new(rng.random_range(-1.0..1.0), rng.random_range(-1.0..1.0), rng.random_range(-1.0..1.0)) * s)
+                .map(|_| {
+                    Vec3::new(
+                        rng.random_range(-1.0..1.0),
+                        rng.random_range(-1.0..1.0),
+                        rng.random_range(-1.0..1.0),
+                    ) * s
+                })
                 .collect();
             shapes.push(SharedShape::convex_hull(&pts).expect("hull"));
         }

@@ -9,7 +9,10 @@ impl CollisionWorld {
     /// Sets joints by name (the chain's too: [`Self::chain_values`] reads them back).
     /// Values of fixed joints are ignored; their names are returned. A name the robot
     /// lacks is an error.
-    pub fn set_joint_values(&mut self, joints: &[(String, f64)]) -> Result<Vec<String>, WorldError> {
+    pub fn set_joint_values(
+        &mut self,
+        joints: &[(String, f64)],
+    ) -> Result<Vec<String>, WorldError> {
         let mut ignored = Vec::new();
         let mut values = self.values.clone();
         for (name, v) in joints {
