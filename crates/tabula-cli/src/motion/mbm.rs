@@ -107,6 +107,11 @@ fn print_report(report: &MbmReport, timeout: f64) {
         a.time_us.median, a.time_us.p95, a.time_us.max
     );
     println!("  plan alone (CPU µs)       median {:.0}", a.plan_us.median);
+    println!(
+        "  configurations checked    median {:.0}   ({:.1} µs each)",
+        a.checks.median,
+        a.time_us.median / a.checks.median.max(1.0)
+    );
     for (set, t) in &report.sets {
         println!(
             "  {set:<28} {:>4}/{:<4} solved   median {:>8.0} µs   p95 {:>8.0} µs",

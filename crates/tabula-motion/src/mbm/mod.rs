@@ -38,6 +38,8 @@ pub enum Outcome {
     Solved {
         plan_us: f64,
         shortcut_us: f64,
+        /// Configurations checked (planning and shortcutting).
+        checks: u64,
         path: Vec<Vec<f64>>,
     },
     /// The start or the goal touches something on the exact geometry: no path exists.
@@ -114,6 +116,7 @@ fn solve(base: &CollisionWorld, p: &MbmProblem, params: &PlannerParams) -> Outco
             };
         }
     }
+    let checks0 = world.checks();
     let t0 = thread_cpu();
     let planned = rrt_connect(&world, &problem.start, &problem.joint_goals, params);
     let t1 = thread_cpu();
@@ -125,6 +128,7 @@ fn solve(base: &CollisionWorld, p: &MbmProblem, params: &PlannerParams) -> Outco
             Outcome::Solved {
                 plan_us: (t1 - t0) * 1e6,
                 shortcut_us: (t2 - t1) * 1e6,
+                checks: world.checks() - checks0,
                 path: path.waypoints,
             }
         }
@@ -177,21 +181,25 @@ pub struct Tally {
     pub time_us: Spread,
     /// Planning alone (before shortcutting).
     pub plan_us: Spread,
+    /// Configurations checked per solved problem.
+    pub checks: Spread,
 }
 
 impl Tally {
     pub fn of<'a>(results: impl IntoIterator<Item = &'a ProblemResult>) -> Self {
         let (mut total, mut solved, mut invalid, mut errors) = (0, 0, 0, 0);
-        let (mut time, mut plan) = (Vec::new(), Vec::new());
+        let (mut time, mut plan, mut counts) = (Vec::new(), Vec::new(), Vec::new());
         for r in results {
             total += 1;
             match &r.outcome {
                 Outcome::Solved {
                     plan_us,
                     shortcut_us,
+                    checks,
                     ..
                 } => {
                     solved += 1;
+                    counts.push(*checks as f64);
                     time.push(plan_us + shortcut_us);
                     plan.push(*plan_us);
                 }
@@ -208,6 +216,7 @@ impl Tally {
             errors,
             time_us: Spread::of(time),
             plan_us: Spread::of(plan),
+            checks: Spread::of(counts),
         }
     }
 }

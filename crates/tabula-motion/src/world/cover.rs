@@ -163,7 +163,6 @@ mod tests {
     use super::*;
     use rand::{RngExt, SeedableRng};
     use rand_chacha::ChaCha8Rng;
-    use tabula_geom::parry::query::PointQuery;
 
     /// Every point of the shape (sampled inside its box, kept when inside the shape) is
     /// inside some ball of its cover — for boxes, cylinders, capsules and random hulls

@@ -5,8 +5,10 @@
 mod allowed;
 mod cover;
 mod edit;
+mod gjk;
 
 use cover::Cover;
+use gjk::Hull;
 
 use std::cell::Cell;
 use std::collections::HashSet;
@@ -89,6 +91,8 @@ struct LinkBody {
     shapes: Vec<(SharedShape, Pose)>,
     /// Each shape's sphere cover (in the link frame, like the shapes).
     covers: Vec<Cover>,
+    /// Each shape's climbing hull, when it is a mesh hull.
+    hulls: Vec<Option<Hull>>,
     /// Moves with the planning joints.
     moving: bool,
 }
@@ -159,6 +163,7 @@ struct Placed<'a> {
     body: usize,
     pose: Pose,
     shape: &'a SharedShape,
+    hull: Option<&'a Hull>,
     aabb: Aabb,
     /// Its cover's balls in the query's ball list.
     balls: std::ops::Range<usize>,
@@ -252,17 +257,27 @@ impl CollisionWorld {
         let moves = moving_links(&model, &chain);
         let mut bodies = Vec::new();
         for (li, link) in model.links.iter().enumerate() {
-            let shapes: Vec<(SharedShape, Pose)> = link
-                .collision
-                .iter()
-                .map(|s| {
-                    shape_of(&link.name, &s.geometry)
-                        .map(|(shape, local)| (shape, s.link_from_shape * local))
-                })
-                .collect::<Result<_, _>>()?;
+            let mut shapes: Vec<(SharedShape, Pose)> = Vec::new();
+            for s in &link.collision {
+                let (shape, local) = shape_of(&link.name, &s.geometry)?;
+                // A decomposition's pieces stand alone: each gets its own box, cover
+                // and hull, and only the pieces near something are queried.
+                match shape.as_compound() {
+                    Some(c) => shapes.extend(
+                        c.shapes()
+                            .iter()
+                            .map(|(p, part)| (part.clone(), s.link_from_shape * local * *p)),
+                    ),
+                    None => shapes.push((shape, s.link_from_shape * local)),
+                }
+            }
             if !shapes.is_empty() {
                 bodies.push(LinkBody {
                     covers: shapes.iter().map(|(s, p)| Cover::of(s).placed(p)).collect(),
+                    hulls: shapes
+                        .iter()
+                        .map(|(s, _)| s.as_convex_polyhedron().and_then(Hull::of))
+                        .collect(),
                     link: li,
                     padding: params
                         .link_padding
@@ -767,6 +782,7 @@ impl CollisionWorld {
                     name: link.into(),
                     shapes: Vec::new(),
                     covers: Vec::new(),
+                    hulls: Vec::new(),
                     moving: true,
                 });
                 let root_poses = self.model.forward_kinematics(&self.values)?;
@@ -910,25 +926,47 @@ impl CollisionWorld {
             })
             .collect();
         // A yes/no question: GJK distance, not the penetration depth (EPA) `contact` computes.
+        let hits_hull = |p1: &Pose,
+                         s1: &SharedShape,
+                         h1: Option<&Hull>,
+                         p2: &Pose,
+                         s2: &SharedShape,
+                         h2: Option<&Hull>,
+                         pad: f64| {
+            match (gjk::support(s1, h1), gjk::support(s2, h2)) {
+                (Some(g1), Some(g2)) => gjk::within(p1, g1, p2, g2, pad),
+                _ => query::distance(p1, s1.as_ref(), p2, s2.as_ref())
+                    .is_ok_and(|d| d.distance <= pad),
+            }
+        };
         let hits = |p1: &Pose, s1: &SharedShape, p2: &Pose, s2: &SharedShape, pad: f64| {
-            query::distance(p1, s1.as_ref(), p2, s2.as_ref()).is_ok_and(|d| d.distance <= pad)
+            hits_hull(p1, s1, None, p2, s2, None, pad)
         };
         // Against a compound (an occupancy map) only the parts near the shape count:
         // the compound's own distance would look for the nearest of all of them.
-        let hits_object =
-            |p1: &Pose, s1: &SharedShape, aabb: &Aabb, o: &WorldObject, pad: f64| match o
-                .shape
-                .as_compound()
-            {
-                Some(c) => {
-                    let local = aabb.transform_by(&o.world_from_object.inverse());
-                    c.bvh().intersect_aabb(&local).any(|i| {
-                        let (part_pose, part) = &c.shapes()[i as usize];
-                        hits(p1, s1, &(o.world_from_object * *part_pose), part, pad)
-                    })
-                }
-                None => hits(p1, s1, &o.world_from_object, &o.shape, pad),
-            };
+        let hits_object = |p1: &Pose,
+                           s1: &SharedShape,
+                           h1: Option<&Hull>,
+                           aabb: &Aabb,
+                           o: &WorldObject,
+                           pad: f64| match o.shape.as_compound() {
+            Some(c) => {
+                let local = aabb.transform_by(&o.world_from_object.inverse());
+                c.bvh().intersect_aabb(&local).any(|i| {
+                    let (part_pose, part) = &c.shapes()[i as usize];
+                    hits_hull(
+                        p1,
+                        s1,
+                        h1,
+                        &(o.world_from_object * *part_pose),
+                        part,
+                        None,
+                        pad,
+                    )
+                })
+            }
+            None => hits_hull(p1, s1, h1, &o.world_from_object, &o.shape, None, pad),
+        };
         // Robot against the world (only what moves can newly collide): the exact query
         // only where the shape's cover is within the padding of the object.
         for p in &placed {
@@ -939,7 +977,7 @@ impl CollisionWorld {
             for o in self.objects_near(&p.aabb) {
                 if !o.allowed_bodies.contains(&b)
                     && !balls_clear_of(&balls[p.balls.clone()], o, pad)
-                    && hits_object(&p.pose, p.shape, &p.aabb, o, pad)
+                    && hits_object(&p.pose, p.shape, p.hull, &p.aabb, o, pad)
                 {
                     return Ok(Some((self.bodies[b].name.clone(), o.name.clone())));
                 }
@@ -956,7 +994,9 @@ impl CollisionWorld {
                 let pad = self.bodies[a].padding.max(self.bodies[b].padding);
                 if pi.aabb.intersects(&pk.aabb)
                     && !balls_apart(&balls[pi.balls.clone()], &balls[pk.balls.clone()], pad)
-                    && hits(&pi.pose, pi.shape, &pk.pose, pk.shape, pad)
+                    && hits_hull(
+                        &pi.pose, pi.shape, pi.hull, &pk.pose, pk.shape, pk.hull, pad,
+                    )
                 {
                     return Ok(Some((
                         self.bodies[a].name.clone(),
@@ -969,7 +1009,7 @@ impl CollisionWorld {
         for (_, w, a, aabb) in &attached {
             let pad = self.bodies[a.body].padding;
             for o in self.objects_near(aabb) {
-                if hits_object(w, &a.shape, aabb, o, pad) {
+                if hits_object(w, &a.shape, None, aabb, o, pad) {
                     return Ok(Some((a.name.clone(), o.name.clone())));
                 }
             }
@@ -995,7 +1035,7 @@ impl CollisionWorld {
     ) -> Vec<Placed<'a>> {
         let mut placed = Vec::new();
         for (b, lb) in self.bodies.iter().enumerate() {
-            for ((s, p), cover) in lb.shapes.iter().zip(&lb.covers) {
+            for (((s, p), cover), hull) in lb.shapes.iter().zip(&lb.covers).zip(&lb.hulls) {
                 let w = poses[b] * *p;
                 let aabb = cover.aabb_at(&poses[b]);
                 let first = balls.len();
@@ -1004,6 +1044,7 @@ impl CollisionWorld {
                     body: b,
                     pose: w,
                     shape: s,
+                    hull: hull.as_ref(),
                     aabb: if padded {
                         aabb.loosened(lb.padding)
                     } else {
