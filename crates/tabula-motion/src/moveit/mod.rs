@@ -91,15 +91,25 @@ impl MotionRequest {
         let ignored = world
             .set_joint_values(&self.start)
             .map_err(|e| MoveItError::Request(format!("start state: {e}")))?;
-        let mut notes = fixed_joints_note("the start state", &ignored);
-        let start = world.chain_values();
+        let mut notes = ignored.notes("the start state");
+        let mut start = world.chain_values();
+        if world.bring_within_limits(&mut start) {
+            notes.push("the start state was brought within the joint limits (whole turns, rounding)".into());
+        }
         let names = world.chain.joint_names.clone();
         let mut joint_goals = Vec::new();
         let mut pose_goals = Vec::new();
         for goal in &self.goals {
             match goal {
                 Goal::Joints(values) => {
-                    joint_goals.push(joint_goal(&names, values, &mut notes, world)?)
+                    let mut q = joint_goal(&names, values, &mut notes, world)?;
+                    if world.bring_within_limits(&mut q) {
+                        notes.push(
+                            "a joint goal was brought within the joint limits (whole turns, rounding)"
+                                .into(),
+                        );
+                    }
+                    joint_goals.push(q);
                 }
                 Goal::Pose {
                     link,
@@ -145,17 +155,6 @@ impl MotionRequest {
     }
 }
 
-/// One note naming the fixed joints a message gave values for (none: no note).
-pub(crate) fn fixed_joints_note(what: &str, ignored: &[String]) -> Vec<String> {
-    if ignored.is_empty() {
-        return Vec::new();
-    }
-    vec![format!(
-        "{what} gives values for fixed joints ({}): ignored",
-        ignored.join(", ")
-    )]
-}
-
 fn joint_goal(
     names: &[String],
     values: &[(String, f64)],
@@ -167,7 +166,7 @@ fn joint_goal(
         match names.iter().position(|n| n == name) {
             Some(i) => q[i] = Some(*v),
             None if world.joint_is_fixed(name) => {
-                notes.extend(fixed_joints_note("the goal", std::slice::from_ref(name)))
+                notes.push(format!("the goal gives a value for fixed joint `{name}`: ignored"))
             }
             None => {
                 return Err(MoveItError::Request(format!(

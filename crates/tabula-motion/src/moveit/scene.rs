@@ -131,7 +131,7 @@ impl PlanningScene {
         let ignored = world
             .set_joint_values(&self.joints)
             .map_err(|e| MoveItError::Scene(format!("robot state: {e}")))?;
-        let mut notes = super::fixed_joints_note("the scene's robot state", &ignored);
+        let mut notes = ignored.notes("the scene's robot state");
         let mut placed = Vec::with_capacity(self.objects.len());
         for o in &self.objects {
             let frame = self.frame_pose(world, &o.frame_id)?;

@@ -5,29 +5,61 @@ use super::{CollisionWorld, WorldError};
 use tabula_geom::Pose;
 use tabula_robot::model::JointKind;
 
+/// How far outside a joint limit (rad or m) a given value is taken as on the limit:
+/// problem files round (MotionBenchMaker's Fetch goals sit 3e-6 rad beyond ±3.14159).
+pub const BOUNDS_TOLERANCE: f64 = 1e-4;
+
+/// Joint values [`CollisionWorld::set_joint_values`] did not use.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct IgnoredJoints {
+    pub fixed: Vec<String>,
+    pub unknown: Vec<String>,
+}
+
+impl IgnoredJoints {
+    /// Notes naming them (none when nothing was ignored); `what` names the message.
+    pub fn notes(&self, what: &str) -> Vec<String> {
+        let mut notes = Vec::new();
+        if !self.fixed.is_empty() {
+            notes.push(format!(
+                "{what} gives values for fixed joints ({}): ignored",
+                self.fixed.join(", ")
+            ));
+        }
+        if !self.unknown.is_empty() {
+            notes.push(format!(
+                "{what} names joints the robot lacks ({}): ignored",
+                self.unknown.join(", ")
+            ));
+        }
+        notes
+    }
+}
+
 impl CollisionWorld {
     /// Sets joints by name (the chain's too: [`Self::chain_values`] reads them back).
-    /// Values of fixed joints are ignored; their names are returned. A name the robot
-    /// lacks is an error.
+    /// Values of fixed joints, and of joints the robot lacks (a state recorded on a fuller
+    /// model of it: Fetch's wheels in MotionBenchMaker), are not used; both are
+    /// returned by name for the caller to report.
     pub fn set_joint_values(
         &mut self,
         joints: &[(String, f64)],
-    ) -> Result<Vec<String>, WorldError> {
-        let mut ignored = Vec::new();
+    ) -> Result<IgnoredJoints, WorldError> {
+        let mut ignored = IgnoredJoints::default();
         let mut values = self.values.clone();
         for (name, v) in joints {
-            let j = self
-                .model
-                .joints
-                .iter()
-                .position(|j| &j.name == name)
-                .ok_or_else(|| WorldError::Robot(format!("the robot has no joint `{name}`")))?;
+            let Some(j) = self.model.joints.iter().position(|j| &j.name == name) else {
+                if !ignored.unknown.contains(name) {
+                    ignored.unknown.push(name.clone());
+                }
+                continue;
+            };
             if !v.is_finite() {
                 return Err(WorldError::NonFinite);
             }
             if self.model.joints[j].kind == JointKind::Fixed {
-                if !ignored.contains(name) {
-                    ignored.push(name.clone());
+                if !ignored.fixed.contains(name) {
+                    ignored.fixed.push(name.clone());
                 }
                 continue;
             }
@@ -38,6 +70,34 @@ impl CollisionWorld {
             self.compute_anchors()?;
         }
         Ok(ignored)
+    }
+
+    /// Brings a configuration from outside into the chain's limits where that changes
+    /// no link pose, or none measurably: values of joints that turn all the way round
+    /// (continuous, or revolute with a range of a full turn, as Fetch's rolls are in
+    /// VAMP's URDF) are wrapped by whole turns, and values within `BOUNDS_TOLERANCE` of
+    /// a limit are put on it (MoveIt's start-state bounds fixing does the same, with a
+    /// wider margin). Returns whether anything changed.
+    pub fn bring_within_limits(&self, q: &mut [f64]) -> bool {
+        let tau = std::f64::consts::TAU;
+        let mut changed = false;
+        for (i, v) in q.iter_mut().enumerate() {
+            let (lo, hi) = (self.chain.lower[i], self.chain.upper[i]);
+            if !v.is_finite() || (*v >= lo && *v <= hi) {
+                continue;
+            }
+            let before = *v;
+            if hi - lo >= tau - 1e-4 {
+                *v = lo + (*v - lo).rem_euclid(tau);
+            }
+            if *v < lo && lo - *v <= BOUNDS_TOLERANCE {
+                *v = lo;
+            } else if *v > hi && *v - hi <= BOUNDS_TOLERANCE {
+                *v = hi;
+            }
+            changed |= *v != before;
+        }
+        changed
     }
 
     /// The chain's joints at the world's joint values.

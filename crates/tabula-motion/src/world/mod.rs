@@ -7,6 +7,8 @@ mod cover;
 mod edit;
 mod gjk;
 
+pub use edit::IgnoredJoints;
+
 use cover::Cover;
 use gjk::Hull;
 
