@@ -1,7 +1,7 @@
 //! Goals given as poses (IK solutions as goal configurations) and Cartesian straight-line
 //! approach and retreat paths.
 
-use crate::rrt::{PlanError, PlannerParams, segment_valid};
+use crate::rrt::{PlanError, PlannerParams, segment_certified};
 use crate::world::CollisionWorld;
 use tabula_geom::Pose;
 use tabula_robot::ik::{IkMode, IkSolver, NumericIk, NumericIkParams};
@@ -102,7 +102,7 @@ pub fn follow_line(
         if jump > max_jump {
             return (waypoints, stop(format!("a joint would jump {jump:.2} rad")));
         }
-        if !segment_valid(world, &prev, &q, resolution) {
+        if !segment_certified(world, &prev, &q, resolution) {
             let why = match world.first_collision(&q) {
                 Ok(Some((a, b))) => format!("{a} touches {b}"),
                 _ => "the segment collides".into(),

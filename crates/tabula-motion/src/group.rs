@@ -6,7 +6,7 @@
 
 use crate::goals::follow_line;
 use crate::rrt::{
-    PlanError, PlannerParams, rrt_connect, segment_valid, shortcut, time_parameterize,
+    PlanError, PlannerParams, rrt_connect, segment_certified, shortcut, time_parameterize,
 };
 use crate::world::{CollisionWorld, WorldError, WorldParams};
 use rand::SeedableRng;
@@ -347,7 +347,7 @@ impl MoveGroup {
                     continue 'goal;
                 }
             }
-            if segment_valid(&self.world, start, &goal, self.params.planner.resolution) {
+            if segment_certified(&self.world, start, &goal, self.params.planner.resolution) {
                 return Some(vec![start.to_vec(), goal]);
             }
         }

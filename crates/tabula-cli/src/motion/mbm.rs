@@ -2,7 +2,6 @@
 //! timed as VAMP and OMPL time theirs (CPU of the planning thread, plan + shortcut,
 //! world built once per problem), with every path written out for outside checking.
 
-use crate::tasks::load_params;
 use anyhow::{Context, Result};
 use std::path::{Path, PathBuf};
 use tabula_geom::Pose;
@@ -24,7 +23,7 @@ pub struct MbmRun<'a> {
 }
 
 pub fn run(r: MbmRun) -> Result<()> {
-    let mut params: MoveGroupParams = load_params(r.params)?;
+    let mut params: MoveGroupParams = super::planning_params(r.params)?;
     params.planner.timeout_s = r.timeout;
     params.planner.seed = r.seed;
     let robot = robots::load(r.robot)?;

@@ -3,6 +3,24 @@
 mod mbm;
 mod plan;
 
+use tabula_motion::group::MoveGroupParams;
+
+/// Padding of `motion plan` and `motion bench --mbm` without `--params`: 1 mm, with
+/// every edge certified by conservative advancement. MoveIt plans on the exact
+/// geometry, and MotionBenchMaker's grasp goals sit millimetres from the object, where
+/// the tasks' 1 cm would refuse them.
+pub const PLANNING_PADDING: f64 = 0.001;
+
+/// `--params` when given, else the defaults with [`PLANNING_PADDING`].
+fn planning_params(path: Option<&std::path::Path>) -> anyhow::Result<MoveGroupParams> {
+    if path.is_some() {
+        return crate::tasks::load_params(path);
+    }
+    let mut params = MoveGroupParams::default();
+    params.world.padding = PLANNING_PADDING;
+    Ok(params)
+}
+
 use anyhow::{Result, bail};
 use clap::Subcommand;
 use tabula_motion::PlannerParams;
@@ -27,7 +45,8 @@ pub enum MotionCommand {
         /// With --mbm: write every solved path (JSON) for outside checking.
         #[arg(long, requires = "mbm")]
         paths: Option<std::path::PathBuf>,
-        /// With --mbm: motion parameters (TOML, `MoveGroupParams`).
+        /// With --mbm: motion parameters (TOML, `MoveGroupParams`; default: 1 mm padding,
+        /// edges certified by conservative advancement).
         #[arg(long, requires = "mbm")]
         params: Option<std::path::PathBuf>,
         #[arg(long, default_value_t = 200, value_parser = crate::args::count)]

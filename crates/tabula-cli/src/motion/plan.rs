@@ -5,7 +5,7 @@
 //! reason when there is none.
 
 use crate::arm::{NoSolution, named_configuration, planning_scene};
-use crate::tasks::{load_params, load_world, scene_robot_named};
+use crate::tasks::{load_world, scene_robot_named};
 use anyhow::{Context, Result, anyhow, bail};
 use clap::Args;
 use serde::Serialize;
@@ -49,7 +49,8 @@ pub struct PlanArgs {
     /// A MoveIt motion plan request (YAML): its group, start state and goal constraints.
     #[arg(long)]
     request: Option<PathBuf>,
-    /// Motion parameters (TOML, `MoveGroupParams`).
+    /// Motion parameters (TOML, `MoveGroupParams`; default: 1 mm padding, every edge
+    /// certified by conservative advancement).
     #[arg(long)]
     params: Option<PathBuf>,
     /// Planning time limit (s); default: the request's, else the parameters' (1 s).
@@ -94,7 +95,7 @@ struct NoPlanJson<'a> {
 }
 
 pub fn run(a: PlanArgs) -> Result<()> {
-    let mut params: MoveGroupParams = load_params(a.params.as_deref())?;
+    let mut params: MoveGroupParams = super::planning_params(a.params.as_deref())?;
     if let Some(seed) = a.seed {
         params.planner.seed = seed;
     }

@@ -94,7 +94,10 @@ impl MotionRequest {
         let mut notes = ignored.notes("the start state");
         let mut start = world.chain_values();
         if world.bring_within_limits(&mut start) {
-            notes.push("the start state was brought within the joint limits (whole turns, rounding)".into());
+            notes.push(
+                "the start state was brought within the joint limits (whole turns, rounding)"
+                    .into(),
+            );
         }
         let names = world.chain.joint_names.clone();
         let mut joint_goals = Vec::new();
@@ -165,9 +168,9 @@ fn joint_goal(
     for (name, v) in values {
         match names.iter().position(|n| n == name) {
             Some(i) => q[i] = Some(*v),
-            None if world.joint_is_fixed(name) => {
-                notes.push(format!("the goal gives a value for fixed joint `{name}`: ignored"))
-            }
+            None if world.joint_is_fixed(name) => notes.push(format!(
+                "the goal gives a value for fixed joint `{name}`: ignored"
+            )),
             None => {
                 return Err(MoveItError::Request(format!(
                     "goal joint `{name}` is not in the group ({})",

@@ -110,6 +110,12 @@ pub(super) fn within(
     )
 }
 
+/// The distance between two convex shapes at their poses (0 when they touch).
+pub(super) fn distance(p1: &Pose, g1: &dyn SupportMap, p2: &Pose, g2: &dyn SupportMap) -> f64 {
+    let pos12 = p1.inverse() * *p2;
+    tabula_geom::parry::query::details::distance_support_map_support_map(&pos12, g1, g2)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -3,6 +3,7 @@
 //! collision matrix computed the way MoveIt's setup assistant does.
 
 mod allowed;
+mod clearance;
 mod cover;
 mod edit;
 mod gjk;
@@ -1071,101 +1072,6 @@ impl CollisionWorld {
     /// not valid.
     pub fn is_valid(&self, q: &[f64]) -> bool {
         matches!(self.first_collision(q), Ok(None))
-    }
-
-    /// Clearance at `q`, capped at `cap`: the smallest distance between any pair that
-    /// [`Self::first_collision`] would test (moving links and held objects against the
-    /// world and the robot), or a negative number when `q` is out of limits. Pairs whose
-    /// boxes are farther apart than `cap` are skipped, which is what keeps it cheap.
-    pub fn clearance(&self, q: &[f64], cap: f64) -> Result<f64, WorldError> {
-        self.checks.set(self.checks.get() + 1);
-        let poses = self.body_poses(q)?;
-        for (i, v) in q.iter().enumerate() {
-            if *v < self.chain.lower[i] - 1e-9 || *v > self.chain.upper[i] + 1e-9 {
-                return Ok(-1.0);
-            }
-        }
-        let mut best = cap;
-        let mut balls = Vec::new();
-        let placed = self.placed_shapes(&poses, false, &mut balls);
-        let consider = |p1: &Pose,
-                        s1: &SharedShape,
-                        a1: &Aabb,
-                        p2: &Pose,
-                        s2: &SharedShape,
-                        a2: &Aabb,
-                        best: &mut f64| {
-            if !a1.loosened(*best).intersects(a2) {
-                return;
-            }
-            // Nearest of a compound's parts near the shape (an occupancy map).
-            if let Some(c) = s2.as_compound() {
-                let local = a1.loosened(*best).transform_by(&p2.inverse());
-                let parts: Vec<u32> = c.bvh().intersect_aabb(&local).collect();
-                for i in parts {
-                    let (part_pose, part) = &c.shapes()[i as usize];
-                    if let Ok(d) =
-                        query::distance(p1, s1.as_ref(), &(*p2 * *part_pose), part.as_ref())
-                    {
-                        *best = best.min(d.distance);
-                    }
-                }
-                return;
-            }
-            if let Ok(d) = query::distance(p1, s1.as_ref(), p2, s2.as_ref()) {
-                *best = best.min(d.distance);
-            }
-        };
-        for p in &placed {
-            if !self.bodies[p.body].moving {
-                continue;
-            }
-            let reach = p.aabb.loosened(best);
-            for o in self.objects_near(&reach) {
-                consider(
-                    &p.pose,
-                    p.shape,
-                    &p.aabb,
-                    &o.world_from_object,
-                    &o.shape,
-                    &o.aabb,
-                    &mut best,
-                );
-            }
-        }
-        for i in 0..placed.len() {
-            for k in i + 1..placed.len() {
-                let (pi, pk) = (&placed[i], &placed[k]);
-                if !self.self_pair_checked(pi.body, pk.body) {
-                    continue;
-                }
-                consider(
-                    &pi.pose, pi.shape, &pi.aabb, &pk.pose, pk.shape, &pk.aabb, &mut best,
-                );
-            }
-        }
-        for att in &self.attached {
-            let w = poses[att.body] * att.link_from_object;
-            let aabb = att.shape.compute_aabb(&w);
-            let reach = aabb.loosened(best);
-            for o in self.objects_near(&reach) {
-                consider(
-                    &w,
-                    &att.shape,
-                    &aabb,
-                    &o.world_from_object,
-                    &o.shape,
-                    &o.aabb,
-                    &mut best,
-                );
-            }
-            for p in &placed {
-                if !att.touch.contains(&p.body) {
-                    consider(&w, &att.shape, &aabb, &p.pose, p.shape, &p.aabb, &mut best);
-                }
-            }
-        }
-        Ok(best)
     }
 
     /// The smallest distance between the moving robot (and attached objects) and the
