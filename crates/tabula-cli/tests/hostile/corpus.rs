@@ -1,6 +1,8 @@
 //! The hostile cases, by format. Each case names the class of failure it guards
 //! against (the classes of issue 12), the command, and the answer that is right.
 
+mod moveit;
+
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::path::Path;
@@ -104,6 +106,7 @@ pub fn all(root: &Path) -> Vec<Case> {
     meshes(&mut c);
     urdf(&mut c);
     robot_packages(&mut c);
+    moveit::moveit(&mut c);
     scenes(&mut c);
     params(&mut c);
     pddl(&mut c);

@@ -68,7 +68,42 @@ fn parse_yaml(text: &str, limits: &Limits) -> Result<serde_yaml::Value, MoveItEr
             limits.bytes
         )));
     }
+    check_flow_depth(text)?;
     serde_yaml::from_str(text).map_err(|e| MoveItError::Yaml(e.to_string()))
+}
+
+/// Deepest nesting of `[` and `{` accepted. serde_yaml stops at 128 levels, but its
+/// scanner first spends time quadratic in the depth (100,000 `[` took 19 s).
+const MAX_FLOW_DEPTH: usize = 100;
+
+/// Refuses flow collections nested deeper than [`MAX_FLOW_DEPTH`], in one pass before
+/// parsing. Brackets inside quotes and comments do not count; a quote is taken to end
+/// with its line (an apostrophe in plain text must not hide the rest of the file).
+fn check_flow_depth(text: &str) -> Result<(), MoveItError> {
+    let mut depth = 0usize;
+    for (line, l) in text.lines().enumerate() {
+        let mut quote = None;
+        for ch in l.chars() {
+            match (quote, ch) {
+                (Some(q), c) if c == q => quote = None,
+                (Some(_), _) => {}
+                (None, '#') => break,
+                (None, '\'' | '"') => quote = Some(ch),
+                (None, '[' | '{') => {
+                    depth += 1;
+                    if depth > MAX_FLOW_DEPTH {
+                        return Err(MoveItError::Yaml(format!(
+                            "line {}: brackets nested deeper than {MAX_FLOW_DEPTH}",
+                            line + 1
+                        )));
+                    }
+                }
+                (None, ']' | '}') => depth = depth.saturating_sub(1),
+                _ => {}
+            }
+        }
+    }
+    Ok(())
 }
 
 /// A request made concrete for a world whose chain is the request's group: the start
