@@ -378,7 +378,7 @@ fn primitive(node: &Node, limits: &Limits) -> Result<(SharedShape, Pose), MoveIt
         if d.len() != n {
             return Err(dims.error(format!("a {kind} has {n} dimensions, got {}", d.len())));
         }
-        if d.iter().any(|&v| !(v > 0.0) || v > limits.max_size) {
+        if d.iter().any(|&v| v <= 0.0 || v > limits.max_size) {
             return Err(dims.error(format!(
                 "dimensions must be positive and at most {} m",
                 limits.max_size

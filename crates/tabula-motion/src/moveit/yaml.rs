@@ -150,7 +150,7 @@ impl<'a> Node<'a> {
         let [x, y, z, w] = self.fixed(["x", "y", "z", "w"])?;
         let q = Quat::from_xyzw(x, y, z, w);
         let n = q.length();
-        if !(n > 1e-6) {
+        if n <= 1e-6 {
             return Err(self.error("the quaternion has zero length"));
         }
         if (n - 1.0).abs() > 1e-3 {

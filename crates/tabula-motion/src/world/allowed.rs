@@ -179,10 +179,10 @@ impl CollisionWorld {
                 continue;
             };
             for (k, other) in acm.names.iter().enumerate() {
-                if acm.allowed[i][k] || acm.allowed[k][i] {
-                    if let Some(b) = body(self, other) {
-                        self.objects[o].allowed_bodies.push(b);
-                    }
+                if (acm.allowed[i][k] || acm.allowed[k][i])
+                    && let Some(b) = body(self, other)
+                {
+                    self.objects[o].allowed_bodies.push(b);
                 }
             }
         }

@@ -26,12 +26,13 @@ impl<'a> Solid<'a> {
         }
     }
 
-    fn distance(&self, other: &Solid) -> f64 {
+    /// The distance to `other`, or `limit` when it is at least that.
+    fn distance(&self, other: &Solid, limit: f64) -> f64 {
         match (
             gjk::support(self.shape, self.hull),
             gjk::support(other.shape, other.hull),
         ) {
-            (Some(a), Some(b)) => gjk::distance(&self.pose, a, &other.pose, b),
+            (Some(a), Some(b)) => gjk::distance_below(&self.pose, a, &other.pose, b, limit),
             _ => query::distance(
                 &self.pose,
                 self.shape.as_ref(),
@@ -83,28 +84,53 @@ impl CollisionWorld {
         let mut best = cap;
         let mut balls = Vec::new();
         let placed = self.placed_shapes(&poses, false, &mut balls);
+        // A decomposed link's pieces only where its outer hull comes closer than the
+        // best so far (the hull contains them: its distance bounds theirs from below).
+        let mut far: (usize, Vec<usize>) = (usize::MAX, Vec::new());
         for p in placed.iter().filter(|p| self.bodies[p.body].moving) {
             let reach = p.aabb.loosened(best);
-            for o in self.objects_near(&reach) {
+            let near: Vec<usize> = if far.0 == p.body {
+                far.1.clone()
+            } else {
+                self.objects_bvh
+                    .intersect_aabb(&reach)
+                    .map(|i| i as usize)
+                    .collect()
+            };
+            let mut closer = Vec::new();
+            for i in near {
+                let o = &self.objects[i];
                 if o.allowed_bodies.contains(&p.body)
+                    || !reach.intersects(&o.aabb)
                     || balls_to_object(&balls[p.balls.clone()], o, best) >= best
                 {
                     continue;
                 }
-                best = best.min(self.object_distance(&Solid::of(p), &p.aabb.loosened(best), o));
+                let d = self.object_distance(&Solid::of(p), &p.aabb.loosened(best), o, best);
+                if p.outer {
+                    if d < best {
+                        closer.push(i);
+                    }
+                } else {
+                    best = best.min(d);
+                }
+            }
+            if p.outer {
+                far = (p.body, closer);
             }
         }
-        for i in 0..placed.len() {
-            for k in i + 1..placed.len() {
-                let (pi, pk) = (&placed[i], &placed[k]);
-                if !self.self_pair_checked(pi.body, pk.body)
-                    || !pi.aabb.loosened(best).intersects(&pk.aabb)
-                    || balls_to_balls(&balls[pi.balls.clone()], &balls[pk.balls.clone()]) >= best
-                {
-                    continue;
-                }
-                best = best.min(Solid::of(pi).distance(&Solid::of(pk)));
+        let pairs = self.self_piece_pairs(&placed, best, |pi, pk| {
+            balls_to_balls(&balls[pi.balls.clone()], &balls[pk.balls.clone()]) < best
+                && Solid::of(pi).distance(&Solid::of(pk), best) < best
+        });
+        for (i, k) in pairs {
+            let (pi, pk) = (&placed[i], &placed[k]);
+            if !pi.aabb.loosened(best).intersects(&pk.aabb)
+                || balls_to_balls(&balls[pi.balls.clone()], &balls[pk.balls.clone()]) >= best
+            {
+                continue;
             }
+            best = best.min(Solid::of(pi).distance(&Solid::of(pk), best));
         }
         for att in &self.attached {
             let held = Solid {
@@ -114,37 +140,43 @@ impl CollisionWorld {
             };
             let aabb = att.shape.compute_aabb(&held.pose);
             for o in self.objects_near(&aabb.loosened(best)) {
-                best = best.min(self.object_distance(&held, &aabb.loosened(best), o));
+                best = best.min(self.object_distance(&held, &aabb.loosened(best), o, best));
             }
-            for p in &placed {
+            for p in placed.iter().filter(|p| !p.outer) {
                 if !att.touch.contains(&p.body) && aabb.loosened(best).intersects(&p.aabb) {
-                    best = best.min(held.distance(&Solid::of(p)));
+                    best = best.min(held.distance(&Solid::of(p), best));
                 }
             }
         }
         Ok(best)
     }
 
-    /// Distance from a solid to an object; of a compound (an occupancy map) only the
-    /// parts within `near` count.
-    fn object_distance(&self, s: &Solid, near: &Aabb, o: &WorldObject) -> f64 {
+    /// Distance from a solid to an object (or `limit` when at least that); of a
+    /// compound (an occupancy map) only the parts within `near` count.
+    fn object_distance(&self, s: &Solid, near: &Aabb, o: &WorldObject, limit: f64) -> f64 {
         let Some(c) = o.shape.as_compound() else {
-            return s.distance(&Solid {
-                pose: o.world_from_object,
-                shape: &o.shape,
-                hull: None,
-            });
+            return s.distance(
+                &Solid {
+                    pose: o.world_from_object,
+                    shape: &o.shape,
+                    hull: None,
+                },
+                limit,
+            );
         };
         let local = near.transform_by(&o.world_from_object.inverse());
         c.bvh()
             .intersect_aabb(&local)
             .map(|i| {
                 let (part_pose, part) = &c.shapes()[i as usize];
-                s.distance(&Solid {
-                    pose: o.world_from_object * *part_pose,
-                    shape: part,
-                    hull: None,
-                })
+                s.distance(
+                    &Solid {
+                        pose: o.world_from_object * *part_pose,
+                        shape: part,
+                        hull: None,
+                    },
+                    limit,
+                )
             })
             .fold(f64::INFINITY, f64::min)
     }

@@ -110,10 +110,29 @@ pub(super) fn within(
     )
 }
 
-/// The distance between two convex shapes at their poses (0 when they touch).
-pub(super) fn distance(p1: &Pose, g1: &dyn SupportMap, p2: &Pose, g2: &dyn SupportMap) -> f64 {
+/// The distance between two convex shapes at their poses (0 when they touch), or
+/// `limit` when it is at least that — GJK stops as soon as a direction proves it.
+pub(super) fn distance_below(
+    p1: &Pose,
+    g1: &dyn SupportMap,
+    p2: &Pose,
+    g2: &dyn SupportMap,
+    limit: f64,
+) -> f64 {
     let pos12 = p1.inverse() * *p2;
-    tabula_geom::parry::query::details::distance_support_map_support_map(&pos12, g1, g2)
+    let dir = -pos12.translation;
+    let dir = if dir.length_squared() > 1e-20 {
+        dir.normalize()
+    } else {
+        Vec3::X
+    };
+    let mut simplex = VoronoiSimplex::new();
+    simplex.reset(CsoPoint::from_shapes(&pos12, g1, g2, dir));
+    match gjk::closest_points(&pos12, g1, g2, limit, true, &mut simplex) {
+        GJKResult::ClosestPoints(a, b, _) => (a - b).length().min(limit),
+        GJKResult::NoIntersection(_) => limit,
+        GJKResult::Intersection | GJKResult::Proximity(_) => 0.0,
+    }
 }
 
 #[cfg(test)]

@@ -96,6 +96,9 @@ struct LinkBody {
     covers: Vec<Cover>,
     /// Each shape's climbing hull, when it is a mesh hull.
     hulls: Vec<Option<Hull>>,
+    /// For a link of several pieces (a convex decomposition): the hull of them all,
+    /// queried first — when it is clear, every piece is.
+    outer: Option<Outer>,
     /// Moves with the planning joints.
     moving: bool,
 }
@@ -161,9 +164,117 @@ struct Anchor {
     offset: Pose,
 }
 
+impl CollisionWorld {
+    /// Index pairs of placed pieces of two bodies that may collide (checked pair, not
+    /// allowed) and whose boxes, grown by `margin`, meet; bodies are paired first, and
+    /// where either is decomposed, `outers_meet` on the two outer shapes (a piece is its
+    /// body's own outer shape) decides whether their pieces are paired at all.
+    fn self_piece_pairs(
+        &self,
+        placed: &[Placed<'_>],
+        margin: f64,
+        outers_meet: impl Fn(&Placed<'_>, &Placed<'_>) -> bool,
+    ) -> Vec<(usize, usize)> {
+        // Per body: its outer entry (or its only piece), its pieces, its box.
+        let mut groups: Vec<(usize, usize, std::ops::Range<usize>, Aabb, bool)> = Vec::new();
+        for (i, p) in placed.iter().enumerate() {
+            match groups.last_mut() {
+                Some((b, _, range, aabb, _)) if *b == p.body => {
+                    if range.start == range.end {
+                        *range = i..i + 1;
+                    } else {
+                        range.end = i + 1;
+                    }
+                    *aabb = aabb.merged(&p.aabb);
+                }
+                _ if p.outer => groups.push((p.body, i, i + 1..i + 1, p.aabb, true)),
+                _ => groups.push((p.body, i, i..i + 1, p.aabb, false)),
+            }
+        }
+        let mut pairs = Vec::new();
+        for (g, (a, rep_a, ra, box_a, outer_a)) in groups.iter().enumerate() {
+            let grown = box_a.loosened(margin);
+            for (b, rep_b, rb, box_b, outer_b) in &groups[g + 1..] {
+                if !self.self_pair_checked(*a, *b) || !grown.intersects(box_b) {
+                    continue;
+                }
+                if (*outer_a || *outer_b) && !outers_meet(&placed[*rep_a], &placed[*rep_b]) {
+                    continue;
+                }
+                for i in ra.clone() {
+                    let piece = placed[i].aabb.loosened(margin);
+                    for k in rb.clone() {
+                        if piece.intersects(&placed[k].aabb) {
+                            pairs.push((i, k));
+                        }
+                    }
+                }
+            }
+        }
+        pairs
+    }
+}
+
+/// The convex hull of a link's pieces, in the link frame.
+#[derive(Clone)]
+struct Outer {
+    shape: SharedShape,
+    cover: Cover,
+    hull: Option<Hull>,
+}
+
+impl Outer {
+    /// `None` for a link of one piece (its piece is its own outer shape).
+    fn of(shapes: &[(SharedShape, Pose)]) -> Option<Self> {
+        if shapes.len() < 2 {
+            return None;
+        }
+        let mut points = Vec::new();
+        for (s, p) in shapes {
+            let local: Vec<Vec3> = match (s.as_convex_polyhedron(), s.as_cuboid()) {
+                (Some(c), _) => c.points().to_vec(),
+                (None, Some(b)) => {
+                    let h = b.half_extents;
+                    (0..8)
+                        .map(|i| {
+                            Vec3::new(
+                                if i & 1 == 0 { -h.x } else { h.x },
+                                if i & 2 == 0 { -h.y } else { h.y },
+                                if i & 4 == 0 { -h.z } else { h.z },
+                            )
+                        })
+                        .collect()
+                }
+                // Other primitives: their box's corners (a hull that contains them).
+                _ => {
+                    let bb = s.compute_local_aabb();
+                    (0..8)
+                        .map(|i| {
+                            Vec3::new(
+                                if i & 1 == 0 { bb.mins.x } else { bb.maxs.x },
+                                if i & 2 == 0 { bb.mins.y } else { bb.maxs.y },
+                                if i & 4 == 0 { bb.mins.z } else { bb.maxs.z },
+                            )
+                        })
+                        .collect()
+                }
+            };
+            points.extend(local.into_iter().map(|v| *p * v));
+        }
+        let shape = SharedShape::convex_hull(&points)?;
+        Some(Self {
+            cover: Cover::of(&shape),
+            hull: shape.as_convex_polyhedron().and_then(Hull::of),
+            shape,
+        })
+    }
+}
+
 /// A body shape placed for one query.
 struct Placed<'a> {
     body: usize,
+    /// The hull of a decomposed body's pieces (placed just before them), not a piece.
+    outer: bool,
     pose: Pose,
     shape: &'a SharedShape,
     hull: Option<&'a Hull>,
@@ -276,6 +387,7 @@ impl CollisionWorld {
             }
             if !shapes.is_empty() {
                 bodies.push(LinkBody {
+                    outer: Outer::of(&shapes),
                     covers: shapes.iter().map(|(s, p)| Cover::of(s).placed(p)).collect(),
                     hulls: shapes
                         .iter()
@@ -786,6 +898,7 @@ impl CollisionWorld {
                     shapes: Vec::new(),
                     covers: Vec::new(),
                     hulls: Vec::new(),
+                    outer: None,
                     moving: true,
                 });
                 let root_poses = self.model.forward_kinematics(&self.values)?;
@@ -971,24 +1084,52 @@ impl CollisionWorld {
             None => hits_hull(p1, s1, h1, &o.world_from_object, &o.shape, None, pad),
         };
         // Robot against the world (only what moves can newly collide): the exact query
-        // only where the shape's cover is within the padding of the object.
+        // only where the shape's cover is within the padding of the object; a
+        // decomposed link's pieces only against what its outer hull touches.
+        let mut suspects: (usize, Vec<usize>) = (usize::MAX, Vec::new());
         for p in &placed {
             let (b, pad) = (p.body, self.bodies[p.body].padding);
             if !self.bodies[b].moving {
                 continue;
             }
-            for o in self.objects_near(&p.aabb) {
-                if !o.allowed_bodies.contains(&b)
+            let touches = |o: &WorldObject| {
+                !o.allowed_bodies.contains(&b)
+                    && o.aabb.intersects(&p.aabb)
                     && !balls_clear_of(&balls[p.balls.clone()], o, pad)
                     && hits_object(&p.pose, p.shape, p.hull, &p.aabb, o, pad)
-                {
-                    return Ok(Some((self.bodies[b].name.clone(), o.name.clone())));
-                }
+            };
+            if p.outer {
+                let near = self.objects_bvh.intersect_aabb(&p.aabb).map(|i| i as usize);
+                suspects = (b, near.filter(|&i| touches(&self.objects[i])).collect());
+                continue;
+            }
+            let hit = if suspects.0 == b {
+                suspects
+                    .1
+                    .iter()
+                    .map(|&i| &self.objects[i])
+                    .find(|o| touches(o))
+            } else {
+                self.objects_near(&p.aabb).find(|o| touches(o))
+            };
+            if let Some(o) = hit {
+                return Ok(Some((self.bodies[b].name.clone(), o.name.clone())));
             }
         }
-        // Robot against itself.
-        for i in 0..placed.len() {
-            for k in i + 1..placed.len() {
+        // Robot against itself: body pairs first (a decomposed link has dozens of
+        // pieces), then the pieces of the pairs whose boxes meet.
+        let outer_touches = |pi: &Placed, pk: &Placed| {
+            let pad = self.bodies[pi.body]
+                .padding
+                .max(self.bodies[pk.body].padding);
+            pi.aabb.intersects(&pk.aabb)
+                && !balls_apart(&balls[pi.balls.clone()], &balls[pk.balls.clone()], pad)
+                && hits_hull(
+                    &pi.pose, pi.shape, pi.hull, &pk.pose, pk.shape, pk.hull, pad,
+                )
+        };
+        for (i, k) in self.self_piece_pairs(&placed, 0.0, outer_touches) {
+            {
                 let (pi, pk) = (&placed[i], &placed[k]);
                 let (a, b) = (pi.body, pk.body);
                 if !self.self_pair_checked(a, b) {
@@ -1017,7 +1158,7 @@ impl CollisionWorld {
                 }
             }
             for p in &placed {
-                if a.touch.contains(&p.body) || p.body >= n {
+                if p.outer || a.touch.contains(&p.body) || p.body >= n {
                     continue;
                 }
                 if aabb.intersects(&p.aabb) && hits(w, &a.shape, &p.pose, p.shape, pad) {
@@ -1038,6 +1179,24 @@ impl CollisionWorld {
     ) -> Vec<Placed<'a>> {
         let mut placed = Vec::new();
         for (b, lb) in self.bodies.iter().enumerate() {
+            if let Some(o) = &lb.outer {
+                let first = balls.len();
+                balls.extend(o.cover.spheres.iter().map(|(c, r)| (poses[b] * *c, *r)));
+                let aabb = o.cover.aabb_at(&poses[b]);
+                placed.push(Placed {
+                    body: b,
+                    outer: true,
+                    pose: poses[b],
+                    shape: &o.shape,
+                    hull: o.hull.as_ref(),
+                    aabb: if padded {
+                        aabb.loosened(lb.padding)
+                    } else {
+                        aabb
+                    },
+                    balls: first..balls.len(),
+                });
+            }
             for (((s, p), cover), hull) in lb.shapes.iter().zip(&lb.covers).zip(&lb.hulls) {
                 let w = poses[b] * *p;
                 let aabb = cover.aabb_at(&poses[b]);
@@ -1045,6 +1204,7 @@ impl CollisionWorld {
                 balls.extend(cover.spheres.iter().map(|(c, r)| (poses[b] * *c, *r)));
                 placed.push(Placed {
                     body: b,
+                    outer: false,
                     pose: w,
                     shape: s,
                     hull: hull.as_ref(),
