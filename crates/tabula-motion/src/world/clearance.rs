@@ -32,7 +32,9 @@ impl<'a> Solid<'a> {
             gjk::support(self.shape, self.hull),
             gjk::support(other.shape, other.hull),
         ) {
-            (Some(a), Some(b)) => gjk::distance_below(&self.pose, a, &other.pose, b, limit),
+            (Some(a), Some(b)) => {
+                gjk::distance_within(&self.pose, a, &other.pose, b, limit).unwrap_or(limit)
+            }
             _ => query::distance(
                 &self.pose,
                 self.shape.as_ref(),

@@ -95,30 +95,20 @@ pub(super) fn within(
     g2: &dyn SupportMap,
     pad: f64,
 ) -> bool {
-    let pos12 = p1.inverse() * *p2;
-    let dir = -pos12.translation;
-    let dir = if dir.length_squared() > 1e-20 {
-        dir.normalize()
-    } else {
-        Vec3::X
-    };
-    let mut simplex = VoronoiSimplex::new();
-    simplex.reset(CsoPoint::from_shapes(&pos12, g1, g2, dir));
-    !matches!(
-        gjk::closest_points(&pos12, g1, g2, pad, false, &mut simplex),
-        GJKResult::NoIntersection(_)
-    )
+    distance_within(p1, g1, p2, g2, pad).is_some()
 }
 
-/// The distance between two convex shapes at their poses (0 when they touch), or
-/// `limit` when it is at least that — GJK stops as soon as a direction proves it.
-pub(super) fn distance_below(
+/// The distance between two convex shapes at their poses (0 when they touch) when it
+/// is at most `limit`, else `None` — GJK stops as soon as a direction proves the gap
+/// wider. A converged search is judged by the distance it found, never by GJK's early
+/// "proximity" answer, which a stalled search can give for a wider gap.
+pub(super) fn distance_within(
     p1: &Pose,
     g1: &dyn SupportMap,
     p2: &Pose,
     g2: &dyn SupportMap,
     limit: f64,
-) -> f64 {
+) -> Option<f64> {
     let pos12 = p1.inverse() * *p2;
     let dir = -pos12.translation;
     let dir = if dir.length_squared() > 1e-20 {
@@ -129,9 +119,9 @@ pub(super) fn distance_below(
     let mut simplex = VoronoiSimplex::new();
     simplex.reset(CsoPoint::from_shapes(&pos12, g1, g2, dir));
     match gjk::closest_points(&pos12, g1, g2, limit, true, &mut simplex) {
-        GJKResult::ClosestPoints(a, b, _) => (a - b).length().min(limit),
-        GJKResult::NoIntersection(_) => limit,
-        GJKResult::Intersection | GJKResult::Proximity(_) => 0.0,
+        GJKResult::ClosestPoints(a, b, _) => Some((a - b).length()).filter(|d| *d <= limit),
+        GJKResult::NoIntersection(_) => None,
+        GJKResult::Intersection | GJKResult::Proximity(_) => Some(0.0),
     }
 }
 
