@@ -104,6 +104,12 @@ def vec(v, keys):
 def scene_objects(scene):
     out = []
     for o in (scene.get('world') or {}).get('collision_objects') or []:
+        # MoveIt (and VAMP's loader): primitive poses are relative to the object's pose.
+        base = np.eye(4)
+        if o.get('pose'):
+            bp = o['pose']
+            base = transform(vec(bp.get('position', [0, 0, 0]), 'xyz'),
+                             quat_matrix(vec(bp.get('orientation', [0, 0, 0, 1]), 'xyzw')))
         for prim, p in zip(o.get('primitives') or [], o.get('primitive_poses') or []):
             kind = prim['type']; d = prim['dimensions']
             kind = {1: 'box', 2: 'sphere', 3: 'cylinder'}.get(kind, kind)
@@ -111,7 +117,7 @@ def scene_objects(scene):
                     'cylinder': lambda: fcl.Cylinder(d[1], d[0])}[kind]()
             T = transform(vec(p.get('position', [0, 0, 0]), 'xyz'),
                           quat_matrix(vec(p.get('orientation', [0, 0, 0, 1]), 'xyzw')))
-            out.append((o['id'], fcl_object(geom, T)))
+            out.append((o['id'], fcl_object(geom, base @ T)))
     return out
 
 
