@@ -5,13 +5,12 @@
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
-use std::sync::OnceLock;
 use tabula_motion::moveit::{Limits, MotionRequest, PlanningScene};
 use tabula_motion::{CollisionWorld, WorldParams};
 
-fn world() -> &'static CollisionWorld {
-    static WORLD: OnceLock<CollisionWorld> = OnceLock::new();
-    WORLD.get_or_init(|| {
+thread_local! {
+    /// The WAM's world, built once (a collision world is not shared between threads).
+    static WORLD: CollisionWorld = {
         let r = tabula_robot::robots::load("wam").expect("wam");
         let chain = tabula_robot::Chain::new(&r.model, &r.default_base, &r.default_tip).expect("chain");
         let params = WorldParams {
@@ -19,7 +18,11 @@ fn world() -> &'static CollisionWorld {
             ..WorldParams::default()
         };
         CollisionWorld::new(r.model.clone(), chain, tabula_geom::Pose::IDENTITY, None, params).expect("world")
-    })
+    };
+}
+
+fn world() -> CollisionWorld {
+    WORLD.with(CollisionWorld::clone)
 }
 
 fuzz_target!(|data: &[u8]| {
@@ -31,13 +34,13 @@ fuzz_target!(|data: &[u8]| {
         ..Limits::default()
     };
     if let Ok(scene) = PlanningScene::from_yaml(&text, &limits) {
-        let mut w = world().clone();
+        let mut w = world();
         let _ = scene.apply(&mut w);
         let q = w.chain_values();
         let _ = w.first_collision(&q);
     }
     if let Ok(request) = MotionRequest::from_yaml(&text, &limits) {
-        let mut w = world().clone();
+        let mut w = world();
         let _ = request.problem(&mut w);
     }
 });
