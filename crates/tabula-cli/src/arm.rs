@@ -123,13 +123,7 @@ pub fn run(a: ArmArgs) -> Result<()> {
     let obstacles = planning_scene(&world, &robot_name);
     let out = if a.dry_run {
         let state = world.robot(&robot_name)?;
-        let mut js = tabula_robot::driver::JointState::default();
-        for (j, joint) in state.model.joints.iter().enumerate() {
-            if joint.kind.is_single_axis() {
-                js.names.push(joint.name.clone());
-                js.positions.push(state.model.joint_value(&state.values, j));
-            }
-        }
+        let js = joint_state_of(&state.model, &state.values);
         let mut fake = FakeDriver::new(robot.clone(), js, state.world_from_root);
         act(&mut fake, &robot, &obstacles, &a.action, &params, "fake")?
     } else {
@@ -393,6 +387,22 @@ pub fn named_configuration(
         .zip(current)
         .map(|(n, s)| named.get(n).copied().unwrap_or(*s))
         .collect())
+}
+
+/// Every single-axis joint of a model at `values` (mimic joints as their masters move
+/// them), as a driver reports its state.
+pub fn joint_state_of(
+    model: &tabula_robot::RobotModel,
+    values: &[f64],
+) -> tabula_robot::driver::JointState {
+    let mut js = tabula_robot::driver::JointState::default();
+    for (j, joint) in model.joints.iter().enumerate() {
+        if joint.kind.is_single_axis() {
+            js.names.push(joint.name.clone());
+            js.positions.push(model.joint_value(values, j));
+        }
+    }
+    js
 }
 
 /// No plan for the command: exit status 2, like every "no solution".

@@ -4,7 +4,7 @@
 //! or a MoveIt motion plan request (YAML). Prints the timed trajectory; exit 2 with the
 //! reason when there is none.
 
-use crate::arm::{NoSolution, named_configuration, planning_scene};
+use crate::arm::{NoSolution, joint_state_of, named_configuration, planning_scene};
 use crate::tasks::{load_world, scene_robot_named};
 use anyhow::{Context, Result, anyhow, bail};
 use clap::Args;
@@ -235,17 +235,6 @@ fn arm_name(robot: &NamedRobot, group: Option<&str>) -> Result<String> {
                 anyhow!("the robot has no planning group (give an SRDF with a chain group)")
             }),
     }
-}
-
-fn joint_state_of(model: &tabula_robot::RobotModel, values: &[f64]) -> JointState {
-    let mut js = JointState::default();
-    for (j, joint) in model.joints.iter().enumerate() {
-        if joint.kind.is_single_axis() {
-            js.names.push(joint.name.clone());
-            js.positions.push(model.joint_value(values, j));
-        }
-    }
-    js
 }
 
 enum Goals {

@@ -37,39 +37,10 @@ impl Cover {
         } else if let Some(p) = shape.as_convex_polyhedron() {
             let edges: Vec<[u32; 2]> = p.edges().iter().map(|e| e.vertices).collect();
             slab_spheres(p.points(), &edges, &local_aabb)
-        } else if let Some(c) = shape.as_cuboid() {
-            let h = c.half_extents;
-            let corners: Vec<Vec3> = (0..8)
-                .map(|i| {
-                    Vec3::new(
-                        if i & 1 == 0 { -h.x } else { h.x },
-                        if i & 2 == 0 { -h.y } else { h.y },
-                        if i & 4 == 0 { -h.z } else { h.z },
-                    )
-                })
-                .collect();
-            let edges: Vec<[u32; 2]> = (0..8u32)
-                .flat_map(|a| [1u32, 2, 4].into_iter().map(move |bit| [a, a | bit]))
-                .filter(|[a, b]| a != b)
-                .collect();
-            slab_spheres(&corners, &edges, &local_aabb)
         } else {
-            // Cylinders, capsules, cones, anything else: slabs of its box (a box contains it).
-            let (lo, hi) = (local_aabb.mins, local_aabb.maxs);
-            let corners: Vec<Vec3> = (0..8)
-                .map(|i| {
-                    Vec3::new(
-                        if i & 1 == 0 { lo.x } else { hi.x },
-                        if i & 2 == 0 { lo.y } else { hi.y },
-                        if i & 4 == 0 { lo.z } else { hi.z },
-                    )
-                })
-                .collect();
-            let edges: Vec<[u32; 2]> = (0..8u32)
-                .flat_map(|a| [1u32, 2, 4].into_iter().map(move |bit| [a, a | bit]))
-                .filter(|[a, b]| a != b)
-                .collect();
-            slab_spheres(&corners, &edges, &local_aabb)
+            // Boxes exactly, and cylinders, capsules, cones, anything else through their
+            // box (which contains them).
+            slab_spheres(&box_corners(&local_aabb), &BOX_EDGES, &local_aabb)
         };
         Self {
             local_aabb,
@@ -95,6 +66,34 @@ impl Cover {
         self.local_aabb.transform_by(pose)
     }
 }
+
+/// The corners of a box, corner `i` taking the upper bound on axis `k` where bit `k` of
+/// `i` is set.
+pub(super) fn box_corners(b: &Aabb) -> [Vec3; 8] {
+    std::array::from_fn(|i| {
+        Vec3::new(
+            if i & 1 == 0 { b.mins.x } else { b.maxs.x },
+            if i & 2 == 0 { b.mins.y } else { b.maxs.y },
+            if i & 4 == 0 { b.mins.z } else { b.maxs.z },
+        )
+    })
+}
+
+/// The twelve edges of [`box_corners`]: corners one bit apart.
+const BOX_EDGES: [[u32; 2]; 12] = [
+    [0, 1],
+    [2, 3],
+    [4, 5],
+    [6, 7],
+    [0, 2],
+    [1, 3],
+    [4, 6],
+    [5, 7],
+    [0, 4],
+    [1, 5],
+    [2, 6],
+    [3, 7],
+];
 
 /// The convex hull of `points` (with its `edges`) cut into slabs across its longest
 /// side; each slab's piece is the hull of the points inside it and the edges' crossings

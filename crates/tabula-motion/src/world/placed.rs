@@ -2,7 +2,7 @@
 //! balls, the hull of a decomposed link's pieces in front of them, and the cheap tests
 //! on balls that spare the exact ones.
 
-use super::cover::Cover;
+use super::cover::{Cover, box_corners};
 use super::gjk::Hull;
 use super::{CollisionWorld, WorldObject};
 use tabula_geom::parry::bounding_volume::{Aabb, BoundingVolume};
@@ -127,33 +127,10 @@ impl Outer {
         }
         let mut points = Vec::new();
         for (s, p) in shapes {
-            let local: Vec<Vec3> = match (s.as_convex_polyhedron(), s.as_cuboid()) {
-                (Some(c), _) => c.points().to_vec(),
-                (None, Some(b)) => {
-                    let h = b.half_extents;
-                    (0..8)
-                        .map(|i| {
-                            Vec3::new(
-                                if i & 1 == 0 { -h.x } else { h.x },
-                                if i & 2 == 0 { -h.y } else { h.y },
-                                if i & 4 == 0 { -h.z } else { h.z },
-                            )
-                        })
-                        .collect()
-                }
-                // Other primitives: their box's corners (a hull that contains them).
-                _ => {
-                    let bb = s.compute_local_aabb();
-                    (0..8)
-                        .map(|i| {
-                            Vec3::new(
-                                if i & 1 == 0 { bb.mins.x } else { bb.maxs.x },
-                                if i & 2 == 0 { bb.mins.y } else { bb.maxs.y },
-                                if i & 4 == 0 { bb.mins.z } else { bb.maxs.z },
-                            )
-                        })
-                        .collect()
-                }
+            // A mesh hull's vertices; any other shape through its box's corners.
+            let local: Vec<Vec3> = match s.as_convex_polyhedron() {
+                Some(c) => c.points().to_vec(),
+                None => box_corners(&s.compute_local_aabb()).to_vec(),
             };
             points.extend(local.into_iter().map(|v| *p * v));
         }
