@@ -20,6 +20,9 @@ pub(super) struct Hull {
     neighbours: Vec<u32>,
     /// Where the last climb ended: GJK asks in slowly turning directions.
     last: Cell<u32>,
+    /// The extreme vertex along −x, +x, −y, +y, −z, +z: a start near any direction's
+    /// answer when the last one is far from it.
+    extremes: [u32; 6],
 }
 
 impl Hull {
@@ -41,19 +44,48 @@ impl Hull {
             neighbours.extend(l);
             offsets.push(neighbours.len() as u32);
         }
+        let extreme = |axis: usize, sign: f64| {
+            (0..points.len())
+                .max_by(|&a, &b| (sign * points[a][axis]).total_cmp(&(sign * points[b][axis])))
+                .unwrap_or(0) as u32
+        };
+        let extremes = [
+            extreme(0, -1.0),
+            extreme(0, 1.0),
+            extreme(1, -1.0),
+            extreme(1, 1.0),
+            extreme(2, -1.0),
+            extreme(2, 1.0),
+        ];
         Some(Self {
             points,
             offsets,
             neighbours,
             last: Cell::new(0),
+            extremes,
         })
     }
 }
 
 impl SupportMap for Hull {
     fn local_support_point(&self, dir: Vec3) -> Vec3 {
+        // Start from the better of the last answer and the extreme vertex along the
+        // direction's largest component; the climb reaches the maximum from anywhere.
+        let abs = dir.abs();
+        let axis = if abs.x >= abs.y && abs.x >= abs.z {
+            0
+        } else if abs.y >= abs.z {
+            1
+        } else {
+            2
+        };
+        let guess = self.extremes[2 * axis + usize::from(dir[axis] > 0.0)] as usize;
         let mut at = self.last.get() as usize;
         let mut best = self.points[at].dot(dir);
+        let guessed = self.points[guess].dot(dir);
+        if guessed > best {
+            (at, best) = (guess, guessed);
+        }
         // Bounded: each step strictly increases the dot product, so no vertex repeats.
         for _ in 0..self.points.len() {
             let (from, to) = (self.offsets[at] as usize, self.offsets[at + 1] as usize);
