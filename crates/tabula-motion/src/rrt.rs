@@ -419,29 +419,31 @@ fn grow(
 /// straight segment whenever that segment is valid.
 /// Random shortcutting of a certified path: every shortcut taken is certified too.
 pub fn shortcut(world: &CollisionWorld, path: &mut Path, p: &PlannerParams, rng: &mut ChaCha8Rng) {
-    if spacing_certifies(world) {
-        shortcut_spaced(world, path, p, rng, world.params.max_step_displacement);
-        return;
-    }
-    for _ in 0..p.shortcut_attempts {
-        let n = path.waypoints.len();
-        if n < 3 {
-            return;
-        }
-        let i = rng.random_range(0..n - 2);
-        let j = rng.random_range(i + 2..n);
-        if segment_certified(world, &path.waypoints[i], &path.waypoints[j], p.resolution) {
-            path.waypoints.drain(i + 1..j);
-        }
-    }
+    shortcut_with(path, p, rng, |a, b| {
+        segment_certified(world, a, b, p.resolution)
+    });
 }
 
+/// Shortcutting with edges checked at `spacing` (the trees' coarse checks).
 fn shortcut_spaced(
     world: &CollisionWorld,
     path: &mut Path,
     p: &PlannerParams,
     rng: &mut ChaCha8Rng,
     spacing: f64,
+) {
+    shortcut_with(path, p, rng, |a, b| {
+        segment_valid_spaced(world, a, b, p.resolution, spacing)
+    });
+}
+
+/// Replaces the stretch between two random waypoints by the straight segment whenever
+/// `segment_ok` accepts it, `shortcut_attempts` times.
+fn shortcut_with(
+    path: &mut Path,
+    p: &PlannerParams,
+    rng: &mut ChaCha8Rng,
+    segment_ok: impl Fn(&[f64], &[f64]) -> bool,
 ) {
     for _ in 0..p.shortcut_attempts {
         let n = path.waypoints.len();
@@ -450,13 +452,7 @@ fn shortcut_spaced(
         }
         let i = rng.random_range(0..n - 2);
         let j = rng.random_range(i + 2..n);
-        if segment_valid_spaced(
-            world,
-            &path.waypoints[i],
-            &path.waypoints[j],
-            p.resolution,
-            spacing,
-        ) {
+        if segment_ok(&path.waypoints[i], &path.waypoints[j]) {
             path.waypoints.drain(i + 1..j);
         }
     }

@@ -161,24 +161,20 @@ impl<'a> Node<'a> {
 
     /// A `geometry_msgs/Pose` (`position`, `orientation`; a missing part is the identity).
     pub fn pose(&self) -> Result<Pose, MoveItError> {
-        let t = match self.get("position") {
-            Some(p) => p.vec3()?,
-            None => Vec3::ZERO,
-        };
-        let r = match self.get("orientation") {
-            Some(o) => o.quat()?,
-            None => Quat::IDENTITY,
-        };
-        Ok(Pose::from_parts(t, r))
+        self.pose_from("position", "orientation")
     }
 
     /// A `geometry_msgs/Transform` (`translation`, `rotation`).
     pub fn transform(&self) -> Result<Pose, MoveItError> {
-        let t = match self.get("translation") {
+        self.pose_from("translation", "rotation")
+    }
+
+    fn pose_from(&self, translation: &str, rotation: &str) -> Result<Pose, MoveItError> {
+        let t = match self.get(translation) {
             Some(p) => p.vec3()?,
             None => Vec3::ZERO,
         };
-        let r = match self.get("rotation") {
+        let r = match self.get(rotation) {
             Some(o) => o.quat()?,
             None => Quat::IDENTITY,
         };
