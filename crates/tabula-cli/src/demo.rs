@@ -508,7 +508,8 @@ fn simulator(log: &mut Vec<String>) -> Result<tabula_sim::DepthFrame> {
 /// Seed 002's decision step: plan which objects to push or grasp, in process.
 fn planning(log: &mut Vec<String>) -> Result<()> {
     use tabula_pddl::{
-        GroundAtom, Planner, SearchMode, generator, parse_domain, parse_problem, validate,
+        GroundAtom, GroundOptions, Planner, SearchMode, generator, parse_domain, parse_problem,
+        validate,
     };
     say!(
         log,
@@ -516,7 +517,11 @@ fn planning(log: &mut Vec<String>) -> Result<()> {
     );
     let domain = parse_domain(include_str!("../../../pddl/tablewclear-domain.pddl"))?;
     let problem = parse_problem(include_str!("../../../pddl/thesis6-a.pddl"), &domain)?;
-    let mut planner = Planner::for_table_clearing(domain.clone(), problem)?;
+    let mut planner = Planner::new(
+        domain.clone(),
+        problem,
+        GroundOptions::switchable(&domain, "ik_unfeasible"),
+    )?;
     let t0 = Instant::now();
     let plan = planner.plan(SearchMode::Optimal, None)?;
     let ms = t0.elapsed().as_secs_f64() * 1e3;
@@ -564,7 +569,11 @@ fn planning(log: &mut Vec<String>) -> Result<()> {
     validate(&domain, planner.problem(), &replanned.steps)?;
     let big = parse_problem(&generator::table_clearing_problem(40, 7), &domain)?;
     let t0 = Instant::now();
-    let mut planner = Planner::for_table_clearing(domain.clone(), big)?;
+    let mut planner = Planner::new(
+        domain.clone(),
+        big,
+        GroundOptions::switchable(&domain, "ik_unfeasible"),
+    )?;
     let dropped = planner.drop_unreachable_goals(None)?;
     let plan = planner.plan(SearchMode::Optimal, None)?;
     say!(

@@ -214,7 +214,11 @@ fn bench(b: BenchArgs) -> Result<()> {
         for seed in 1..=b.problems {
             let problem = parse_problem(&table_clearing_problem(n, seed), &domain)?;
             let t = Instant::now();
-            let mut planner = Planner::for_table_clearing(domain.clone(), problem)?;
+            let mut planner = Planner::new(
+                domain.clone(),
+                problem,
+                GroundOptions::switchable(&domain, "ik_unfeasible"),
+            )?;
             ground.push(t.elapsed().as_secs_f64() * 1e3);
             let t = Instant::now();
             planner.drop_unreachable_goals(None)?;

@@ -158,6 +158,17 @@ impl Rectangle {
         let perp = self.axis.perp();
         self.size.x * self.axis.dot(d).abs() + self.size.y * perp.dot(d).abs()
     }
+
+    /// The longer side's direction and the shorter side's (unit; the first side's
+    /// when square).
+    pub fn principal_axes(&self) -> (Vec2, Vec2) {
+        let a = self.axis.normalize_or(Vec2::X);
+        if self.size.x >= self.size.y {
+            (a, a.perp())
+        } else {
+            (a.perp(), a)
+        }
+    }
 }
 
 /// See [`Rectangle`]; `None` without three non-collinear finite points.

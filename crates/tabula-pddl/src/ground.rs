@@ -73,6 +73,23 @@ pub struct GroundOptions {
     pub deadline: Option<std::time::Instant>,
 }
 
+impl GroundOptions {
+    /// Options keeping every predicate of `domain` whose name starts with `prefix`
+    /// switchable (e.g. `ik_unfeasible` for a caller that backtracks by such facts
+    /// without grounding again).
+    pub fn switchable(domain: &Domain, prefix: &str) -> Self {
+        Self {
+            mutable_predicates: domain
+                .predicates
+                .iter()
+                .filter(|p| p.name.starts_with(prefix))
+                .map(|p| p.name.clone())
+                .collect(),
+            ..Self::default()
+        }
+    }
+}
+
 /// The propositional task.
 #[derive(Debug, Clone)]
 pub struct GroundTask {

@@ -10,6 +10,7 @@
 //! tabula is MIT OR Apache-2.0 (DESIGN.md). Every error names `file:line:column`.
 
 mod ast;
+mod build;
 pub mod generator;
 pub mod ground;
 pub mod heuristic;

@@ -61,25 +61,6 @@ impl Planner {
         })
     }
 
-    /// For seed 002's table-clearing domain: every `ik_unfeasible_*` predicate is
-    /// switchable, so IK backtracking (SPEC §3.5) never regrounds.
-    pub fn for_table_clearing(domain: Domain, problem: Problem) -> Result<Self, GroundError> {
-        let mutable = domain
-            .predicates
-            .iter()
-            .filter(|p| p.name.starts_with("ik_unfeasible"))
-            .map(|p| p.name.clone())
-            .collect();
-        Self::new(
-            domain,
-            problem,
-            GroundOptions {
-                mutable_predicates: mutable,
-                ..GroundOptions::default()
-            },
-        )
-    }
-
     pub fn task(&self) -> &GroundTask {
         &self.task
     }

@@ -56,7 +56,12 @@ fn generated_tables_solve_optimally_and_validate() {
     let d = seed_domain();
     for (n, seed) in [(6, 1), (10, 2), (20, 3), (40, 4)] {
         let p = parse_problem(&table_clearing_problem(n, seed), &d).unwrap();
-        let mut planner = Planner::for_table_clearing(d.clone(), p.clone()).unwrap();
+        let mut planner = Planner::new(
+            d.clone(),
+            p.clone(),
+            GroundOptions::switchable(&d, "ik_unfeasible"),
+        )
+        .unwrap();
         let dropped = planner.drop_unreachable_goals(None).unwrap();
         let pruned_problem = planner.problem().clone();
         let opt = planner
@@ -217,7 +222,8 @@ fn the_validator_rejects_broken_plans() {
 fn replanning_after_ik_failures_and_execution() {
     let d = seed_domain();
     let p = parse_problem(&read("thesis6-a.pddl"), &d).unwrap();
-    let mut planner = Planner::for_table_clearing(d.clone(), p).unwrap();
+    let mut planner =
+        Planner::new(d.clone(), p, GroundOptions::switchable(&d, "ik_unfeasible")).unwrap();
     let mut executed = Vec::new();
     for _ in 0..30 {
         let plan = match planner.plan(SearchMode::Optimal, None) {
@@ -269,7 +275,8 @@ fn objects_that_can_never_be_removed_are_found() {
              (ik_unfeasible_grasp o3) (ik_unfeasible_dir1 o3) (ik_unfeasible_dir2 o3) (ik_unfeasible_dir3 o3) (ik_unfeasible_dir4 o3))
       (:goal (and (removed o1) (removed o2) (removed o3) (removed o4))))";
     let p = parse_problem(text, &d).unwrap();
-    let mut planner = Planner::for_table_clearing(d.clone(), p).unwrap();
+    let mut planner =
+        Planner::new(d.clone(), p, GroundOptions::switchable(&d, "ik_unfeasible")).unwrap();
     assert_eq!(
         planner.plan(SearchMode::Optimal, None).unwrap_err(),
         NoPlan::Unsolvable
@@ -310,7 +317,12 @@ fn the_corrected_domain_has_the_same_optima_and_never_touches_removed_objects() 
     }
     for seed in 1..=10 {
         let pf = parse_problem(&table_clearing_problem(15, seed), &fixed).unwrap();
-        let mut planner = Planner::for_table_clearing(fixed.clone(), pf).unwrap();
+        let mut planner = Planner::new(
+            fixed.clone(),
+            pf,
+            GroundOptions::switchable(&fixed, "ik_unfeasible"),
+        )
+        .unwrap();
         planner.drop_unreachable_goals(None).unwrap();
         let fast = planner.plan(SearchMode::Fast, None).unwrap();
         let mut removed = std::collections::HashSet::new();

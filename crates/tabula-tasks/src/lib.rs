@@ -8,11 +8,13 @@
 //!   after every action (seed 002, SPEC §3).
 //! * [`observe`]: what the robot sees — its own body filtered out, the object and the
 //!   surface near a position, the occupancy that becomes the collision world.
+//! * [`skills`]: what the tasks share — the hand, grasp planners, motions, one error.
 //! * [`torso`]: the torso raised before manipulating (seed 000 §1.6).
 
 pub mod clear;
 pub mod observe;
 pub mod pick_place;
 pub mod place;
+pub mod skills;
 pub mod stable;
 pub mod torso;

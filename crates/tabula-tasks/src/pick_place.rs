@@ -13,10 +13,11 @@ use crate::observe::{
     ObserveError, ObserveParams, SeenObject, Support, object_near, robot_solids, support_under,
     voxel_keys, world_points,
 };
+use crate::skills::hand::tool_rotation;
 use std::time::Instant;
 use tabula_geom::input::{Validate, check_count, check_non_negative, check_positive, nested};
 use tabula_geom::parry::shape::SharedShape;
-use tabula_geom::{Mat3, Pose, Quat, Vec2, Vec3};
+use tabula_geom::{Pose, Quat, Vec2, Vec3};
 use tabula_motion::group::thread_cpu;
 use tabula_motion::{CollisionWorld, MoveError, MoveGroup, MoveGroupParams, Plan};
 use tabula_robot::driver::{DriverError, RobotDriver};
@@ -256,23 +257,6 @@ struct Sequence {
     release_retreat: Plan,
     home: Plan,
     planned_object: Pose,
-}
-
-/// Rotation taking the gripper's own approach/closing axes (tool frame) onto world
-/// directions `approach` and `closing` (orthonormal).
-pub(crate) fn tool_rotation(
-    tool_approach: Vec3,
-    tool_closing: Vec3,
-    approach: Vec3,
-    closing: Vec3,
-) -> Quat {
-    let tool = Mat3::from_cols(
-        tool_approach,
-        tool_closing,
-        tool_approach.cross(tool_closing),
-    );
-    let world = Mat3::from_cols(approach, closing, approach.cross(closing));
-    Quat::from_mat3(&(world * tool.transpose())).normalize()
 }
 
 /// The collision world's view of the surroundings: occupancy of everything seen,

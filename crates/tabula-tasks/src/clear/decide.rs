@@ -1,0 +1,302 @@
+//! Deciding the next action of a frame: plan with the seed's domain, check IK for the
+//! first action only, backtrack by `ik_unfeasible_*` facts (SPEC §3.5).
+
+use super::predicates::Geometry;
+use super::problem::{action_of, infeasible_atom, planner, problem};
+use super::push::Push;
+use super::track::Track;
+use super::{ActionKind, ClearParams, ClearReport, FrameReport, SeenObject};
+use crate::skills::GraspCandidate;
+use std::time::Duration;
+use tabula_geom::{Pose, Vec3};
+use tabula_motion::MoveGroup;
+use tabula_motion::group::thread_cpu;
+use tabula_pddl::{Domain, Planner, SearchMode};
+use tabula_robot::driver::JointState;
+use tabula_robot::robots::NamedRobot;
+
+/// What a frame decided.
+pub(super) enum Decision {
+    /// Object index, action, the IK solution found for its first pose, and the
+    /// neighbours a nudge grasp pushes aside (empty otherwise).
+    Act(usize, ActionKind, Vec<f64>, Vec<usize>),
+    NoPlan,
+    NothingRemovable,
+}
+
+/// What a decision works with: the frame's objects and their tracks, the arm's move
+/// group (its world holds the objects' hulls while deciding) and where the arm is.
+pub(super) struct Decider<'a> {
+    pub(super) objects: &'a [SeenObject],
+    pub(super) tracks: &'a [Track],
+    pub(super) group: &'a mut MoveGroup,
+    pub(super) robot: &'a NamedRobot,
+    pub(super) state: &'a JointState,
+    pub(super) params: &'a ClearParams,
+    pub(super) frame: &'a mut FrameReport,
+}
+
+/// The poses an action must reach, first one first: pre-grasp and grasp, or pre-push,
+/// push start and push end.
+fn action_poses(
+    kind: ActionKind,
+    grasp: Option<&GraspCandidate>,
+    push: &[Push; 4],
+    yaw: usize,
+    params: &ClearParams,
+) -> Vec<Pose> {
+    let up = Vec3::Z;
+    let above = |p: &Pose, height: f64| Pose::from_parts(p.translation + up * height, p.rotation);
+    match kind {
+        ActionKind::Grasp => {
+            let Some(g) = grasp.map(|g| g.poses[yaw]) else {
+                return Vec::new();
+            };
+            vec![above(&g, params.pregrasp), g]
+        }
+        ActionKind::Push(k) => {
+            let p = &push[k];
+            let end = Pose::from_parts(
+                p.start.translation + p.direction3() * p.travel(params),
+                p.start.rotation,
+            );
+            vec![above(&p.start, params.pre_push_height), p.start, end]
+        }
+    }
+}
+
+impl Decider<'_> {
+    /// Plans, then checks IK for the first action only; an infeasible action becomes an
+    /// `ik_unfeasible_*` fact and the planner runs again (SPEC §3.5). Facts the tracks
+    /// already know (pushes back, too many pushes or grasp attempts, grasps too wide,
+    /// pushes off the table) are set before the first plan: every lazily discovered
+    /// infeasibility is an `ik_unfeasible_*` fact to the domain.
+    pub(super) fn decide(
+        &mut self,
+        g: &Geometry,
+        domain: &Domain,
+        report: &mut ClearReport,
+    ) -> Decision {
+        let n = self.objects.len();
+        // Objects no grasp of this gripper can hold never leave the table: out of the
+        // goal.
+        let goal: Vec<usize> = (0..n).filter(|&i| g.grasps[i].is_some()).collect();
+        report.dropped_from_goal = report.dropped_from_goal.max(n - goal.len());
+        if goal.is_empty() {
+            return Decision::NothingRemovable;
+        }
+        self.trace(g);
+        let Some(mut planner) = problem(domain, self.objects, g, &goal)
+            .ok()
+            .and_then(|p| planner(domain, p))
+        else {
+            return Decision::NoPlan;
+        };
+        self.known_infeasible(&mut planner, g);
+        self.load_objects();
+        let seed = self.group.arm_values(self.state);
+        let mode = if n <= self.params.optimal_up_to {
+            SearchMode::Optimal
+        } else {
+            SearchMode::Fast
+        };
+        let timeout = Some(Duration::from_secs_f64(
+            self.params.plan_timeout_s.max(1e-3),
+        ));
+        for _ in 0..(5 * n + 5) {
+            let plan = match planner.plan(mode, timeout) {
+                Ok(p) => p,
+                Err(tabula_pddl::NoPlan::Unsolvable) => {
+                    // Objects that can never be removed leave the goal (SPEC §3.5) —
+                    // again after every IK backtrack that makes more of them so.
+                    match planner.drop_unreachable_goals(timeout) {
+                        Ok(d) if !d.is_empty() => {
+                            report.dropped_from_goal = report.dropped_from_goal.max(d.len());
+                            if planner.goal_atoms().is_some_and(|a| a.is_empty()) {
+                                return Decision::NothingRemovable;
+                            }
+                            continue;
+                        }
+                        _ => return Decision::NothingRemovable,
+                    }
+                }
+                Err(_) => return Decision::NoPlan,
+            };
+            self.frame.plan = plan.steps.iter().map(|s| s.to_string()).collect();
+            let Some(first) = plan.steps.first() else {
+                return Decision::NothingRemovable;
+            };
+            let Some((i, kind)) = action_of(first, self.objects) else {
+                return Decision::NoPlan;
+            };
+            match self.timed_ik(i, kind, g, &seed, &[]) {
+                Some(q) => return Decision::Act(i, kind, q, Vec::new()),
+                None => {
+                    self.frame.ik_backtracks += 1;
+                    let _ = planner.set_fact(&infeasible_atom(kind, self.objects[i].id), true);
+                }
+            }
+        }
+        Decision::NoPlan
+    }
+
+    /// The objects as the decision sees them (debug log).
+    fn trace(&self, g: &Geometry) {
+        if !tracing::enabled!(tracing::Level::DEBUG) {
+            return;
+        }
+        for (i, o) in self.objects.iter().enumerate() {
+            tracing::debug!(
+                "o{}: centre ({:.3}, {:.3}) rect {:.3} × {:.3}, bottom {:.3} top {:.3}, grasp {}",
+                o.id,
+                o.rect.center.x,
+                o.rect.center.y,
+                o.rect.size.x,
+                o.rect.size.y,
+                o.bottom,
+                o.top,
+                if g.grasps[i].is_some() {
+                    "fits"
+                } else {
+                    "too wide"
+                }
+            );
+        }
+        tracing::debug!(
+            "on {:?}; block_grasp {:?}; block_push {:?}",
+            g.on,
+            g.block_grasp,
+            g.block_push
+        );
+    }
+
+    /// Sets the `ik_unfeasible_*` facts known before planning: no grasp fits, grasps
+    /// tried enough, pushes off the table or ruled out by the track.
+    fn known_infeasible(&self, planner: &mut Planner, g: &Geometry) {
+        let params = self.params;
+        for (i, o) in self.objects.iter().enumerate() {
+            let track = self.tracks.iter().find(|t| t.id == o.id);
+            let mut set = |kind: ActionKind| {
+                let _ = planner.set_fact(&infeasible_atom(kind, o.id), true);
+            };
+            if g.grasps[i].is_none()
+                || track.is_some_and(|t| t.grasp_attempts >= params.max_grasp_attempts)
+            {
+                set(ActionKind::Grasp);
+            }
+            for k in 0..4 {
+                let p = &g.pushes[i][k];
+                if !p.feasible || track.is_some_and(|t| t.rules_out(p.direction, params)) {
+                    set(ActionKind::Push(k));
+                }
+            }
+        }
+    }
+
+    /// The group at the arm's state with this frame's objects' hulls in its world (the
+    /// target is taken out per pose by [`Self::first_pose_ik`]).
+    fn load_objects(&mut self) {
+        let _ = self.group.set_state(self.robot, self.state);
+        for name in self.group.world.object_names() {
+            if name.starts_with("obj:") {
+                let _ = self.group.remove_object(&name);
+            }
+        }
+        for o in self.objects {
+            let _ = self
+                .group
+                .add_object(&format!("obj:{}", o.id), o.hull.clone(), Pose::IDENTITY);
+        }
+    }
+
+    /// [`Self::first_pose_ik`], its CPU time counted as the frame's IK time.
+    pub(super) fn timed_ik(
+        &mut self,
+        i: usize,
+        kind: ActionKind,
+        g: &Geometry,
+        seed: &[f64],
+        nudged: &[usize],
+    ) -> Option<Vec<f64>> {
+        let c = thread_cpu();
+        let ik = self.first_pose_ik(i, kind, g, seed, nudged);
+        self.frame.ik_ms += (thread_cpu() - c) * 1e3;
+        ik
+    }
+
+    /// IK (collision-free, the target object out of the world) for every pose of the
+    /// action, the gripper at either yaw; the solution of the first pose when all have
+    /// one.
+    fn first_pose_ik(
+        &mut self,
+        i: usize,
+        kind: ActionKind,
+        g: &Geometry,
+        seed: &[f64],
+        nudged: &[usize],
+    ) -> Option<Vec<f64>> {
+        let objects = self.objects;
+        // The target, what a chain push shoves along and what a nudge grasp pushes aside
+        // move: out of the world here.
+        let mut moving = vec![i];
+        moving.extend(nudged);
+        if let ActionKind::Push(k) = kind {
+            moving.extend(&g.pushes[i][k].chain);
+        }
+        for &m in &moving {
+            let _ = self.group.remove_object(&format!("obj:{}", objects[m].id));
+        }
+        let yaws: &[usize] = match kind {
+            ActionKind::Grasp => &[0, 1],
+            ActionKind::Push(_) => &[0],
+        };
+        let found = yaws.iter().find_map(|&yaw| {
+            let poses = action_poses(kind, g.grasps[i].as_ref(), &g.pushes[i], yaw, self.params);
+            self.chain_ik(&poses, seed, |p, e| {
+                if tracing::enabled!(tracing::Level::DEBUG) {
+                    tracing::debug!(
+                        "IK {} o{} yaw {yaw} at ({:.3}, {:.3}, {:.3}): {e}",
+                        kind.pddl(),
+                        objects[i].id,
+                        p.translation.x,
+                        p.translation.y,
+                        p.translation.z
+                    );
+                }
+            })
+        });
+        for &m in &moving {
+            let _ = self.group.add_object(
+                &format!("obj:{}", objects[m].id),
+                objects[m].hull.clone(),
+                Pose::IDENTITY,
+            );
+        }
+        found
+    }
+
+    /// Collision-free IK for `poses` in turn, each seeded by the last; the first pose's
+    /// solution when all have one (`failed` is told the pose that has none).
+    fn chain_ik(
+        &self,
+        poses: &[Pose],
+        seed: &[f64],
+        failed: impl Fn(&Pose, &tabula_motion::MoveError),
+    ) -> Option<Vec<f64>> {
+        let mut first = None;
+        let mut from = seed.to_vec();
+        for p in poses {
+            match self.group.valid_ik(p, &from) {
+                Ok(sols) => {
+                    from = sols[0].clone();
+                    first.get_or_insert(sols[0].clone());
+                }
+                Err(e) => {
+                    failed(p, &e);
+                    return None;
+                }
+            }
+        }
+        first
+    }
+}

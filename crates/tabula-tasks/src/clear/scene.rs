@@ -1,0 +1,171 @@
+//! The table and its objects as clearing sees them in one frame, and the geometric
+//! tests the predicates are made of (hull against hull, hand against hull).
+
+use crate::skills::GraspTarget;
+use tabula_geom::parry::bounding_volume::{Aabb, BoundingVolume};
+use tabula_geom::parry::query;
+use tabula_geom::parry::shape::SharedShape;
+use tabula_geom::polygon::{Rectangle, inside_convex};
+use tabula_geom::{Pose, Vec2, Vec3};
+
+/// A tabletop object as the predicates see it.
+#[derive(Debug, Clone)]
+pub struct SeenObject {
+    /// Tracked id (stable across frames).
+    pub id: usize,
+    /// Points seen (world).
+    pub points: Vec<Vec3>,
+    /// Footprint in the table plane (world xy) and its minimal-area rectangle.
+    pub footprint: Vec<Vec2>,
+    pub rect: Rectangle,
+    /// What it stands on (z of the table, or of the object under it) and its top (m).
+    pub bottom: f64,
+    pub top: f64,
+    /// Convex hull of its points and their projection onto what it stands on (SPEC
+    /// §3.1: the camera sees tops, the hull fills in the sides).
+    pub hull: SharedShape,
+    pub aabb: Aabb,
+}
+
+impl SeenObject {
+    /// Centre of the footprint at mid-height.
+    pub fn center(&self) -> Vec3 {
+        Vec3::new(
+            self.rect.center.x,
+            self.rect.center.y,
+            (self.bottom + self.top) / 2.0,
+        )
+    }
+
+    /// What a grasp planner sees of it.
+    pub fn grasp_target(&self) -> GraspTarget<'_> {
+        GraspTarget {
+            points: &self.points,
+            rect: self.rect,
+            bottom: self.bottom,
+            top: self.top,
+        }
+    }
+
+    /// Push direction `k` (world, unit).
+    pub(super) fn direction(&self, k: usize) -> Vec2 {
+        let (major, minor) = self.rect.principal_axes();
+        match k {
+            0 => major,
+            1 => -major,
+            2 => minor,
+            _ => -minor,
+        }
+    }
+}
+
+/// The table as one frame sees it.
+pub(super) struct Table {
+    pub(super) z: f64,
+    pub(super) up: Vec3,
+    /// Convex outline (world xy).
+    pub(super) outline: Vec<Vec2>,
+}
+
+/// `(on a b)` for every pair: `a`'s bottom is `b`'s top and most of `a`'s points are over
+/// `b`'s footprint.
+pub(super) fn on_pairs(objects: &[SeenObject], table_z: f64) -> Vec<(usize, usize)> {
+    let mut out = Vec::new();
+    for (i, a) in objects.iter().enumerate() {
+        if a.bottom < table_z + 0.01 {
+            continue;
+        }
+        for (j, b) in objects.iter().enumerate() {
+            if i == j || (b.top - a.bottom).abs() > 0.02 {
+                continue;
+            }
+            let inside = a
+                .points
+                .iter()
+                .filter(|q| inside_convex(&b.footprint, q.truncate()))
+                .count();
+            if inside * 2 > a.points.len() {
+                out.push((i, j));
+            }
+        }
+    }
+    out
+}
+
+/// A moving shape's clearance test against object hulls: AABB first, then exact.
+pub(super) fn hits(
+    shapes: &[(SharedShape, Pose)],
+    world_from: &Pose,
+    other: &SeenObject,
+    pad: f64,
+) -> bool {
+    shapes.iter().any(|(s, p)| {
+        let w = *world_from * *p;
+        let aabb = s.compute_aabb(&w).loosened(pad);
+        aabb.intersects(&other.aabb)
+            && query::distance(&w, s.as_ref(), &Pose::IDENTITY, other.hull.as_ref())
+                .is_ok_and(|d| d.distance <= pad)
+    })
+}
+
+/// Whether two objects' hulls come within `pad` of each other.
+pub(super) fn hulls_touch(a: &SeenObject, b: &SeenObject, pad: f64) -> bool {
+    a.aabb.loosened(pad).intersects(&b.aabb)
+        && query::distance(
+            &Pose::IDENTITY,
+            a.hull.as_ref(),
+            &Pose::IDENTITY,
+            b.hull.as_ref(),
+        )
+        .is_ok_and(|d| d.distance <= pad)
+}
+
+/// Whether a hull moved by `by` runs into another by more than `tolerance`: a neighbour it
+/// only grazes (touching objects seen with noise overlap by millimetres already) lets
+/// it slide past; one ahead is entered by a whole sweep step.
+pub(super) fn hulls_collide(
+    moved: &SeenObject,
+    by: Vec3,
+    other: &SeenObject,
+    tolerance: f64,
+) -> bool {
+    Aabb::new(moved.aabb.mins + by, moved.aabb.maxs + by).intersects(&other.aabb)
+        && query::contact(
+            &Pose::from_translation(by),
+            moved.hull.as_ref(),
+            &Pose::IDENTITY,
+            other.hull.as_ref(),
+            0.0,
+        )
+        .ok()
+        .flatten()
+        .is_some_and(|c| c.dist < -tolerance)
+}
+
+/// `o` moved by `by`; its hull too when `with_hull` (a new convex hull: costly).
+pub(super) fn translated(o: &SeenObject, by: Vec3, with_hull: bool) -> SeenObject {
+    let mut t = o.clone();
+    t.rect.center += by.truncate();
+    for p in &mut t.points {
+        *p += by;
+    }
+    for p in &mut t.footprint {
+        *p += by.truncate();
+    }
+    if with_hull {
+        // Hulls are kept in world coordinates: a moved copy is rebuilt around its
+        // vertices.
+        let moved: Vec<Vec3> = hull_vertices(&o.hull).into_iter().map(|p| p + by).collect();
+        if let Some(h) = SharedShape::convex_hull(&moved) {
+            t.hull = h;
+        }
+        t.aabb = t.hull.compute_aabb(&Pose::IDENTITY);
+    }
+    t
+}
+
+pub(super) fn hull_vertices(s: &SharedShape) -> Vec<Vec3> {
+    s.as_convex_polyhedron()
+        .map(|c| c.points().to_vec())
+        .unwrap_or_default()
+}

@@ -1,0 +1,293 @@
+//! Unit tests of clearing's geometry, tracking and parameters.
+
+use super::execute::drop_offset;
+use super::fallback::penetration;
+use super::predicates::{TableView, descent_poses};
+use super::track::track;
+use super::*;
+use crate::skills::grasp::{GraspTarget, NarrowPartGrasps};
+use crate::skills::hand::extent_along;
+use crate::skills::{GraspPlanner, Hand};
+use tabula_geom::polygon::{convex_hull_2d, min_area_rectangle};
+use tabula_geom::{Vec2, Vec3};
+
+/// A box standing at `center` (world xy) on the table at z 0.72 (or on `bottom`),
+/// seen as points on its top and sides every 5 mm.
+fn seen_box(id: usize, center: Vec2, size: Vec2, height: f64, bottom: f64) -> SeenObject {
+    let mut points = Vec::new();
+    let (nx, ny) = ((size.x / 0.005) as i32, (size.y / 0.005) as i32);
+    for i in 0..=nx {
+        for j in 0..=ny {
+            let x = center.x - size.x / 2.0 + i as f64 * 0.005;
+            let y = center.y - size.y / 2.0 + j as f64 * 0.005;
+            points.push(Vec3::new(x, y, bottom + height));
+            if i == 0 || j == 0 || i == nx || j == ny {
+                for k in 1..(height / 0.005) as i32 {
+                    points.push(Vec3::new(x, y, bottom + k as f64 * 0.005));
+                }
+            }
+        }
+    }
+    let flat: Vec<Vec2> = points.iter().map(|q| q.truncate()).collect();
+    let footprint: Vec<Vec2> = convex_hull_2d(&flat).iter().map(|&i| flat[i]).collect();
+    let rect = min_area_rectangle(&footprint).unwrap();
+    let mut hull_points = points.clone();
+    hull_points.extend(footprint.iter().map(|p| Vec3::new(p.x, p.y, bottom)));
+    let hull = SharedShape::convex_hull(&hull_points).unwrap();
+    let aabb = hull.compute_aabb(&Pose::IDENTITY);
+    SeenObject {
+        id,
+        points,
+        footprint,
+        rect,
+        bottom,
+        top: bottom + height,
+        hull,
+        aabb,
+    }
+}
+
+fn table() -> Table {
+    Table {
+        z: 0.72,
+        up: Vec3::Z,
+        outline: vec![
+            Vec2::new(0.3, -0.5),
+            Vec2::new(0.9, -0.5),
+            Vec2::new(0.9, 0.5),
+            Vec2::new(0.3, 0.5),
+        ],
+    }
+}
+
+/// The predicates of `objects` on [`table`].
+fn predicates(
+    objects: &[SeenObject],
+    hand: &Hand,
+    params: &ClearParams,
+    chain: bool,
+) -> predicates::Geometry {
+    let table = table();
+    TableView {
+        objects,
+        table: &table,
+        hand,
+        params,
+    }
+    .predicates(chain)
+}
+
+fn grasps_of(
+    o: &SeenObject,
+    hand: &Hand,
+    params: &ClearParams,
+) -> Vec<crate::skills::GraspCandidate> {
+    params
+        .grasp_planner()
+        .candidates(&o.grasp_target(), hand, Vec3::Z)
+}
+
+fn hand() -> Hand {
+    let robot = tabula_robot::robots::load("wam").unwrap();
+    let g = robot.description.grippers[0].clone();
+    Hand::new(&robot, &g).unwrap()
+}
+
+#[test]
+fn the_hand_model_comes_from_the_urdf() {
+    let h = hand();
+    // The WAM's fingers: 6 cm long, tips 2.25 cm beyond the tool frame.
+    assert!((h.finger_length - 0.06).abs() < 1e-9, "{}", h.finger_length);
+    assert!((h.tip - 0.0225).abs() < 1e-9, "{}", h.tip);
+    assert_eq!(h.open_width, 0.07);
+}
+
+#[test]
+fn a_box_on_a_box_is_on_it_and_blocks_nothing_else() {
+    let base = seen_box(0, Vec2::new(0.6, 0.0), Vec2::new(0.06, 0.06), 0.05, 0.72);
+    let top = seen_box(1, Vec2::new(0.6, 0.0), Vec2::new(0.04, 0.04), 0.04, 0.77);
+    let lone = seen_box(2, Vec2::new(0.6, 0.3), Vec2::new(0.05, 0.05), 0.08, 0.72);
+    let objects = vec![base, top, lone];
+    assert_eq!(on_pairs(&objects, 0.72), vec![(1, 0)]);
+    let g = predicates(&objects, &hand(), &ClearParams::default(), false);
+    // The lone box is free in every way; nothing blocks grasping the top one.
+    assert!(
+        g.block_grasp
+            .iter()
+            .all(|&(a, b)| a != 2 && b != 2 && b != 1)
+    );
+    assert!(
+        g.block_push
+            .iter()
+            .flatten()
+            .all(|&(a, b)| a != 2 && b != 2)
+    );
+    assert!(g.grasps.iter().all(Option::is_some));
+}
+
+#[test]
+fn touching_boxes_block_the_grasp_across_them_and_the_push_into_each_other() {
+    // Two boxes side by side along x, 2 mm apart, the right one 3 cm lower. Closing
+    // across `a` at full depth puts a finger in the gap; held only 2 cm deep, the
+    // fingertips pass over `b`.
+    let a = seen_box(0, Vec2::new(0.6, 0.0), Vec2::new(0.04, 0.075), 0.08, 0.72);
+    let b = seen_box(1, Vec2::new(0.647, 0.0), Vec2::new(0.05, 0.05), 0.05, 0.72);
+    let objects = vec![a, b];
+    let g = predicates(&objects, &hand(), &ClearParams::default(), false);
+    assert!(!g.block_grasp.contains(&(1, 0)), "{:?}", g.block_grasp);
+    let full_depth_only = ClearParams {
+        shallow_grip: 1.0,
+        ..ClearParams::default()
+    };
+    let g = predicates(&objects, &hand(), &full_depth_only, false);
+    assert!(g.block_grasp.contains(&(1, 0)), "{:?}", g.block_grasp);
+    // Pushing `a` into `b` is blocked; along y it slides past `b` (grazing is
+    // allowed, the palm passes above the lower box) until its grasp is free.
+    let into_b = (0..4).find(|&k| g.pushes[0][k].direction.x > 0.9).unwrap();
+    let along = (0..4).find(|&k| g.pushes[0][k].direction.y > 0.9).unwrap();
+    assert!(g.block_push[into_b].contains(&(1, 0)));
+    assert!(!g.block_push[along].contains(&(1, 0)), "{:?}", g.block_push);
+    let p = &g.pushes[0][along];
+    assert!(p.length > 0.05 && p.length < 0.12, "{}", p.length);
+}
+
+#[test]
+fn a_blob_too_wide_is_grasped_by_its_narrow_part() {
+    // Two boxes segmentation could not tell apart: 4 × 7.5 cm beside 5 × 5 cm.
+    let a = seen_box(0, Vec2::new(0.60, 0.0), Vec2::new(0.04, 0.075), 0.09, 0.72);
+    let b = seen_box(0, Vec2::new(0.6455, 0.0), Vec2::new(0.05, 0.05), 0.09, 0.72);
+    let mut points = a.points.clone();
+    points.extend(b.points);
+    let flat: Vec<Vec2> = points.iter().map(|q| q.truncate()).collect();
+    let footprint: Vec<Vec2> = convex_hull_2d(&flat).iter().map(|&i| flat[i]).collect();
+    let blob = SeenObject {
+        rect: min_area_rectangle(&footprint).unwrap(),
+        footprint,
+        points,
+        ..a
+    };
+    let h = hand();
+    assert!(blob.rect.size.x.min(blob.rect.size.y) > h.open_width);
+    let planner = ClearParams::default().grasp_planner();
+    let target: GraspTarget<'_> = blob.grasp_target();
+    let parts = NarrowPartGrasps { top: planner.0 }.parts(&target, &h);
+    assert!(!parts.is_empty());
+    // The narrowest part is the square box's.
+    assert!((parts[0].at.x - 0.645).abs() < 0.015, "{:?}", parts[0]);
+    // Too wide to take whole: the planner falls back to the parts.
+    assert!(planner.0.candidates(&target, &h, Vec3::Z).is_empty());
+    assert_eq!(
+        grasps_of(&blob, &h, &ClearParams::default()).len(),
+        parts.len()
+    );
+}
+
+#[test]
+fn tracks_follow_objects_and_pushes_where_they_went() {
+    let mut tracks = Vec::new();
+    let mut first = vec![
+        seen_box(0, Vec2::new(0.6, 0.0), Vec2::new(0.05, 0.05), 0.08, 0.72),
+        seen_box(0, Vec2::new(0.6, 0.2), Vec2::new(0.05, 0.05), 0.08, 0.72),
+    ];
+    track(&mut first, &mut tracks, 0.06, 0.35);
+    assert_eq!((first[0].id, first[1].id), (0, 1));
+    // Object 1 was pushed 10 cm along +x; object 0 did not move.
+    tracks[1].expected = Vec2::new(0.7, 0.2);
+    let mut next = vec![
+        seen_box(0, Vec2::new(0.705, 0.2), Vec2::new(0.05, 0.05), 0.08, 0.72),
+        seen_box(0, Vec2::new(0.6, 0.0), Vec2::new(0.05, 0.05), 0.08, 0.72),
+        seen_box(0, Vec2::new(0.4, -0.3), Vec2::new(0.05, 0.05), 0.08, 0.72),
+    ];
+    track(&mut next, &mut tracks, 0.06, 0.35);
+    assert_eq!((next[0].id, next[1].id, next[2].id), (1, 0, 2));
+}
+
+/// How far the open hand reaches into a neighbour: nothing when it is clear, about
+/// the overlap when a finger comes down a few millimetres into it.
+#[test]
+fn penetration_measures_how_far_the_fingers_reach_into_a_neighbour() {
+    let h = hand();
+    let target = seen_box(0, Vec2::new(0.6, 0.0), Vec2::new(0.04, 0.04), 0.08, 0.72);
+    let params = ClearParams::default();
+    let g = grasps_of(&target, &h, &params).remove(0);
+    let shapes = h.open_for(g.width).1;
+    let poses = descent_poses(&g.poses[0], Vec3::Z, params.pregrasp);
+    // Neighbours beside it along the closing axis, nearer and nearer: clear, then
+    // reached into by as much as they come nearer.
+    let closing = (g.poses[0].rotation * h.closing).truncate().normalize();
+    let (_, outer) = extent_along(shapes, h.closing);
+    let beside = |gap: f64| {
+        let c = target.rect.center + closing * (outer + gap + 0.02);
+        seen_box(1, c, Vec2::new(0.04, 0.04), 0.08, 0.72)
+    };
+    assert_eq!(penetration(shapes, &poses, &beside(0.01)), 0.0);
+    let (near, nearer) = (
+        penetration(shapes, &poses, &beside(-0.01)),
+        penetration(shapes, &poses, &beside(-0.02)),
+    );
+    assert!(near > 0.0);
+    assert!((nearer - near - 0.01).abs() < 1e-3, "{near} {nearer}");
+}
+
+/// A push that moved its object less than a third of its length jammed: that way is
+/// ruled out; one that went most of the way is not.
+#[test]
+fn a_jammed_push_is_not_tried_that_way_again() {
+    let params = ClearParams::default();
+    let mut tracks = Vec::new();
+    let mut first = vec![
+        seen_box(0, Vec2::new(0.6, 0.0), Vec2::new(0.05, 0.05), 0.08, 0.72),
+        seen_box(0, Vec2::new(0.6, 0.2), Vec2::new(0.05, 0.05), 0.08, 0.72),
+    ];
+    track(&mut first, &mut tracks, 0.06, params.push_jam_share);
+    // Both pushed 6 cm along +x: the first moves 1 cm, the second 5 cm.
+    for (t, o) in tracks.iter_mut().zip(&first) {
+        t.pushes.push(Vec2::X);
+        t.expected = o.rect.center + Vec2::X * 0.06;
+        t.pending = Some((Vec2::X, 0.06, o.rect.center));
+    }
+    let mut next = vec![
+        seen_box(0, Vec2::new(0.61, 0.0), Vec2::new(0.05, 0.05), 0.08, 0.72),
+        seen_box(0, Vec2::new(0.65, 0.2), Vec2::new(0.05, 0.05), 0.08, 0.72),
+    ];
+    track(&mut next, &mut tracks, 0.06, params.push_jam_share);
+    assert_eq!((next[0].id, next[1].id), (0, 1));
+    assert!(tracks[0].rules_out(Vec2::X, &params));
+    assert!(!tracks[1].rules_out(Vec2::X, &params));
+    assert!(tracks.iter().all(|t| t.pending.is_none()));
+}
+
+#[test]
+fn drops_go_around_the_bin() {
+    let spots: Vec<Vec3> = (0..9).map(|k| drop_offset(k, 0.1)).collect();
+    assert_eq!(spots[0], Vec3::ZERO);
+    for (i, a) in spots.iter().enumerate() {
+        assert!(a.x.abs() <= 0.1 && a.y.abs() <= 0.1);
+        assert!(spots[i + 1..].iter().all(|b| b != a));
+    }
+    assert_eq!(drop_offset(9, 0.1), spots[0]);
+}
+
+#[test]
+fn params_load_from_toml_with_the_seed_defaults_elsewhere() {
+    let p: ClearParams =
+        toml::from_str("push_distance = 0.05\n[tabletop]\nmin_object_points = 150\n").unwrap();
+    assert_eq!(p.push_distance, 0.05);
+    assert_eq!(p.tabletop.min_object_points, 150);
+    assert_eq!(p.push_max_length, 0.6);
+    assert_eq!(p.push_resolution, 0.03);
+    assert_eq!(p.pregrasp, 0.10);
+    assert_eq!(p.lift, 0.20);
+    assert!(toml::from_str::<ClearParams>("nope = 1").is_err());
+    assert!(p.validate().is_ok());
+    for bad in [
+        "push_resolution = 0.0",
+        "push_max_length = inf",
+        "clearance = nan",
+        "decimate = 0",
+        "chain_push_factors = [-1.0]",
+    ] {
+        let q: ClearParams = toml::from_str(bad).unwrap();
+        assert_eq!(q.validate().unwrap_err().kind(), "params", "{bad}");
+    }
+}

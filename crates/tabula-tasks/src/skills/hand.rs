@@ -1,0 +1,163 @@
+//! The hand: a parallel gripper's collision shapes in its tool frame, open to every
+//! few millimetres of finger gap and closed, taken from the robot's URDF — what every
+//! grasp and push is checked with — and the tool poses that point it.
+
+use super::SkillError;
+use tabula_geom::parry::shape::SharedShape;
+use tabula_geom::{Mat3, Pose, Quat, Vec3};
+use tabula_robot::description::Gripper;
+use tabula_robot::robots::NamedRobot;
+
+/// Pre-grasp openings are modelled every 5 mm of finger gap.
+pub const OPENING_STEP: f64 = 0.005;
+
+/// The gripper's collision shapes in its tool frame, open and closed, from the URDF.
+#[derive(Clone)]
+pub struct Hand {
+    /// Palm and fingers opened to finger gaps every [`OPENING_STEP`] from closed to
+    /// fully open, narrowest first (the last is fully open).
+    pub openings: Vec<(f64, Vec<(SharedShape, Pose)>)>,
+    pub closed: Vec<(SharedShape, Pose)>,
+    /// Closed fingers only (what meets a pushed object).
+    pub closed_fingers: Vec<(SharedShape, Pose)>,
+    /// Open fingers only (what lands beside a grasped object).
+    pub open_fingers: Vec<(SharedShape, Pose)>,
+    /// Fingertips' distance from the tool origin along the approach (m).
+    pub tip: f64,
+    /// Finger length along the approach (m).
+    pub finger_length: f64,
+    /// The tool frame's approach and closing axes (unit).
+    pub approach: Vec3,
+    pub closing: Vec3,
+    /// Widest finger gap (m).
+    pub open_width: f64,
+}
+
+impl Hand {
+    /// The hand of `gripper` on `robot`: its palm and finger links posed by forward
+    /// kinematics at every opening.
+    pub fn new(robot: &NamedRobot, gripper: &Gripper) -> Result<Self, SkillError> {
+        let model = &robot.model;
+        let err = |e: String| SkillError::Robot(e);
+        let fj = model
+            .joint(&gripper.finger_joint)
+            .ok_or_else(|| err(format!("no finger joint `{}`", gripper.finger_joint)))?;
+        let limits = model.joints[fj].limits;
+        let tool = model
+            .link(&gripper.tool_link)
+            .map_err(|e| err(e.to_string()))?;
+        let shapes_at =
+            |finger: f64, links: &[&str]| -> Result<Vec<(SharedShape, Pose)>, SkillError> {
+                let mut values = tabula_robot::driver::JointState::default().model_values(model);
+                values[fj] = finger;
+                let fk = model
+                    .forward_kinematics(&values)
+                    .map_err(|e| err(e.to_string()))?;
+                let tool_from_root = fk[tool].inverse();
+                let mut out = Vec::new();
+                for name in links {
+                    let l = model.link(name).map_err(|e| err(e.to_string()))?;
+                    for s in &model.links[l].collision {
+                        let (shape, shape_pose) = s.geometry.collision_shape(false).map_err(err)?;
+                        out.push((
+                            shape,
+                            tool_from_root * fk[l] * s.link_from_shape * shape_pose,
+                        ));
+                    }
+                }
+                Ok(out)
+            };
+        let fingers = [gripper.fingers[0].as_str(), gripper.fingers[1].as_str()];
+        let all = [
+            gripper.palm.as_str(),
+            gripper.fingers[0].as_str(),
+            gripper.fingers[1].as_str(),
+        ];
+        let closed_fingers = shapes_at(limits.lower, &fingers)?;
+        let approach = gripper.approach();
+        let (lo, hi) = extent_along(&closed_fingers, approach);
+        // The gap is linear in the finger joint (see `Gripper::width_at`).
+        let span = gripper.open_width - gripper.closed_width;
+        let levels = (span / OPENING_STEP).ceil().max(0.0) as usize;
+        let mut openings = Vec::with_capacity(levels + 1);
+        for k in 0..=levels {
+            let width = (gripper.closed_width + OPENING_STEP * k as f64).min(gripper.open_width);
+            let share = if span > 1e-12 {
+                (width - gripper.closed_width) / span
+            } else {
+                1.0
+            };
+            let value = limits.lower + (limits.upper - limits.lower) * share;
+            openings.push((width, shapes_at(value, &all)?));
+        }
+        Ok(Self {
+            openings,
+            closed: shapes_at(limits.lower, &all)?,
+            tip: hi,
+            finger_length: hi - lo,
+            closed_fingers,
+            open_fingers: shapes_at(limits.upper, &fingers)?,
+            approach,
+            closing: gripper.closing(),
+            open_width: gripper.open_width,
+        })
+    }
+
+    /// The narrowest opening at least `width` wide (fully open when none is): its gap
+    /// and the open palm and fingers.
+    pub fn open_for(&self, width: f64) -> (f64, &[(SharedShape, Pose)]) {
+        let (w, shapes) = self
+            .openings
+            .iter()
+            .find(|(w, _)| *w >= width - 1e-9)
+            .or(self.openings.last())
+            .expect("a hand has at least its full opening");
+        (*w, shapes)
+    }
+
+    /// `world_from_tool` with the approach pointing down (against the table normal
+    /// `up`), the fingers closing along `closing` (world, horizontal) and the fingertips
+    /// at `tips` (world).
+    pub fn pose(&self, tips: Vec3, closing: Vec3, up: Vec3) -> Pose {
+        let approach = -up;
+        let closing = (closing - approach * closing.dot(approach)).normalize_or(Vec3::X);
+        let rotation = tool_rotation(self.approach, self.closing, approach, closing);
+        Pose::from_parts(tips - approach * self.tip, rotation)
+    }
+}
+
+/// Lowest and highest extent of shapes (tool frame) along unit direction `d`.
+pub fn extent_along(shapes: &[(SharedShape, Pose)], d: Vec3) -> (f64, f64) {
+    let mut lo = f64::INFINITY;
+    let mut hi = f64::NEG_INFINITY;
+    for (s, p) in shapes {
+        let b = s.compute_aabb(p);
+        for i in 0..8 {
+            let c = Vec3::new(
+                if i & 1 == 0 { b.mins.x } else { b.maxs.x },
+                if i & 2 == 0 { b.mins.y } else { b.maxs.y },
+                if i & 4 == 0 { b.mins.z } else { b.maxs.z },
+            );
+            lo = lo.min(c.dot(d));
+            hi = hi.max(c.dot(d));
+        }
+    }
+    (lo, hi)
+}
+
+/// Rotation taking the gripper's own approach/closing axes (tool frame) onto world
+/// directions `approach` and `closing` (orthonormal).
+pub fn tool_rotation(
+    tool_approach: Vec3,
+    tool_closing: Vec3,
+    approach: Vec3,
+    closing: Vec3,
+) -> Quat {
+    let tool = Mat3::from_cols(
+        tool_approach,
+        tool_closing,
+        tool_approach.cross(tool_closing),
+    );
+    let world = Mat3::from_cols(approach, closing, approach.cross(closing));
+    Quat::from_mat3(&(world * tool.transpose())).normalize()
+}

@@ -1,0 +1,46 @@
+//! Skills the tasks share (the shape of MoveIt Task Constructor's stages): the hand's
+//! geometry, grasp planners behind one trait, the motions a manipulation is made of,
+//! and one error type that task errors wrap.
+//!
+//! * [`hand`]: the gripper's collision shapes, open and closed, and tool poses.
+//! * [`grasp`]: [`GraspPlanner`](grasp::GraspPlanner) and its planners.
+//! * [`motion`]: running a planned phase, going home, the arm's current values.
+
+pub mod grasp;
+pub mod hand;
+pub mod motion;
+
+pub use grasp::{GraspCandidate, GraspPlanner, GraspTarget};
+pub use hand::Hand;
+
+use tabula_motion::MoveError;
+use tabula_robot::driver::DriverError;
+
+/// Why a skill could not be set up or failed while it ran.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SkillError {
+    /// The robot's description lacks what the skill needs (a finger joint, a link).
+    #[error("robot: {0}")]
+    Robot(String),
+    /// No motion could be planned.
+    #[error("motion: {0}")]
+    Motion(String),
+    /// The gripper closed and holds nothing.
+    #[error("the gripper closed on nothing")]
+    Slipped,
+    /// The robot (driver) refused or failed a command.
+    #[error("driver: {0}")]
+    Driver(String),
+}
+
+impl From<MoveError> for SkillError {
+    fn from(e: MoveError) -> Self {
+        SkillError::Motion(e.to_string())
+    }
+}
+
+impl From<DriverError> for SkillError {
+    fn from(e: DriverError) -> Self {
+        SkillError::Driver(e.to_string())
+    }
+}
