@@ -277,6 +277,19 @@ impl SeenObject {
         self.top - self.bottom
     }
 
+    /// What a grasp planner sees of it, reached by an arm whose base is at `arm_base`
+    /// (world).
+    pub fn grasp_target(&self, arm_base: Option<Vec3>) -> crate::skills::GraspTarget<'_> {
+        crate::skills::GraspTarget {
+            points: &self.points,
+            outline: &self.outline,
+            rect: self.footprint,
+            bottom: self.bottom,
+            top: self.top,
+            arm_base,
+        }
+    }
+
     /// A box of the footprint and height in the object's frame (origin at the bottom
     /// centre): what the collision world carries for it.
     pub fn collision_shape(&self) -> (SharedShape, Pose) {

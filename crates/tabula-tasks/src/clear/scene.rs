@@ -41,9 +41,11 @@ impl SeenObject {
     pub fn grasp_target(&self) -> GraspTarget<'_> {
         GraspTarget {
             points: &self.points,
+            outline: &self.footprint,
             rect: self.rect,
             bottom: self.bottom,
             top: self.top,
+            arm_base: None,
         }
     }
 

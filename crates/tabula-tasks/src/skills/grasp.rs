@@ -5,30 +5,75 @@
 //! * [`TopGrasps`]: the whole object from above, closing across its footprint's
 //!   principal axis, then the other one (SPEC §3.2), full depth then shallow.
 //! * [`NarrowPartGrasps`]: an object too wide to take whole, by its narrow parts.
+//! * [`SideGrasps`]: from the side, level or tilted down, turned toward the arm (and
+//!   from above after them) — what a shelf leaves.
 //! * [`Fallback`]: one planner's grasps, or another's when it has none.
 
-use super::hand::{Hand, extent_along};
+use super::hand::{Hand, extent_along, tool_rotation};
 use tabula_geom::polygon::Rectangle;
 use tabula_geom::{Pose, Vec2, Vec3};
 
 /// What a grasp planner sees of an object (world frame): its points, its footprint's
-/// minimal rectangle on what it stands on, the height of that and of its top.
+/// convex outline and minimal rectangle on what it stands on, the height of that and of
+/// its top — and where the arm reaches from.
 #[derive(Debug, Clone, Copy)]
 pub struct GraspTarget<'a> {
     pub points: &'a [Vec3],
+    pub outline: &'a [Vec2],
     pub rect: Rectangle,
     pub bottom: f64,
     pub top: f64,
+    /// The arm's base (world), for planners that turn grasps toward it.
+    pub arm_base: Option<Vec3>,
+}
+
+impl GraspTarget<'_> {
+    /// Width of the outline across unit direction `d` (what the fingers must span);
+    /// the rectangle's without an outline.
+    pub fn width_along(&self, d: Vec2) -> f64 {
+        let (lo, hi) = self
+            .outline
+            .iter()
+            .map(|p| p.dot(d))
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
+                (a.min(x), b.max(x))
+            });
+        if hi >= lo {
+            hi - lo
+        } else {
+            self.rect.extent_along(d)
+        }
+    }
+}
+
+/// How a grasp approaches.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum GraspKind {
+    /// Approach horizontal (or tilted down a little), fingers closing horizontally.
+    Side,
+    /// Approach from above.
+    Top,
 }
 
 /// A grasp: where the tool goes and how far the fingers open before it approaches.
 #[derive(Debug, Clone)]
 pub struct GraspCandidate {
+    pub kind: GraspKind,
     /// `world_from_tool` at the grasp, and the same grasp with the fingers the other way
     /// round (a parallel gripper holds either way; the arm may reach only one).
     pub poses: [Pose; 2],
+    /// Approach direction (world, unit).
+    pub approach: Vec3,
     /// The finger gap (m) the gripper opens to before it approaches.
     pub width: f64,
+}
+
+impl GraspCandidate {
+    /// `world_from_tool` at the grasp (the first way round).
+    pub fn world_from_tool(&self) -> Pose {
+        self.poses[0]
+    }
 }
 
 /// A source of grasps.
@@ -80,7 +125,9 @@ impl TopGrasps {
     fn at(&self, hand: &Hand, up: Vec3, tips: Vec3, closing: Vec2, across: f64) -> GraspCandidate {
         let closing = Vec3::new(closing.x, closing.y, 0.0);
         GraspCandidate {
+            kind: GraspKind::Top,
             poses: [hand.pose(tips, closing, up), hand.pose(tips, -closing, up)],
+            approach: -up,
             width: hand.open_for(across + 2.0 * self.pregrasp_gap).0,
         }
     }
@@ -186,6 +233,134 @@ impl GraspPlanner for NarrowPartGrasps {
     }
 }
 
+/// Side grasps around the direction from the arm to the object — the approach level or
+/// tilted down a little, the grasp point a little deeper or shallower, higher or lower
+/// (an arm with few joints reaches some of these and not others) — then top grasps,
+/// ordered by how far each turns and tilts from the straight level one (seed 001's pick
+/// and place, SPEC §2.5).
+#[derive(Debug, Clone, PartialEq, serde::Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct SideGrasps {
+    /// Room left between each open finger and the object (m).
+    pub finger_clearance: f64,
+    /// The tool point stays at least this far above the support (m).
+    pub min_grasp_height: f64,
+    /// Approach yaws within ± this of the direction from the arm (rad) …
+    pub yaw_range: f64,
+    /// … this far apart (rad).
+    pub yaw_step: f64,
+    /// Downward tilts of the approach (rad).
+    pub tilts: Vec<f64>,
+    /// The grasp point may also sit this far deeper (+) or shallower (−) along the
+    /// approach than the object's centre (m).
+    pub depth_offsets: Vec<f64>,
+    /// Top grasps follow the side grasps.
+    pub top: bool,
+}
+
+impl Default for SideGrasps {
+    fn default() -> Self {
+        Self {
+            finger_clearance: 0.01,
+            min_grasp_height: 0.035,
+            yaw_range: 1.5,
+            yaw_step: 0.05,
+            tilts: vec![0.0, 0.2, 0.4],
+            depth_offsets: vec![0.015, -0.01],
+            top: true,
+        }
+    }
+}
+
+impl SideGrasps {
+    /// The yaw steps tried on either side of the facing direction.
+    fn steps(&self) -> i64 {
+        (self.yaw_range / self.yaw_step.max(1e-3)).ceil() as i64
+    }
+
+    /// The direction (rad) from the arm's base to the object.
+    fn facing(target: &GraspTarget<'_>) -> f64 {
+        let toward = target.rect.center - target.arm_base.unwrap_or(Vec3::ZERO).truncate();
+        toward.y.atan2(toward.x)
+    }
+
+    /// The narrowest width of the object across any closing direction tried (m): when
+    /// even that does not fit, the object is too wide for the hand.
+    pub fn narrowest(&self, target: &GraspTarget<'_>) -> f64 {
+        let facing = Self::facing(target);
+        (-self.steps()..=self.steps())
+            .map(|k| {
+                let yaw = facing + k as f64 * self.yaw_step;
+                target.width_along(Vec2::new(-yaw.sin(), yaw.cos()))
+            })
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    /// Offsets (along the approach, up) of the grasp point from the object's centre
+    /// line.
+    fn offsets(&self, kind: GraspKind, height: f64) -> Vec<(f64, f64)> {
+        let mut out = vec![(0.0, 0.0)];
+        out.extend(self.depth_offsets.iter().map(|&d| (d, 0.0)));
+        if kind == GraspKind::Side && height > 2.0 * self.min_grasp_height + 0.03 {
+            for d in [0.0, self.depth_offsets.first().copied().unwrap_or(0.0)] {
+                out.push((d, 0.015));
+                out.push((d, -0.015));
+            }
+        }
+        out
+    }
+}
+
+impl GraspPlanner for SideGrasps {
+    fn candidates(&self, target: &GraspTarget<'_>, hand: &Hand, up: Vec3) -> Vec<GraspCandidate> {
+        let c = target.rect.center;
+        let facing = Self::facing(target);
+        let h = target.top - target.bottom;
+        let side_z = target.bottom + (h / 2.0).max(self.min_grasp_height);
+        let top_z = target.bottom + (h - 0.03).max(self.min_grasp_height);
+        let tops = self
+            .top
+            .then_some((GraspKind::Top, std::f64::consts::FRAC_PI_2, top_z));
+        let mut scored: Vec<(f64, GraspCandidate)> = Vec::new();
+        for k in -self.steps()..=self.steps() {
+            let yaw = facing + k as f64 * self.yaw_step;
+            let closing = Vec2::new(-yaw.sin(), yaw.cos());
+            let across = target.width_along(closing);
+            if across + 2.0 * self.finger_clearance > hand.open_width {
+                continue;
+            }
+            let c3 = closing.extend(0.0);
+            let kinds = self
+                .tilts
+                .iter()
+                .map(|&t| (GraspKind::Side, t, side_z))
+                .chain(tops);
+            for (kind, tilt, z) in kinds {
+                let a = Vec3::new(yaw.cos() * tilt.cos(), yaw.sin() * tilt.cos(), -tilt.sin());
+                let r = tool_rotation(hand.approach, hand.closing, a, c3);
+                let turned = tool_rotation(hand.approach, hand.closing, a, -c3);
+                for (depth, rise) in self.offsets(kind, h) {
+                    let at = c.extend(z) + a * depth + up * rise;
+                    let score = k.unsigned_abs() as f64 * self.yaw_step
+                        + tilt
+                        + 2.0 * (depth.abs() + rise.abs())
+                        + if kind == GraspKind::Top { 0.5 } else { 0.0 };
+                    let grasp = GraspCandidate {
+                        kind,
+                        poses: [Pose::from_parts(at, r), Pose::from_parts(at, turned)],
+                        approach: a,
+                        width: hand.open_width,
+                    };
+                    scored.push((score, grasp));
+                }
+            }
+        }
+        // Stable: equal scores keep the order they were made in.
+        scored.sort_by(|a, b| a.0.total_cmp(&b.0));
+        scored.into_iter().map(|(_, g)| g).collect()
+    }
+}
+
 /// The first planner's grasps, or the second's when the first has none.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct Fallback<A, B>(pub A, pub B);
@@ -198,5 +373,113 @@ impl<A: GraspPlanner, B: GraspPlanner> GraspPlanner for Fallback<A, B> {
         } else {
             first
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use tabula_geom::polygon::min_area_rectangle;
+
+    fn hand() -> Hand {
+        let robot = tabula_robot::robots::load("wam").unwrap();
+        Hand::new(&robot, &robot.description.grippers[0]).unwrap()
+    }
+
+    /// An object of `outline` standing from z 0.7 to 0.7 + `height`.
+    fn target(outline: &[Vec2], height: f64, arm_base: Option<Vec3>) -> GraspTarget<'_> {
+        GraspTarget {
+            points: &[],
+            outline,
+            rect: min_area_rectangle(outline).unwrap(),
+            bottom: 0.7,
+            top: 0.7 + height,
+            arm_base,
+        }
+    }
+
+    fn box_outline(centre: Vec2, size: Vec2) -> Vec<Vec2> {
+        let h = size / 2.0;
+        [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)]
+            .iter()
+            .map(|&(x, y)| centre + Vec2::new(x * h.x, y * h.y))
+            .collect()
+    }
+
+    /// A grasp holds the fingers' closing axis across a width that fits, the tool's
+    /// approach along the candidate's approach, and its twin the fingers swapped.
+    fn check_candidate(g: &GraspCandidate, h: &Hand, t: &GraspTarget<'_>, clearance: f64) {
+        let closing = g.poses[0].rotation * h.closing;
+        let approach = g.poses[0].rotation * h.approach;
+        assert!((approach - g.approach).length() < 1e-9);
+        assert!(closing.z.abs() < 1e-9, "closing horizontal: {closing}");
+        let across = t.width_along(closing.truncate().normalize());
+        assert!(across + 2.0 * clearance <= h.open_width + 1e-9);
+        let twin = g.poses[1].rotation * h.closing;
+        assert!((twin + closing).length() < 1e-9);
+        assert!((g.poses[0].translation - g.poses[1].translation).length() < 1e-9);
+    }
+
+    #[test]
+    fn top_grasps_close_across_the_narrow_side_first_then_shallow() {
+        let h = hand();
+        let outline = box_outline(Vec2::new(0.6, 0.1), Vec2::new(0.05, 0.04));
+        let t = target(&outline, 0.1, None);
+        let grasps = TopGrasps::default().candidates(&t, &h, Vec3::Z);
+        // Both ways fit a 5 × 4 cm box: two deep, two shallow.
+        assert_eq!(grasps.len(), 4);
+        let depth = |g: &GraspCandidate| 0.8 - g.poses[0].translation.z;
+        assert!(depth(&grasps[0]) > depth(&grasps[2]));
+        for g in &grasps {
+            assert_eq!(g.kind, GraspKind::Top);
+            check_candidate(g, &h, &t, 0.0);
+        }
+        let first = (grasps[0].poses[0].rotation * h.closing).truncate();
+        assert!(first.y.abs() > 0.99, "across the 4 cm side: {first}");
+    }
+
+    #[test]
+    fn side_grasps_face_the_arm_and_fit_the_hand() {
+        let h = hand();
+        let planner = SideGrasps::default();
+        for (centre, base) in [
+            (Vec2::new(0.6, 0.0), Vec3::ZERO),
+            (Vec2::new(-0.3, 0.5), Vec3::new(0.2, -0.1, 0.3)),
+            (Vec2::new(0.0, -0.7), Vec3::ZERO),
+        ] {
+            // A can 4 cm across fits the hand every way: the first grasp faces the arm.
+            let outline: Vec<Vec2> = (0..16)
+                .map(|k| {
+                    let a = k as f64 * std::f64::consts::TAU / 16.0;
+                    centre + Vec2::new(a.cos(), a.sin()) * 0.02
+                })
+                .collect();
+            let t = target(&outline, 0.15, Some(base));
+            let grasps = planner.candidates(&t, &h, Vec3::Z);
+            assert!(!grasps.is_empty());
+            let facing = (centre - base.truncate()).normalize();
+            let first = grasps[0].approach;
+            assert!(first.truncate().normalize().dot(facing) > 0.99, "{first}");
+            for g in &grasps {
+                check_candidate(g, &h, &t, planner.finger_clearance);
+                let level = g.approach.truncate().normalize();
+                assert!(level.dot(facing) >= (planner.yaw_range + 1e-6).cos() - 1e-9);
+            }
+            assert!(grasps.iter().any(|g| g.kind == GraspKind::Top));
+            assert_eq!(grasps.last().map(|g| g.kind), Some(GraspKind::Top));
+        }
+    }
+
+    #[test]
+    fn nothing_fits_an_object_wider_than_the_hand_every_way() {
+        let h = hand();
+        let outline = box_outline(Vec2::new(0.6, 0.0), Vec2::new(0.2, 0.2));
+        let t = target(&outline, 0.1, Some(Vec3::ZERO));
+        let side = SideGrasps::default();
+        assert!(side.candidates(&t, &h, Vec3::Z).is_empty());
+        assert!(side.narrowest(&t) > h.open_width);
+        assert!(TopGrasps::default().candidates(&t, &h, Vec3::Z).is_empty());
+        let fallback = Fallback(TopGrasps::default(), NarrowPartGrasps::default());
+        assert!(fallback.candidates(&t, &h, Vec3::Z).is_empty());
     }
 }

@@ -5,13 +5,16 @@
 //! * [`hand`]: the gripper's collision shapes, open and closed, and tool poses.
 //! * [`grasp`]: [`GraspPlanner`](grasp::GraspPlanner) and its planners.
 //! * [`motion`]: running a planned phase, going home, the arm's current values.
+//! * [`phase`]: the phase recorder every task reports its stages with.
 
 pub mod grasp;
 pub mod hand;
 pub mod motion;
+pub mod phase;
 
-pub use grasp::{GraspCandidate, GraspPlanner, GraspTarget};
+pub use grasp::{GraspCandidate, GraspKind, GraspPlanner, GraspTarget};
 pub use hand::Hand;
+pub use phase::Phase;
 
 use tabula_motion::MoveError;
 use tabula_robot::driver::DriverError;
