@@ -1,0 +1,69 @@
+//! Unit tests of placing's geometry.
+
+use super::body::{palm_front, protective_shape};
+use tabula_geom::{Pose, Vec3};
+
+#[test]
+fn the_protective_shape_holds_the_object_but_not_the_wrist_behind_the_palm() {
+    // A 25 cm bottle held by its neck from the side (the tool frame's x is the
+    // approach, the fingers close along y), hanging down along −z; the camera saw
+    // its front half, the palm against its back 3 cm behind the tool point.
+    let first: Vec<Vec3> = (0..=50)
+        .flat_map(|i| {
+            (0..8).map(move |k| {
+                let a = std::f64::consts::PI * k as f64 / 7.0;
+                Vec3::new(
+                    0.005 + 0.035 * a.sin(),
+                    0.035 * a.cos(),
+                    0.02 - 0.005 * i as f64,
+                )
+            })
+        })
+        .collect();
+    let centre = first.iter().copied().sum::<Vec3>() / first.len() as f64;
+    let radius = first.iter().map(|q| q.distance(centre)).fold(0.0, f64::max) + 0.03;
+    // A PR2's palm: its front face 4.6 cm behind the tool point.
+    let g = tabula_robot::robots::load("pr2")
+        .unwrap()
+        .description
+        .grippers[0]
+        .clone();
+    let front = palm_front(&g).unwrap();
+    assert!((front + 0.046).abs() < 1e-9, "{front}");
+    let shape = protective_shape(&first, Vec3::X, Some(front), centre, radius);
+    let at = Pose::from_translation(centre);
+    let inside = |q: Vec3| shape.contains_point(&at, q);
+    // All of the ball in front of the cut, the unseen back of the bottle included.
+    for q in &first {
+        let back = Vec3::new(0.01 - q.x, q.y, q.z);
+        assert!(inside(*q) && inside(back), "{q:?}");
+    }
+    for k in 0..200 {
+        let d = Vec3::new(
+            (k as f64 * 0.37).sin(),
+            (k as f64 * 1.13).cos(),
+            (k as f64 * 2.71).sin(),
+        )
+        .normalize();
+        let q = centre + d * radius * 0.999;
+        if q.x >= front {
+            assert!(inside(q), "{q:?} of the ball in front of the cut");
+        }
+    }
+    // Behind the deepest point seen by more than the margin (where the wrist is),
+    // nothing, though the whole ball would reach there.
+    assert!(centre.x - radius < -0.12, "{centre:?} {radius}");
+    for y in [-0.05, 0.0, 0.05] {
+        for x in [-0.05, -0.07, -0.12] {
+            assert!(!inside(Vec3::new(x, y, centre.z)), "{x} {y}");
+        }
+    }
+    // No palm known: 3 cm behind the deepest point seen.
+    let seen = protective_shape(&first, Vec3::X, None, centre, radius);
+    assert!(seen.contains_point(&at, Vec3::new(-0.02, 0.0, centre.z)));
+    assert!(!seen.contains_point(&at, Vec3::new(-0.03, 0.0, centre.z)));
+    // Nor enough points to know where the object is: the whole ball.
+    let ball = protective_shape(&first[..5], Vec3::X, None, centre, radius);
+    let back = centre - Vec3::X * radius * 0.99;
+    assert!(ball.contains_point(&at, back));
+}
