@@ -9,6 +9,8 @@
 //! * [`observe`]: what the robot sees — its own body filtered out, the object and the
 //!   surface near a position, the occupancy that becomes the collision world.
 //! * [`skills`]: what the tasks share — the hand, grasp planners, motions, one error.
+//! * [`task`]: the [`Task`](task::Task) trait every task implements, and what a
+//!   watcher of a run is told.
 //! * [`torso`]: the torso raised before manipulating (seed 000 §1.6).
 
 pub mod clear;
@@ -17,4 +19,5 @@ pub mod pick_place;
 pub mod place;
 pub mod skills;
 pub mod stable;
+pub mod task;
 pub mod torso;

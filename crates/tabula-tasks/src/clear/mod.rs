@@ -135,15 +135,21 @@ pub enum ClearEvent<'a> {
 }
 
 impl ClearEvent<'_> {
-    /// Before an action: where the object it acts on and those it shoves along were
-    /// seen; `None` after it (the shape a judge of the run takes).
-    pub fn judged(&self) -> Option<(Vec3, Vec<Vec3>)> {
+    /// The moment a judge of the run is told: before an action, where the object it
+    /// acts on and those it shoves along were seen.
+    pub fn moment(&self) -> crate::task::Moment {
         match self {
-            ClearEvent::Before(a) => Some((
-                Vec3::from_array(a.position),
-                a.shoves.iter().map(|p| Vec3::from_array(*p)).collect(),
-            )),
-            ClearEvent::After(_) => None,
+            ClearEvent::Before(a) => crate::task::Moment::Acting {
+                target: Vec3::from_array(a.position),
+                shoved: a.shoves.iter().map(|p| Vec3::from_array(*p)).collect(),
+            },
+            ClearEvent::After(_) => crate::task::Moment::Done,
         }
+    }
+
+    /// Before an action: where the object it acts on and those it shoves along were
+    /// seen; `None` after it (the shape the simulator's clearing judge takes).
+    pub fn judged(&self) -> Option<(Vec3, Vec<Vec3>)> {
+        self.moment().judged()
     }
 }

@@ -1,0 +1,144 @@
+//! Unit tests of stable poses.
+
+use super::{ComMethod, StableError, StableParams, StablePose, of_cloud, of_mesh};
+use tabula_geom::Vec3;
+
+fn box_mesh(s: Vec3) -> (Vec<Vec3>, Vec<[u32; 3]>) {
+    tabula_sim::objects::cuboid(-s / 2.0, s)
+}
+
+#[test]
+fn a_flat_box_rests_best_on_its_largest_face() {
+    let (v, t) = box_mesh(Vec3::new(0.3, 0.1, 0.05));
+    let s = of_mesh(&v, &t, &StableParams::default()).unwrap();
+    assert_eq!(s.com_method, ComMethod::MeshVolume);
+    assert_eq!(s.poses.len(), 6);
+    let best = &s.poses[0];
+    assert!(best.normal().z.abs() > 0.999, "{:?}", best.support_normal);
+    assert!((best.area_m2 - 0.03).abs() < 1e-9);
+    assert!((best.margin_m - 0.05).abs() < 1e-9);
+    assert!((best.topple_deg - (0.05f64).atan2(0.025).to_degrees()).abs() < 1e-6);
+    let ml = &s.poses[s.most_likely.unwrap()];
+    assert!(ml.normal().z.abs() > 0.999);
+    let total: f64 = s.poses.iter().map(|p| p.probability).sum();
+    assert!((total - 1.0).abs() < 1e-9, "probabilities sum to {total}");
+    // Resting rotation puts the support normal down.
+    let r = best.resting_rotation(0.7);
+    assert!((r * best.normal() + Vec3::Z).length() < 1e-12);
+    assert!((best.origin_height() - 0.025).abs() < 1e-12);
+}
+
+#[test]
+fn a_centre_of_mass_beyond_a_face_leaves_no_pose_on_it() {
+    // An obtuse prism: its centre of mass (x = 0.133) overhangs the short bottom
+    // face (x ∈ [0, 0.1]), so it cannot rest on it; the other two faces and the end caps hold.
+    let v = vec![
+        Vec3::new(0.0, 0.0, 0.0),
+        Vec3::new(0.1, 0.0, 0.0),
+        Vec3::new(0.3, 0.0, 0.05),
+        Vec3::new(0.0, 0.1, 0.0),
+        Vec3::new(0.1, 0.1, 0.0),
+        Vec3::new(0.3, 0.1, 0.05),
+    ];
+    let s = of_cloud(&v, &StableParams::default()).unwrap();
+    assert!(
+        s.poses.iter().all(|p| p.normal().z > -0.99),
+        "{:?}",
+        s.poses
+    );
+    assert_eq!(s.poses.len(), 4);
+    let total: f64 = s.poses.iter().map(|p| p.probability).sum();
+    assert!(
+        (total - 1.0).abs() < 1e-9,
+        "every drop ends somewhere: {total}"
+    );
+}
+
+#[test]
+fn bad_inputs_are_errors() {
+    let p = StableParams::default();
+    assert!(matches!(
+        of_cloud(&[], &p),
+        Err(StableError::TooFewPoints(0))
+    ));
+    let flat: Vec<Vec3> = (0..20)
+        .map(|i| Vec3::new(i as f64, (i * i) as f64, 0.0))
+        .collect();
+    assert_eq!(of_cloud(&flat, &p).unwrap_err(), StableError::Degenerate);
+    let nan = vec![Vec3::NAN; 5];
+    assert_eq!(of_cloud(&nan, &p).unwrap_err(), StableError::NonFinite(5));
+    let (v, _) = box_mesh(Vec3::ONE);
+    assert!(of_mesh(&v, &[[0, 1, 99]], &p).is_err());
+}
+
+#[test]
+fn an_open_mesh_uses_its_surface_centroid() {
+    let (v, t) = box_mesh(Vec3::new(0.1, 0.1, 0.1));
+    let s = of_mesh(&v, &t[..10], &StableParams::default()).unwrap();
+    assert_eq!(s.com_method, ComMethod::MeshSurface);
+}
+
+/// Points on a bottle-like cylinder (r 3.4 cm, 12 cm long, axis z) with ±1 mm of
+/// deterministic scan-like noise along the surface normal.
+fn noisy_cylinder() -> Vec<Vec3> {
+    let (r, len) = (0.034, 0.12);
+    let mut noise = 0x2545_f491_4f6c_dd1d_u64;
+    let mut jitter = || {
+        noise ^= noise << 13;
+        noise ^= noise >> 7;
+        noise ^= noise << 17;
+        (noise % 2001) as f64 / 1000.0 - 1.0
+    };
+    let mut pts = Vec::new();
+    for i in 0..48 {
+        let a = std::f64::consts::TAU * i as f64 / 48.0;
+        let radial = Vec3::new(a.cos(), a.sin(), 0.0);
+        for k in 0..=24 {
+            let z = len * k as f64 / 24.0;
+            pts.push(radial * (r + 0.001 * jitter()) + Vec3::Z * z);
+        }
+        for k in 0..6 {
+            let z = if k % 2 == 0 { 0.0 } else { len };
+            let rr = r * (k / 2 + 1) as f64 / 4.0;
+            pts.push(radial * rr + Vec3::Z * (z + 0.001 * jitter()));
+        }
+    }
+    pts
+}
+
+#[test]
+fn a_curved_side_has_no_energy_barrier_and_a_flat_end_has_it_all() {
+    let pts = noisy_cylinder();
+    let s = of_cloud(&pts, &StableParams::default()).unwrap();
+    let com = Vec3::from_array(s.center_of_mass);
+    let end = s
+        .poses
+        .iter()
+        .find(|p| p.normal().z.abs() > 0.99)
+        .expect("rests on an end");
+    assert!(end.rocking(&pts, com) > 0.8, "{}", end.rocking(&pts, com));
+    // Lying down, its noisy side gives tolerance-band "faces" with a margin, but
+    // tilting it barely lifts the centre of mass.
+    let sides: Vec<&StablePose> = s
+        .poses
+        .iter()
+        .filter(|p| p.normal().z.abs() < 0.2)
+        .collect();
+    assert!(!sides.is_empty());
+    for side in sides {
+        let rock = side.rocking(&pts, com);
+        assert!(
+            rock < 0.5,
+            "side {:?} topple {}: {rock}",
+            side.support_normal,
+            side.topple_deg
+        );
+    }
+    // A box's faces keep their whole barrier.
+    let (v, _) = box_mesh(Vec3::new(0.05, 0.08, 0.1));
+    let b = of_cloud(&v, &StableParams::default()).unwrap();
+    let com = Vec3::from_array(b.center_of_mass);
+    for p in &b.poses {
+        assert!(p.rocking(&v, com) > 0.99, "{:?}", p.support_normal);
+    }
+}
