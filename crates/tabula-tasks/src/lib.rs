@@ -8,6 +8,7 @@
 //!   after every action (seed 002, SPEC §3).
 //! * [`observe`]: what the robot sees — its own body filtered out, the object and the
 //!   surface near a position, the occupancy that becomes the collision world.
+//! * [`scene`]: the tabletop scene model one frame gives (table, objects, hulls).
 //! * [`skills`]: what the tasks share — the hand, grasp planners, motions, one error.
 //! * [`task`]: the [`Task`](task::Task) trait every task implements, and what a
 //!   watcher of a run is told.
@@ -17,6 +18,7 @@ pub mod clear;
 pub mod observe;
 pub mod pick_place;
 pub mod place;
+pub mod scene;
 pub mod skills;
 pub mod stable;
 pub mod task;

@@ -6,6 +6,7 @@ use super::run::{Act, Run, Step};
 use super::{ActionKind, ActionRecord, ClearEvent};
 use crate::skills::SkillError;
 use crate::skills::motion::go_home;
+use crate::skills::pick::Manipulator;
 use tabula_robot::driver::RobotDriver;
 
 impl<D: RobotDriver> Run<'_, D> {
@@ -109,12 +110,14 @@ impl<D: RobotDriver> Run<'_, D> {
         let drop_at =
             self.request.drop_point + drop_offset(self.report.removed, self.request.drop_spread);
         let mut exec = Executor {
-            driver: &mut *self.driver,
-            robot: self.robot,
-            group: &mut self.group,
-            hand: &self.hand,
-            gripper: &self.gripper,
-            table: step.table,
+            arm: Manipulator {
+                driver: &mut *self.driver,
+                robot: self.robot,
+                group: &mut self.group,
+                hand: &self.hand,
+                gripper: &self.gripper,
+                up: step.table.up,
+            },
             home: &self.home,
             params: self.params,
         };

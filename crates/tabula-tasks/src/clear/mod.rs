@@ -9,7 +9,7 @@
 //! back where it came from, and every approach and transfer is planned collision-free
 //! against the other objects' hulls and the workcell.
 //!
-//! The loop ([`run`]) goes frame by frame: [`perceive`] → [`track`] → [`predicates`]
+//! The loop ([`run`]) goes frame by frame: [`crate::scene::tabletop`] → [`track`] → [`predicates`]
 //! (with [`push`]) → [`decide`] (the planner, built by [`problem`]; [`fallback`] when it
 //! is stuck) → [`act`] and [`execute`].
 
@@ -18,24 +18,22 @@ mod decide;
 mod execute;
 mod fallback;
 mod params;
-mod perceive;
 mod predicates;
 mod problem;
 mod push;
 mod report;
 mod run;
-mod scene;
 #[cfg(test)]
 mod tests;
 mod track;
 
+pub use crate::scene::SeenObject;
 pub use params::ClearParams;
 pub use report::{ActionRecord, ClearReport, FrameReport, Stats};
 pub use run::clear;
-pub use scene::SeenObject;
 
+use crate::scene::{Table, hits, hulls_collide, on_pairs, translated};
 use crate::skills::SkillError;
-use scene::{Table, hits, hull_vertices, hulls_collide, hulls_touch, on_pairs, translated};
 use serde::Serialize;
 use tabula_geom::Pose;
 use tabula_geom::Vec3;

@@ -1,13 +1,13 @@
 //! The clearing loop: a frame in, one action out, until the table is clear.
 
 use super::decide::{Decider, Decision};
-use super::perceive::{filtered_cloud, perceive};
 use super::predicates::{Geometry, TableView};
 use super::track::{Track, track};
 use super::{
     ActionKind, ClearError, ClearEvent, ClearParams, ClearReport, ClearRequest, DOMAIN,
     FrameReport, SeenObject, Table,
 };
+use crate::scene::tabletop::{filtered_cloud, perceive};
 use crate::skills::Hand;
 use tabula_motion::MoveGroup;
 use tabula_motion::group::thread_cpu;
@@ -263,9 +263,17 @@ impl<'a, D: RobotDriver> Run<'a, D> {
         let (robot, params, tabletop) = (self.robot, self.params, &self.tabletop);
         let (perceived, perception, filtered) = self.single.install(|| {
             let c0 = thread_cpu();
-            let cloud = filtered_cloud(&frame, robot, &state, world_from_root, params);
+            let cloud = filtered_cloud(
+                &frame,
+                robot,
+                &state,
+                world_from_root,
+                params.decimate,
+                params.self_filter_padding,
+            );
             let filtered = thread_cpu() - c0;
-            let perceived = perceive(&cloud, frame.world_from_camera.translation, tabletop);
+            let perceived = perceive(&cloud, frame.world_from_camera.translation, tabletop)
+                .map_err(|e| ClearError::Perception(e.to_string()));
             (perceived, thread_cpu() - c0, filtered)
         });
         if tracing::enabled!(tracing::Level::DEBUG) {

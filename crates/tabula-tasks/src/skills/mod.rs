@@ -5,12 +5,14 @@
 //! * [`hand`]: the gripper's collision shapes, open and closed, and tool poses.
 //! * [`grasp`]: [`GraspPlanner`](grasp::GraspPlanner) and its planners.
 //! * [`motion`]: running a planned phase, going home, the arm's current values.
+//! * [`pick`]: taking an object off a tabletop and carrying it.
 //! * [`phase`]: the phase recorder every task reports its stages with.
 
 pub mod grasp;
 pub mod hand;
 pub mod motion;
 pub mod phase;
+pub mod pick;
 
 pub use grasp::{GraspCandidate, GraspKind, GraspPlanner, GraspTarget};
 pub use hand::Hand;

@@ -1,5 +1,17 @@
-//! The table and its objects as clearing sees them in one frame, and the geometric
-//! tests the predicates are made of (hull against hull, hand against hull).
+//! The scene model of a tabletop as one frame shows it: the table (its plane and
+//! outline) and the objects on it (points, footprint, what each stands on, hull), built
+//! by [`tabletop`] from a camera frame — and the geometric tests tasks decide with
+//! (hull against hull, hand against hull).
+
+pub mod tabletop;
+
+/// Why a frame gave no scene.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SceneError {
+    /// The perception pipeline found no table (or no usable points).
+    #[error("{0}")]
+    Perception(String),
+}
 
 use crate::skills::GraspTarget;
 use tabula_geom::parry::bounding_volume::{Aabb, BoundingVolume};
@@ -50,7 +62,7 @@ impl SeenObject {
     }
 
     /// Push direction `k` (world, unit).
-    pub(super) fn direction(&self, k: usize) -> Vec2 {
+    pub(crate) fn direction(&self, k: usize) -> Vec2 {
         let (major, minor) = self.rect.principal_axes();
         match k {
             0 => major,
@@ -62,16 +74,16 @@ impl SeenObject {
 }
 
 /// The table as one frame sees it.
-pub(super) struct Table {
-    pub(super) z: f64,
-    pub(super) up: Vec3,
+pub(crate) struct Table {
+    pub(crate) z: f64,
+    pub(crate) up: Vec3,
     /// Convex outline (world xy).
-    pub(super) outline: Vec<Vec2>,
+    pub(crate) outline: Vec<Vec2>,
 }
 
 /// `(on a b)` for every pair: `a`'s bottom is `b`'s top and most of `a`'s points are over
 /// `b`'s footprint.
-pub(super) fn on_pairs(objects: &[SeenObject], table_z: f64) -> Vec<(usize, usize)> {
+pub(crate) fn on_pairs(objects: &[SeenObject], table_z: f64) -> Vec<(usize, usize)> {
     let mut out = Vec::new();
     for (i, a) in objects.iter().enumerate() {
         if a.bottom < table_z + 0.01 {
@@ -95,7 +107,7 @@ pub(super) fn on_pairs(objects: &[SeenObject], table_z: f64) -> Vec<(usize, usiz
 }
 
 /// A moving shape's clearance test against object hulls: AABB first, then exact.
-pub(super) fn hits(
+pub(crate) fn hits(
     shapes: &[(SharedShape, Pose)],
     world_from: &Pose,
     other: &SeenObject,
@@ -111,7 +123,7 @@ pub(super) fn hits(
 }
 
 /// Whether two objects' hulls come within `pad` of each other.
-pub(super) fn hulls_touch(a: &SeenObject, b: &SeenObject, pad: f64) -> bool {
+pub(crate) fn hulls_touch(a: &SeenObject, b: &SeenObject, pad: f64) -> bool {
     a.aabb.loosened(pad).intersects(&b.aabb)
         && query::distance(
             &Pose::IDENTITY,
@@ -125,7 +137,7 @@ pub(super) fn hulls_touch(a: &SeenObject, b: &SeenObject, pad: f64) -> bool {
 /// Whether a hull moved by `by` runs into another by more than `tolerance`: a neighbour it
 /// only grazes (touching objects seen with noise overlap by millimetres already) lets
 /// it slide past; one ahead is entered by a whole sweep step.
-pub(super) fn hulls_collide(
+pub(crate) fn hulls_collide(
     moved: &SeenObject,
     by: Vec3,
     other: &SeenObject,
@@ -145,7 +157,7 @@ pub(super) fn hulls_collide(
 }
 
 /// `o` moved by `by`; its hull too when `with_hull` (a new convex hull: costly).
-pub(super) fn translated(o: &SeenObject, by: Vec3, with_hull: bool) -> SeenObject {
+pub(crate) fn translated(o: &SeenObject, by: Vec3, with_hull: bool) -> SeenObject {
     let mut t = o.clone();
     t.rect.center += by.truncate();
     for p in &mut t.points {
@@ -166,7 +178,7 @@ pub(super) fn translated(o: &SeenObject, by: Vec3, with_hull: bool) -> SeenObjec
     t
 }
 
-pub(super) fn hull_vertices(s: &SharedShape) -> Vec<Vec3> {
+pub(crate) fn hull_vertices(s: &SharedShape) -> Vec<Vec3> {
     s.as_convex_polyhedron()
         .map(|c| c.points().to_vec())
         .unwrap_or_default()

@@ -1,7 +1,7 @@
 //! One frame in, the table and its objects out: the robot's own body filtered from the
 //! cloud, the tabletop pipeline, and for each object what it stands on and its hull.
 
-use super::{ClearError, ClearParams, SeenObject, Table};
+use super::{SceneError, SeenObject, Table};
 use crate::observe::robot_solids;
 use tabula_geom::parry::shape::SharedShape;
 use tabula_geom::polygon::{
@@ -23,13 +23,13 @@ struct Segment {
 }
 
 /// Perceives the table and its objects in a frame (world-frame cloud, organized or not).
-pub(super) fn perceive(
+pub(crate) fn perceive(
     cloud: &PointCloud,
     viewpoint: Vec3,
     tabletop: &TabletopParams,
-) -> Result<(Table, Vec<SeenObject>), ClearError> {
+) -> Result<(Table, Vec<SeenObject>), SceneError> {
     let top =
-        extract(cloud, viewpoint, tabletop).map_err(|e| ClearError::Perception(e.to_string()))?;
+        extract(cloud, viewpoint, tabletop).map_err(|e| SceneError::Perception(e.to_string()))?;
     if tracing::enabled!(tracing::Level::DEBUG) {
         tracing::debug!("tabletop stages (ms): {:?}", top.times);
     }
@@ -164,14 +164,16 @@ fn seen_object(s: &Segment, bottom: f64) -> Option<SeenObject> {
     })
 }
 
-/// The frame's cloud in the world frame, decimated, with the robot's own body (padded
-/// by `self_filter_padding`, SPEC §1.1) set to NaN so the cloud stays organized.
-pub(super) fn filtered_cloud(
+/// The frame's cloud in the world frame, decimated to every `decimate`-th pixel of
+/// every `decimate`-th row, with the robot's own body (padded by `padding`, SPEC §1.1)
+/// set to NaN so the cloud stays organized.
+pub(crate) fn filtered_cloud(
     frame: &CameraFrame,
     robot: &NamedRobot,
     state: &JointState,
     world_from_root: Pose,
-    params: &ClearParams,
+    decimate: usize,
+    padding: f64,
 ) -> PointCloud {
     let solids = robot_solids(
         &robot.model,
@@ -180,15 +182,9 @@ pub(super) fn filtered_cloud(
     );
     let mut cloud = frame
         .cloud
-        .decimated(params.decimate)
+        .decimated(decimate)
         .transformed(&frame.world_from_camera);
-    let keep = self_filter(
-        &cloud.points,
-        &solids,
-        &SelfFilterParams {
-            padding: params.self_filter_padding,
-        },
-    );
+    let keep = self_filter(&cloud.points, &solids, &SelfFilterParams { padding });
     for (q, k) in cloud.points.iter_mut().zip(keep) {
         if !k {
             *q = Vec3::NAN;

@@ -1,0 +1,198 @@
+//! Taking an object off a tabletop and carrying it: the motion sequence every task that
+//! grasps from above shares — open to the grasp's width, to the pre-grasp the decision
+//! solved, straight down, close, attach what is held, straight up — planned
+//! collision-free against the other objects' hulls, phase by phase.
+
+use super::motion::{current_arm, run_phase};
+use super::{GraspCandidate, Hand, SkillError};
+use crate::scene::{SeenObject, hull_vertices, hulls_touch};
+use tabula_geom::parry::shape::SharedShape;
+use tabula_geom::{Pose, Quat, Vec3};
+use tabula_motion::MoveGroup;
+use tabula_robot::description::Gripper;
+use tabula_robot::driver::RobotDriver;
+use tabula_robot::robots::NamedRobot;
+
+/// The name an object's hull has in the planning world.
+pub fn object_name(o: &SeenObject) -> String {
+    format!("obj:{}", o.id)
+}
+
+/// Distances of a grasp's motions (m): the pre-grasp above the grasp (SPEC §3.2: 10
+/// cm) and the lift after it (SPEC §3.2: 20 cm).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PickMotion {
+    pub pregrasp: f64,
+    pub lift: f64,
+}
+
+/// An arm acting on a tabletop: the driver, its move group (whose world holds the
+/// objects' hulls), its hand and gripper, the table's normal.
+pub struct Manipulator<'a, D> {
+    pub driver: &'a mut D,
+    pub robot: &'a NamedRobot,
+    pub group: &'a mut MoveGroup,
+    pub hand: &'a Hand,
+    pub gripper: &'a Gripper,
+    /// The table's normal (world, unit).
+    pub up: Vec3,
+}
+
+/// A grasp to take: of object `i` of `objects`, the IK solution the decision found for
+/// its pre-grasp (`ik`), and the neighbours its fingers push aside (`nudged`).
+pub struct Take<'a> {
+    pub objects: &'a [SeenObject],
+    pub i: usize,
+    pub grasp: &'a GraspCandidate,
+    pub ik: Vec<f64>,
+    pub nudged: &'a [usize],
+}
+
+impl<D: RobotDriver> Manipulator<'_, D> {
+    /// Puts an object's hull back into the planning world.
+    pub fn add(&mut self, o: &SeenObject) -> Result<(), SkillError> {
+        Ok(self
+            .group
+            .add_object(&object_name(o), o.hull.clone(), Pose::IDENTITY)?)
+    }
+
+    /// The group set to the robot's state now; the arm's values.
+    pub fn sync(&mut self) -> Result<Vec<f64>, SkillError> {
+        let state = self.driver.joint_state()?;
+        self.group.set_state(self.robot, &state)?;
+        Ok(self.group.arm_values(&state))
+    }
+
+    /// Plans from `q` to the decision's IK solution (else to `pre`, a pose) and goes
+    /// there.
+    pub fn approach_start(
+        &mut self,
+        q: &[f64],
+        ik: Vec<f64>,
+        pre: &Pose,
+        phase: &str,
+    ) -> Result<(), SkillError> {
+        let plan = self
+            .group
+            .plan_to_joints(q, &[ik])
+            .or_else(|_| self.group.plan_to_pose(q, pre))?;
+        run_phase(self.driver, &plan, phase)
+    }
+
+    /// A straight line of the tool to `to` from where the arm is.
+    pub fn line_to(&mut self, to: &Pose, phase: &str) -> Result<(), SkillError> {
+        let q = current_arm(self.driver, self.group)?;
+        let plan = self.group.cartesian(&q, to)?;
+        run_phase(self.driver, &plan, phase)
+    }
+
+    /// The grasp pose at the yaw closest to the decision's IK solution.
+    fn solved_yaw(&self, grasp: &GraspCandidate, ik: &[f64]) -> Pose {
+        let off = |y: usize| {
+            self.group
+                .tip_pose(ik)
+                .map(|p| p.rotation.angle_between(grasp.poses[y].rotation))
+                .unwrap_or(f64::INFINITY)
+        };
+        let yaw = (0..2)
+            .min_by(|&a, &b| off(a).total_cmp(&off(b)))
+            .unwrap_or(0);
+        grasp.poses[yaw]
+    }
+
+    /// Takes the object and lifts it; returns the grasp pose it was taken at. A grasp
+    /// whose gripper closes on nothing backs up and fails with
+    /// [`SkillError::Slipped`], the object back in the world.
+    pub fn take(&mut self, a: &Take<'_>, motion: PickMotion) -> Result<Pose, SkillError> {
+        let o = &a.objects[a.i];
+        self.driver.open_to(&self.gripper.name, a.grasp.width)?;
+        let q = self.sync()?;
+        let g = self.solved_yaw(a.grasp, &a.ik);
+        let pre = Pose::from_parts(g.translation + self.up * motion.pregrasp, g.rotation);
+        self.approach_start(&q, a.ik.clone(), &pre, "to pre-grasp")?;
+        self.group.remove_object(&object_name(o))?;
+        // A nudge grasp's fingers push these aside on the way down: out of the world
+        // until the object is lifted.
+        for &n in a.nudged {
+            self.group.remove_object(&object_name(&a.objects[n]))?;
+        }
+        self.line_to(&g, "descend")?;
+        let held = self.driver.close(&self.gripper.name)?;
+        if !held.holding {
+            self.line_to(&pre, "back up")?;
+            self.add(o)?;
+            return Err(SkillError::Slipped);
+        }
+        self.attach_held(o)?;
+        self.lift(a, &g, motion.lift)?;
+        Ok(g)
+    }
+
+    /// Attaches the held object's hull to the tool, its bottom taken off (it touches
+    /// the table at the start of the lift, as the object does).
+    fn attach_held(&mut self, o: &SeenObject) -> Result<(), SkillError> {
+        let raised: Vec<Vec3> = hull_vertices(&o.hull)
+            .into_iter()
+            .map(|p| Vec3::new(p.x, p.y, p.z.max(o.bottom + 0.02)))
+            .collect();
+        let held_hull = SharedShape::convex_hull(&raised).unwrap_or_else(|| o.hull.clone());
+        let q = current_arm(self.driver, self.group)?;
+        let tool = self.group.tip_pose(&q)?;
+        Ok(self
+            .group
+            .attach(&object_name(o), held_hull, tool.inverse())?)
+    }
+
+    /// Lifts `height` straight up from grasp pose `g`. Straight up cannot hit what
+    /// stands beside the object: its neighbours (within 2 cm of its hull) are out of the
+    /// world while the lift is planned; what a nudge grasp pushed aside comes back
+    /// after it.
+    fn lift(&mut self, a: &Take<'_>, g: &Pose, height: f64) -> Result<(), SkillError> {
+        let o = &a.objects[a.i];
+        let neighbours: Vec<&SeenObject> = a
+            .objects
+            .iter()
+            .enumerate()
+            .filter(|&(j, n)| j != a.i && hulls_touch(o, n, 0.02))
+            .map(|(_, n)| n)
+            .collect();
+        for n in &neighbours {
+            // (What a nudge grasp pushed aside is out already.)
+            let _ = self.group.remove_object(&object_name(n));
+        }
+        let lifted = Pose::from_parts(g.translation + self.up * height, g.rotation);
+        let q = current_arm(self.driver, self.group)?;
+        let lift = self.group.cartesian(&q, &lifted);
+        for n in &neighbours {
+            self.add(n)?;
+        }
+        run_phase(self.driver, &lift?, "lift")?;
+        for &k in a.nudged {
+            let n = &a.objects[k];
+            if !neighbours.iter().any(|x| x.id == n.id) {
+                self.add(n)?;
+            }
+        }
+        Ok(())
+    }
+
+    /// Carries the held object with the fingertips `over` (world), the hand turned
+    /// whichever of four ways the arm reaches.
+    pub fn carry_over(&mut self, over: Vec3, phase: &str) -> Result<(), SkillError> {
+        let (hand, up) = (self.hand, self.up);
+        let q = current_arm(self.driver, self.group)?;
+        let mut last = Err(SkillError::Motion("no drop pose".into()));
+        for a in 0..4 {
+            let closing = Quat::from_rotation_z(a as f64 * std::f64::consts::FRAC_PI_4) * Vec3::X;
+            let pose = hand.pose(over - up * hand.tip, closing, up);
+            match self.group.plan_to_pose(&q, &pose) {
+                Ok(p) => {
+                    last = Ok(p);
+                    break;
+                }
+                Err(e) => last = Err(e.into()),
+            }
+        }
+        run_phase(self.driver, &last?, phase)
+    }
+}
