@@ -127,6 +127,8 @@ fn placing(report: &mut Report) -> Result<(Section, serde_json::Value, String)> 
     let t0 = Instant::now();
     let request = PlaceRequest {
         arm: Some("right".into()),
+        not_on: Vec::new(),
+        near: None,
     };
     let params = PlaceParams::default();
     let (out, _, recorded) = crate::place::place_in(world, None, &request, &params, 1, true)?;

@@ -26,6 +26,7 @@ mod sim;
 mod stable;
 mod tasks;
 mod teleop;
+mod tidy;
 mod trials;
 #[cfg(feature = "ros")]
 mod worker;
@@ -110,6 +111,10 @@ enum Command {
     /// Clear a cluttered table into the bin by grasps and pushes, replanning after every
     /// action (seed 002), in the simulator, judged by its physics.
     Clear(clear::ClearArgs),
+    /// Take every object from one table and stand each on another surface the robot
+    /// finds (clearing's perception and grasps, placing's stable poses and approach),
+    /// in the simulator, judged by its physics.
+    Tidy(tidy::TidyArgs),
     /// The ROS 2 graph of a zenoh network (nodes, topics, services with their types),
     /// from rmw_zenoh's liveliness tokens: `ros2 node list` without ROS.
     #[cfg(feature = "ros")]
@@ -213,9 +218,11 @@ fn main() {
     // Commands that move robots stop them on Ctrl+C; the others keep the default
     // (the process ends at once).
     let moves_robots = match &cli.command {
-        Command::Demo { .. } | Command::Clear(_) | Command::Place(_) | Command::PickPlace(_) => {
-            true
-        }
+        Command::Demo { .. }
+        | Command::Clear(_)
+        | Command::Tidy(_)
+        | Command::Place(_)
+        | Command::PickPlace(_) => true,
         #[cfg(feature = "ros")]
         Command::Serve(_) | Command::Worker(_) => true,
         Command::Bench { command, .. } => command.moves_robots(),
@@ -230,6 +237,7 @@ fn main() {
         Command::Teleop(args) => teleop::run(args),
         Command::Bench { command, report } => bench::run(command, report.as_deref()),
         Command::Clear(args) => clear::run(args),
+        Command::Tidy(args) => tidy::run(args),
         Command::Ik { command } => ik::run(command),
         #[cfg(feature = "ros")]
         Command::Graph(args) => graph::run(args),

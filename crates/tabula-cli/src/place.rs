@@ -138,6 +138,8 @@ pub fn run(a: PlaceArgs) -> Result<()> {
         } else {
             Some(a.arm.clone())
         },
+        not_on: Vec::new(),
+        near: None,
     };
     let sections = |report: &mut Report, out: &PlaceJson, recorded: Option<&Recorded>| {
         report.title = "tabula place".into();
@@ -539,6 +541,8 @@ fn trial(
     let t0 = std::time::Instant::now();
     let request = PlaceRequest {
         arm: Some(task.arm.clone()),
+        not_on: Vec::new(),
+        near: None,
     };
     let (out, _, _) = place_in(world, None, &request, params, s, false)?;
     let cause = if out.success {

@@ -6,6 +6,7 @@
 pub mod camera;
 pub mod driver;
 pub mod generate;
+pub mod judge;
 pub mod objects;
 pub mod replay;
 pub mod robot;

@@ -6,6 +6,8 @@
 //!   001's integral test, SPEC §2.5), either arm.
 //! * [`clear`]: clear a cluttered table into a bin by grasps and pushes, replanning
 //!   after every action (seed 002, SPEC §3).
+//! * [`tidy`]: take every object from one table and stand each on another surface —
+//!   a task from the shared skills alone.
 //! * [`observe`]: what the robot sees — its own body filtered out, the object and the
 //!   surface near a position, the occupancy that becomes the collision world.
 //! * [`scene`]: the tabletop scene model one frame gives (table, objects, hulls).
@@ -22,4 +24,5 @@ pub mod scene;
 pub mod skills;
 pub mod stable;
 pub mod task;
+pub mod tidy;
 pub mod torso;

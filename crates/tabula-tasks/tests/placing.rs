@@ -18,6 +18,8 @@ fn run(scene_text: &str, arm: &str, seed: u64) -> (PlaceOutcome, StablePlaceVerd
     let params = PlaceParams::default();
     let request = PlaceRequest {
         arm: Some(arm.into()),
+        not_on: Vec::new(),
+        near: None,
     };
     let (outcome, verdict, _) = run_place_judged(world, "pr2", seed, |driver| {
         let out = place(driver, &robot, &request, &params);

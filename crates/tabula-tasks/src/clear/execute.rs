@@ -66,6 +66,7 @@ impl<D: RobotDriver> Executor<'_, D> {
         let motion = PickMotion {
             pregrasp: self.params.pregrasp,
             lift: self.params.lift,
+            open_at_pregrasp: false,
         };
         let g = self.arm.take(&take, motion)?;
         // Over the bin, the object's bottom `drop_clearance` above the drop point.

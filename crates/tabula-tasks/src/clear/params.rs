@@ -234,13 +234,8 @@ impl ClearParams {
         Fallback(top, NarrowPartGrasps { top })
     }
 
-    /// The tabletop pipeline's point counts and pixel steps are for full frames; a
-    /// decimated frame has `decimate`² fewer points and pixels `decimate` times as far.
+    /// The tabletop pipeline's parameters for this run's decimated frames.
     pub fn decimated_tabletop(&self) -> TabletopParams {
-        let mut tabletop = self.tabletop.clone();
-        let d = self.decimate.max(1);
-        tabletop.min_object_points = (tabletop.min_object_points / (d * d)).max(1);
-        tabletop.concavity_step = (tabletop.concavity_step / d).max(1);
-        tabletop
+        crate::scene::tabletop::decimated(&self.tabletop, self.decimate)
     }
 }

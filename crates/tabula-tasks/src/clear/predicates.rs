@@ -3,9 +3,9 @@
 //! those actions would take.
 
 use super::push::Push;
-use super::{ClearParams, SeenObject, Table, hits, on_pairs};
+use super::{ClearParams, SeenObject, Table, on_pairs};
+use crate::skills::pick::grasp_blockers;
 use crate::skills::{GraspCandidate, GraspPlanner, Hand};
-use tabula_geom::{Pose, Vec3};
 
 /// Everything the predicates computed for one frame.
 #[derive(Clone)]
@@ -28,18 +28,7 @@ pub(super) struct TableView<'a> {
     pub(super) params: &'a ClearParams,
 }
 
-/// A pose and its copies every 3 cm up to `height` along `up` (the way down to it).
-pub(super) fn descent_poses(pose: &Pose, up: Vec3, height: f64) -> Vec<Pose> {
-    let steps = (height / 0.03).ceil().max(1.0) as usize;
-    (0..=steps)
-        .map(|k| {
-            Pose::from_parts(
-                pose.translation + up * (height * k as f64 / steps as f64),
-                pose.rotation,
-            )
-        })
-        .collect()
-}
+pub(super) use crate::skills::pick::descent_poses;
 
 impl<'a> TableView<'a> {
     /// The same table and hand with other objects (where they would be after a push).
@@ -61,16 +50,9 @@ impl<'a> TableView<'a> {
         grasp: &GraspCandidate,
         skip: &dyn Fn(usize) -> bool,
     ) -> Vec<usize> {
-        let poses = descent_poses(&grasp.poses[0], self.table.up, self.params.pregrasp);
-        let shapes = self.hand.open_for(grasp.width).1;
-        (0..self.objects.len())
-            .filter(|&a| !skip(a))
-            .filter(|&a| {
-                poses
-                    .iter()
-                    .any(|p| hits(shapes, p, &self.objects[a], self.params.clearance))
-            })
-            .collect()
+        let p = self.params;
+        let reach = (self.table.up, p.pregrasp, p.clearance);
+        grasp_blockers(self.objects, grasp, self.hand, reach, skip)
     }
 
     /// Which objects could be grasped now: nothing on them, and a grasp nothing is in

@@ -13,7 +13,7 @@ use tabula_motion::MoveGroup;
 use tabula_motion::group::thread_cpu;
 use tabula_pddl::Domain;
 use tabula_perception::tabletop::TabletopParams;
-use tabula_robot::description::{ArmGroup, Gripper};
+use tabula_robot::description::Gripper;
 use tabula_robot::driver::{JointState, RobotDriver};
 use tabula_robot::robots::NamedRobot;
 
@@ -140,34 +140,6 @@ fn log_decision(frame_no: usize, fr: &FrameReport) {
     );
 }
 
-/// The arm a run uses: the request's, else the robot's first with a gripper.
-fn arm_and_gripper(
-    robot: &NamedRobot,
-    request: &ClearRequest,
-) -> Result<(ArmGroup, Gripper), ClearError> {
-    let arm_name = match &request.arm {
-        Some(a) => a.clone(),
-        None => robot
-            .description
-            .arms
-            .iter()
-            .find(|a| a.gripper.is_some())
-            .map(|a| a.name.clone())
-            .ok_or_else(|| ClearError::Robot("no arm with a gripper".into()))?,
-    };
-    let arm = robot
-        .description
-        .arm(&arm_name)
-        .map_err(|e| ClearError::Robot(e.to_string()))?
-        .clone();
-    let gripper = robot
-        .description
-        .gripper_of(&arm)
-        .cloned()
-        .ok_or_else(|| ClearError::Robot(format!("arm `{arm_name}` has no gripper")))?;
-    Ok((arm, gripper))
-}
-
 /// What a frame shows: the table, its objects (tracked), the robot's state, and the
 /// frame's report so far.
 struct Seen {
@@ -192,7 +164,7 @@ impl<'a, D: RobotDriver> Run<'a, D> {
         request: &'a ClearRequest,
         params: &'a ClearParams,
     ) -> Result<Self, ClearError> {
-        let (arm, gripper) = arm_and_gripper(robot, request)?;
+        let (arm, gripper) = crate::skills::arm_with_gripper(robot, request.arm.as_deref())?;
         params.validate()?;
         if !(request.drop_point.is_finite() && request.drop_spread.is_finite()) {
             return Err(ClearError::Params("the drop point must be finite".into()));

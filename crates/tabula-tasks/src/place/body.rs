@@ -112,10 +112,7 @@ pub(super) fn retry_behind(e: &PlaceError) -> bool {
     )
 }
 
-pub(super) fn heading(p: &Pose) -> f64 {
-    let f = p.rotation * Vec3::X;
-    f.y.atan2(f.x)
-}
+pub(super) use crate::skills::base::heading;
 
 pub(super) fn heading_vector(p: &Pose) -> Vec3 {
     let h = heading(p);
@@ -153,25 +150,15 @@ pub(super) fn holding_arm(robot: &NamedRobot, state: &JointState) -> Option<Stri
     best.map(|(_, n)| n)
 }
 
-/// Where the mobile base is (world): the link its planar joints move, or the robot's
-/// root when it has no base.
+/// The base's pose in the world (see [`crate::skills::base::world_from_base`]).
 pub(super) fn world_from_base(
     robot: &NamedRobot,
     driver: &impl RobotDriver,
 ) -> Result<Pose, PlaceError> {
-    let root = driver.world_from_root()?;
-    let Some(base) = &robot.description.base else {
-        return Ok(root);
-    };
-    let Some(j) = robot.model.joint(&base.theta_joint) else {
-        return Ok(root);
-    };
-    let state = driver.joint_state()?;
-    let fk = robot
-        .model
-        .forward_kinematics(&state.model_values(&robot.model))
-        .map_err(|e| PlaceError::Driver(e.to_string()))?;
-    Ok(root * fk[robot.model.joints[j].child])
+    crate::skills::base::world_from_base(robot, driver).map_err(|e| match e {
+        crate::skills::SkillError::Driver(m) => PlaceError::Driver(m),
+        other => PlaceError::Driver(other.to_string()),
+    })
 }
 
 /// The world pose of a link at a joint state.

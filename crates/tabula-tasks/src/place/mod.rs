@@ -35,10 +35,16 @@ use tabula_perception::freespace::FreeSpaceMap;
 use tabula_robot::driver::{DriverError, RobotDriver};
 use tabula_robot::robots::NamedRobot;
 
-/// What to do: which arm holds the object (`None`: the one whose gripper is closed).
+/// What to do: which arm holds the object (`None`: the one whose gripper is closed),
+/// and surfaces not to put it on.
 #[derive(Debug, Clone, Default)]
 pub struct PlaceRequest {
     pub arm: Option<String>,
+    /// A surface that has one of these points (world) over its outline, within 10 cm
+    /// of its height, is not a target (where the object came from, say).
+    pub not_on: Vec<Vec3>,
+    /// Surfaces nearest this point (world) are tried first (`None`: nearest the robot).
+    pub near: Option<Vec3>,
 }
 
 /// Why placing failed (typed, for `--json`'s `error`).
@@ -189,6 +195,7 @@ pub fn place(
         near: Vec::new(),
         near_keys: Default::default(),
         held_reach: params.protective_radius,
+        prefer_near: request.near,
     };
     let error = run.run(driver, request).err();
     let mut report = run.report;

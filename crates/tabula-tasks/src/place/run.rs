@@ -53,6 +53,8 @@ pub(super) struct Run<'a> {
     /// How far from the tool frame what the hand holds reaches (m): the protective
     /// sphere while scanning, then the larger of it and the model.
     pub(super) held_reach: f64,
+    /// Surfaces nearest this point are tried first (the request's `near`).
+    pub(super) prefer_near: Option<Vec3>,
 }
 
 impl Run<'_> {
@@ -179,7 +181,7 @@ impl Run<'_> {
         loop {
             let found = self
                 .phase("surface search", |r| {
-                    r.search_surfaces(driver, &arm, &hull, &mut scene)
+                    r.search_surfaces(driver, &arm, &hull, &mut scene, &request.not_on)
                 })
                 .and_then(|surfaces| {
                     driver.annotate(&format!("found {} surface(s)", surfaces.len()));

@@ -22,6 +22,7 @@ impl Run<'_> {
         arm: &str,
         hull: &SharedShape,
         scene: &mut Vec<Vec3>,
+        not_on: &[Vec3],
     ) -> Result<Vec<Surface>, PlaceError> {
         let p = self.params;
         let root = world_from_base(self.robot, driver)?;
@@ -63,9 +64,15 @@ impl Run<'_> {
                 }
             }
         }
-        // Merged views may find one surface twice.
+        // Merged views may find one surface twice; surfaces the request rules out go.
         let mut unique: Vec<Surface> = Vec::new();
-        for s in surfaces {
+        let ruled_out = |s: &Surface| {
+            let outline = Outline::of(s);
+            not_on
+                .iter()
+                .any(|q| outline.over(*q) && (q.z - s.centroid.z).abs() <= 0.1)
+        };
+        for s in surfaces.into_iter().filter(|s| !ruled_out(s)) {
             if !unique.iter().any(|u| {
                 (u.centroid.z - s.centroid.z).abs() < 0.03 && Outline::of(u).over(s.centroid)
             }) {
@@ -206,7 +213,10 @@ impl Run<'_> {
         surfaces: &[Surface],
         scene: &mut Vec<Vec3>,
     ) -> Result<(), PlaceError> {
-        let me = world_from_base(self.robot, driver)?.translation.truncate();
+        let me = match self.prefer_near {
+            Some(q) => q.truncate(),
+            None => world_from_base(self.robot, driver)?.translation.truncate(),
+        };
         let mut order: Vec<(f64, &Surface)> = surfaces
             .iter()
             .map(|s| (Outline::of(s).distance(me), s))

@@ -2,12 +2,14 @@
 //! geometry, grasp planners behind one trait, the motions a manipulation is made of,
 //! and one error type that task errors wrap.
 //!
+//! * [`base`]: where a mobile robot's base stands.
 //! * [`hand`]: the gripper's collision shapes, open and closed, and tool poses.
 //! * [`grasp`]: [`GraspPlanner`](grasp::GraspPlanner) and its planners.
 //! * [`motion`]: running a planned phase, going home, the arm's current values.
 //! * [`pick`]: taking an object off a tabletop and carrying it.
 //! * [`phase`]: the phase recorder every task reports its stages with.
 
+pub mod base;
 pub mod grasp;
 pub mod hand;
 pub mod motion;
@@ -19,7 +21,37 @@ pub use hand::Hand;
 pub use phase::Phase;
 
 use tabula_motion::MoveError;
+use tabula_robot::description::{ArmGroup, Gripper};
 use tabula_robot::driver::DriverError;
+use tabula_robot::robots::NamedRobot;
+
+/// The arm named `arm` (else the robot's first arm with a gripper) and its gripper.
+pub fn arm_with_gripper(
+    robot: &NamedRobot,
+    arm: Option<&str>,
+) -> Result<(ArmGroup, Gripper), SkillError> {
+    let name = match arm {
+        Some(a) => a.to_string(),
+        None => robot
+            .description
+            .arms
+            .iter()
+            .find(|a| a.gripper.is_some())
+            .map(|a| a.name.clone())
+            .ok_or_else(|| SkillError::Robot("no arm with a gripper".into()))?,
+    };
+    let arm = robot
+        .description
+        .arm(&name)
+        .map_err(|e| SkillError::Robot(e.to_string()))?
+        .clone();
+    let gripper = robot
+        .description
+        .gripper_of(&arm)
+        .cloned()
+        .ok_or_else(|| SkillError::Robot(format!("arm `{name}` has no gripper")))?;
+    Ok((arm, gripper))
+}
 
 /// Why a skill could not be set up or failed while it ran.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]

@@ -5,7 +5,7 @@
 
 use super::motion::{current_arm, run_phase};
 use super::{GraspCandidate, Hand, SkillError};
-use crate::scene::{SeenObject, hull_vertices, hulls_touch};
+use crate::scene::{SeenObject, hits, hull_vertices, hulls_touch};
 use tabula_geom::parry::shape::SharedShape;
 use tabula_geom::{Pose, Quat, Vec3};
 use tabula_motion::MoveGroup;
@@ -18,12 +18,50 @@ pub fn object_name(o: &SeenObject) -> String {
     format!("obj:{}", o.id)
 }
 
+/// A pose and its copies every 3 cm up to `height` along `up` (the way down to it).
+pub fn descent_poses(pose: &Pose, up: Vec3, height: f64) -> Vec<Pose> {
+    let steps = (height / 0.03).ceil().max(1.0) as usize;
+    (0..=steps)
+        .map(|k| {
+            Pose::from_parts(
+                pose.translation + up * (height * k as f64 / steps as f64),
+                pose.rotation,
+            )
+        })
+        .collect()
+}
+
+/// The objects (indices) the open gripper of `grasp` meets at the grasp or on its way
+/// down from `pregrasp` above it, within `clearance` of their hulls, except those
+/// `skip` names.
+pub fn grasp_blockers(
+    objects: &[SeenObject],
+    grasp: &GraspCandidate,
+    hand: &Hand,
+    (up, pregrasp, clearance): (Vec3, f64, f64),
+    skip: &dyn Fn(usize) -> bool,
+) -> Vec<usize> {
+    let poses = descent_poses(&grasp.poses[0], up, pregrasp);
+    let shapes = hand.open_for(grasp.width).1;
+    (0..objects.len())
+        .filter(|&a| !skip(a))
+        .filter(|&a| {
+            poses
+                .iter()
+                .any(|p| hits(shapes, p, &objects[a], clearance))
+        })
+        .collect()
+}
+
 /// Distances of a grasp's motions (m): the pre-grasp above the grasp (SPEC §3.2: 10
 /// cm) and the lift after it (SPEC §3.2: 20 cm).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PickMotion {
     pub pregrasp: f64,
     pub lift: f64,
+    /// Open the fingers at the pre-grasp rather than before moving there: an arm
+    /// tucked against the body cannot open where it is.
+    pub open_at_pregrasp: bool,
 }
 
 /// An arm acting on a tabletop: the driver, its move group (whose world holds the
@@ -105,11 +143,17 @@ impl<D: RobotDriver> Manipulator<'_, D> {
     /// [`SkillError::Slipped`], the object back in the world.
     pub fn take(&mut self, a: &Take<'_>, motion: PickMotion) -> Result<Pose, SkillError> {
         let o = &a.objects[a.i];
-        self.driver.open_to(&self.gripper.name, a.grasp.width)?;
+        if !motion.open_at_pregrasp {
+            self.driver.open_to(&self.gripper.name, a.grasp.width)?;
+        }
         let q = self.sync()?;
         let g = self.solved_yaw(a.grasp, &a.ik);
         let pre = Pose::from_parts(g.translation + self.up * motion.pregrasp, g.rotation);
         self.approach_start(&q, a.ik.clone(), &pre, "to pre-grasp")?;
+        if motion.open_at_pregrasp {
+            self.driver.open_to(&self.gripper.name, a.grasp.width)?;
+            self.sync()?;
+        }
         self.group.remove_object(&object_name(o))?;
         // A nudge grasp's fingers push these aside on the way down: out of the world
         // until the object is lifted.
