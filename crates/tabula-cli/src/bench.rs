@@ -55,6 +55,20 @@ pub enum BenchCommand {
         #[arg(long)]
         json: bool,
     },
+    /// Tidying on its generated family (a PR2, a table with 2–6 objects, one or two
+    /// other tables): objects moved (physics), knocked over, decision CPU.
+    Tidy {
+        /// Tasks (seeds `seed`, `seed + 1`, …).
+        #[arg(long, default_value_t = 20, value_parser = crate::args::count_u64)]
+        tasks: u64,
+        #[arg(long, default_value_t = 1, value_parser = crate::args::seed)]
+        seed: u64,
+        /// Write each generated task's scene into this folder (`tidy-SEED.toml`).
+        #[arg(long)]
+        save_scenes: Option<std::path::PathBuf>,
+        #[arg(long)]
+        json: bool,
+    },
     /// Seed 002's table clearing on a generated suite: completion, objects per action,
     /// grasp success, push loops and collisions judged by physics; decision CPU per frame.
     Clear {
@@ -133,6 +147,7 @@ impl BenchCommand {
             self,
             BenchCommand::PickPlace { .. }
                 | BenchCommand::Clear { .. }
+                | BenchCommand::Tidy { .. }
                 | BenchCommand::Place { .. }
         )
     }
@@ -150,6 +165,12 @@ pub fn run(c: BenchCommand, report: Option<&std::path::Path>) -> Result<()> {
             json,
         } => frames(&clouds, reps.max(1), &layout, json, report),
         BenchCommand::PickPlace { variants, json } => pick_place(variants, json, report),
+        BenchCommand::Tidy {
+            tasks,
+            seed,
+            save_scenes,
+            json,
+        } => crate::tidy::bench(tasks, seed, save_scenes.as_deref(), json),
         BenchCommand::Clear {
             suite,
             scenes,

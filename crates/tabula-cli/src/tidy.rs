@@ -52,23 +52,21 @@ fn point(xy: &Option<Vec<f64>>) -> Option<Vec3> {
     xy.as_ref().map(|v| Vec3::new(v[0], v[1], TABLE_HEIGHT))
 }
 
-/// Runs tidying on `world` (settled first), judged; returns what it prints and the
-/// world afterwards.
+/// Runs tidying on `world` (settled first) with its robot (`robot`, or the only one),
+/// judged against furniture `source`; camera noise from `seed`. Returns what it prints
+/// and the world afterwards.
 pub fn tidy_in(
     mut world: tabula_sim::SimWorld,
-    a: &TidyArgs,
+    (robot, source): (Option<&str>, &str),
+    request: &TidyRequest,
     params: &TidyParams,
+    seed: u64,
 ) -> Result<(TidyJson, tabula_sim::SimWorld)> {
-    let (robot_name, robot) = scene_robot_named(&world, a.run.robot.as_deref())?;
+    let (robot_name, robot) = scene_robot_named(&world, robot)?;
     world.settle();
-    let start = TidyStart::of(&world, &a.source)?;
-    let mut driver = tabula_sim::SimDriver::new(world, &robot_name, a.run.seed)?;
-    let request = TidyRequest {
-        arm: a.arm.clone(),
-        from: point(&a.from),
-        to: point(&a.to),
-    };
-    let outcome = tidy(&mut driver, &robot, &request, params);
+    let start = TidyStart::of(&world, source)?;
+    let mut driver = tabula_sim::SimDriver::new(world, &robot_name, seed)?;
+    let outcome = tidy(&mut driver, &robot, request, params);
     let mut world = driver.world;
     world.settle();
     let verdict = start.verdict(&world);
@@ -117,7 +115,18 @@ pub fn run(a: TidyArgs) -> Result<()> {
         bail!("tidy runs in the simulator here (no --dry-run, no --connect yet)");
     }
     let params: TidyParams = load_params(a.run.params.as_deref())?;
-    let (out, world) = tidy_in(a.run.world()?, &a, &params)?;
+    let request = TidyRequest {
+        arm: a.arm.clone(),
+        from: point(&a.from),
+        to: point(&a.to),
+    };
+    let (out, world) = tidy_in(
+        a.run.world()?,
+        (a.run.robot.as_deref(), &a.source),
+        &request,
+        &params,
+        a.run.seed,
+    )?;
     a.run
         .finish(&world, &out, out.success, print_summary, |report, out| {
             report.title = "tabula tidy".into();
@@ -129,4 +138,110 @@ pub fn run(a: TidyArgs) -> Result<()> {
             report.sections.push(s);
             Ok(())
         })
+}
+
+/// One generated task's outcome, as `bench tidy` reports it.
+#[derive(Serialize)]
+struct BenchRow {
+    seed: u64,
+    objects: usize,
+    moved: usize,
+    knocked: usize,
+    lost: usize,
+    actions: usize,
+    targets: usize,
+    residents: usize,
+    decision_ms: f64,
+    wall_s: f64,
+    error: Option<String>,
+    /// Why the task's loop ended, and what failed on the way.
+    stop: String,
+    failed: Vec<String>,
+}
+
+/// `tabula bench tidy`: the family's tasks `seed..seed + tasks`, both cores.
+pub fn bench(
+    tasks: u64,
+    seed: u64,
+    save_scenes: Option<&std::path::Path>,
+    json: bool,
+) -> Result<()> {
+    use rayon::prelude::*;
+    let params = TidyParams::default();
+    let rows: Vec<BenchRow> = (seed..seed.saturating_add(tasks))
+        .into_par_iter()
+        .map(|s| -> Result<BenchRow> {
+            let task = tabula_sim::generate::tidy_task(s);
+            if let Some(dir) = save_scenes {
+                std::fs::create_dir_all(dir)?;
+                std::fs::write(dir.join(format!("tidy-{s}.toml")), &task.scene)?;
+            }
+            let scene = tabula_sim::Scene::parse(&task.scene, &format!("tidy task {s}"))?;
+            let world = tabula_sim::SimWorld::from_scene(&scene, Default::default())?;
+            let t0 = std::time::Instant::now();
+            let request = TidyRequest::default();
+            let (out, _) = tidy_in(world, (None, &task.source), &request, &params, s)?;
+            Ok(BenchRow {
+                seed: s,
+                objects: out.objects,
+                moved: out.moved,
+                knocked: out.verdict.knocked.len(),
+                lost: out.verdict.lost.len(),
+                actions: out.actions,
+                targets: task.targets.len(),
+                residents: task.residents,
+                decision_ms: out.decision_ms.median,
+                wall_s: t0.elapsed().as_secs_f64(),
+                error: out.error_message,
+                stop: out.report.stop.clone(),
+                failed: out
+                    .failed
+                    .iter()
+                    .map(|f| format!("{}: {}", f.reason, f.message))
+                    .collect(),
+            })
+        })
+        .collect::<Result<_>>()?;
+    let objects: usize = rows.iter().map(|r| r.objects).sum();
+    let moved: usize = rows.iter().map(|r| r.moved).sum();
+    let knocked: usize = rows.iter().map(|r| r.knocked).sum();
+    let decisions: Vec<f64> = rows.iter().map(|r| r.decision_ms).collect();
+    let spread = tabula_tasks::clear::Stats::of(&decisions);
+    if json {
+        println!(
+            "{}",
+            serde_json::json!({
+                "tasks": rows.len(), "objects": objects, "moved": moved,
+                "knocked": knocked, "decision_ms": spread, "rows": rows,
+            })
+        );
+        return Ok(());
+    }
+    for r in &rows {
+        println!(
+            "seed {:>4}: {} of {} moved, {} knocked, {} lost, {} actions, {:.0} ms decision, {:.1} s{}",
+            r.seed,
+            r.moved,
+            r.objects,
+            r.knocked,
+            r.lost,
+            r.actions,
+            r.decision_ms,
+            r.wall_s,
+            r.error
+                .as_ref()
+                .map(|e| format!(" ({e})"))
+                .unwrap_or_default()
+        );
+    }
+    let (lo, hi) = crate::clear::wilson(moved, objects);
+    println!(
+        "tidy: {moved} of {objects} objects moved ({:.1} %, 95 % {:.1}–{:.1} %), {knocked} knocked over; decision median {:.0} ms, p95 {:.0} ms",
+        100.0 * moved as f64 / objects.max(1) as f64,
+        100.0 * lo,
+        100.0 * hi,
+        spread.median,
+        spread.p95
+    );
+    Ok(())
 }

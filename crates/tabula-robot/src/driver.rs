@@ -224,7 +224,9 @@ pub trait HeadControl {
 
 /// A planar mobile base.
 pub trait BaseControl {
-    /// Drives to `(x, y, θ)` in the world; [`DriverError::Blocked`] if it had to stop.
+    /// Drives to `(x, y, θ)` in the world: turns to face the goal, drives, turns to θ —
+    /// except that a goal straight behind with the same heading is reached by backing
+    /// up. [`DriverError::Blocked`] if it had to stop.
     fn drive_to(&mut self, x: f64, y: f64, theta: f64) -> Result<(), DriverError>;
 }
 

@@ -631,7 +631,16 @@ impl SimWorld {
         let (dx, dy) = (gx - x0, gy - y0);
         let mut legs: Vec<Vec<(&str, f64)>> = Vec::new();
         let mut heading = t0;
-        if dx.hypot(dy) > 1e-4 {
+        // A goal straight behind, facing the same way, is reached backing up (a base
+        // that turned round at a table's edge would sweep its corners into it).
+        let along = dx * t0.cos() + dy * t0.sin();
+        let across = -dx * t0.sin() + dy * t0.cos();
+        let reverse = along < 0.0
+            && across.abs() <= 0.01 * dx.hypot(dy).max(0.1)
+            && tabula_geom::wrap_angle(g_theta - t0).abs() < 0.02;
+        if reverse {
+            legs.push(vec![(jx, gx), (jy, gy)]);
+        } else if dx.hypot(dy) > 1e-4 {
             let face = t0 + tabula_geom::wrap_angle(dy.atan2(dx) - t0);
             legs.push(vec![(jt, face)]);
             legs.push(vec![(jx, gx), (jy, gy)]);

@@ -28,7 +28,8 @@ pub struct TidyParams {
     pub self_filter_padding: f64,
     pub tabletop: TabletopParams,
     pub motion: MoveGroupParams,
-    /// Top grasps (clearing's, SPEC §3.2).
+    /// Top grasps (clearing's, SPEC §3.2, held by the top: the fingers' middle at the
+    /// object's top).
     pub grasp: TopGrasps,
     /// Pre-grasp above the grasp and lift after it (m), SPEC §3.2: 10 and 20 cm.
     pub pregrasp: f64,
@@ -50,7 +51,12 @@ impl Default for TidyParams {
             self_filter_padding: clear.self_filter_padding,
             tabletop: clear.tabletop.clone(),
             motion: MoveGroupParams::default(),
-            grasp: clear.grasp_planner().0,
+            // Held by its top: placing scans what hangs below the fingers, and the
+            // hand's self-filter hides what is between them.
+            grasp: TopGrasps {
+                depth: 0.0,
+                ..clear.grasp_planner().0
+            },
             pregrasp: clear.pregrasp,
             lift: clear.lift,
             clearance: clear.clearance,

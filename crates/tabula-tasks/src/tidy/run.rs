@@ -1,39 +1,60 @@
 //! The tidying loop: from where the robot started, look at the table, take the nearest
-//! object a top grasp reaches without touching a neighbour, hand it to placing (which
-//! scans it, finds another surface, drives there and puts it down stably), come back.
+//! object a top grasp of either hand reaches without touching a neighbour, hand it to
+//! placing (which scans it, finds another surface, drives there and puts it down
+//! stably), come back.
 
 use super::{Failure, TidyError, TidyParams, TidyReport, TidyRequest};
 use crate::place::{PlaceRequest, place};
 use crate::scene::tabletop::{decimated, filtered_cloud, perceive};
 use crate::scene::{SeenObject, Table, on_pairs};
-use crate::skills::base::{heading, world_from_base};
-use crate::skills::motion::go_home;
+use crate::skills::base::{base_half_extent, forward_extent, heading, world_from_base};
+use crate::skills::motion::run_phase;
 use crate::skills::pick::{Manipulator, PickMotion, Take, grasp_blockers, object_name};
 use crate::skills::{GraspCandidate, GraspPlanner, Hand, SkillError, arm_with_gripper};
 use tabula_geom::parry::shape::SharedShape;
+use tabula_geom::polygon::{distance_to_boundary, inside_convex};
 use tabula_geom::{Pose, Vec3};
 use tabula_motion::MoveGroup;
 use tabula_motion::group::thread_cpu;
-use tabula_robot::description::{ArmGroup, Gripper};
-use tabula_robot::driver::RobotDriver;
+use tabula_robot::description::Gripper;
+use tabula_robot::driver::{DriverError, RobotDriver};
 use tabula_robot::robots::NamedRobot;
 
-/// A chosen grasp: the object (index), the grasp, the IK of its pre-grasp.
-type Choice = (usize, GraspCandidate, Vec<f64>);
+/// How far the base backs away before driving back to its start (m).
+const BACK_OFF: f64 = 0.4;
+/// How near the base's front steps up to the table's edge (m).
+const STEP_GAP: f64 = 0.04;
+
+/// An arm that can take things: its name, gripper and hand.
+struct Taker {
+    arm: String,
+    gripper: Gripper,
+    hand: Hand,
+}
+
+/// One frame's view: the table, its objects, which stands on which.
+#[derive(Clone, Copy)]
+struct Frame<'f> {
+    table: &'f Table,
+    objects: &'f [SeenObject],
+    on: &'f [(usize, usize)],
+}
+
+/// A chosen grasp: the arm (index), its group, the object, the grasp, its pre-grasp IK.
+type Choice = (usize, MoveGroup, usize, GraspCandidate, Vec<f64>);
 
 pub(super) struct Run<'a, D> {
     driver: &'a mut D,
     robot: &'a NamedRobot,
     params: &'a TidyParams,
     request: &'a TidyRequest,
-    arm: ArmGroup,
-    gripper: Gripper,
-    hand: Hand,
-    /// Where the base started: it comes back here for every object.
+    takers: Vec<Taker>,
+    /// The first arm's group: its allowed-collision matrix is sampled once (setup).
+    template: MoveGroup,
+    /// Where the base started (it comes back for every object) and where it looks.
     start: Pose,
-    /// Where the table to clear is looked at (world).
     look: Vec3,
-    /// Objects that failed, with their attempts.
+    /// Where objects failed, and how often.
     tried: Vec<(Vec3, usize)>,
     report: TidyReport,
     decisions: Vec<f64>,
@@ -53,94 +74,157 @@ impl<'a, D: RobotDriver> Run<'a, D> {
         request: &'a TidyRequest,
         params: &'a TidyParams,
     ) -> Result<Self, TidyError> {
-        let (arm, gripper) =
-            arm_with_gripper(robot, request.arm.as_deref()).map_err(skill_error)?;
-        let hand = Hand::new(robot, &gripper).map_err(skill_error)?;
+        let names: Vec<String> = match &request.arm {
+            Some(a) => vec![a.clone()],
+            None => robot
+                .description
+                .arms
+                .iter()
+                .filter(|a| a.gripper.is_some())
+                .map(|a| a.name.clone())
+                .collect(),
+        };
+        if names.is_empty() {
+            return Err(TidyError::Robot("no arm with a gripper".into()));
+        }
+        let mut takers = Vec::new();
+        for name in names {
+            let (arm, gripper) = arm_with_gripper(robot, Some(&name)).map_err(skill_error)?;
+            let hand = Hand::new(robot, &gripper).map_err(skill_error)?;
+            takers.push(Taker {
+                arm: arm.name,
+                gripper,
+                hand,
+            });
+        }
         let start = world_from_base(robot, driver).map_err(skill_error)?;
-        let ahead = start.rotation * Vec3::X;
+        let ahead = (start.rotation * Vec3::X).with_z(0.0);
         let look = request
             .from
-            .unwrap_or(start.translation.with_z(0.75) + Vec3::new(ahead.x, ahead.y, 0.0) * 0.8);
+            .unwrap_or(start.translation.with_z(0.75) + ahead * 0.8);
         if !look.is_finite() {
             return Err(TidyError::Params("the table's point must be finite".into()));
         }
+        let (state, root) = (driver.joint_state()?, driver.world_from_root()?);
+        let template = MoveGroup::new(robot, &takers[0].arm, &state, root, params.motion.clone())
+            .map_err(|e| TidyError::Robot(e.to_string()))?;
+        let (tried, report, decisions) = (Vec::new(), TidyReport::default(), Vec::new());
         Ok(Self {
             driver,
             robot,
             params,
             request,
-            arm,
-            gripper,
-            hand,
+            takers,
+            template,
             start,
             look,
-            tried: Vec::new(),
-            report: TidyReport::default(),
-            decisions: Vec::new(),
+            tried,
+            report,
+            decisions,
         })
     }
 
     pub(super) fn run(mut self) -> Result<TidyReport, TidyError> {
-        // Every object can be tried `max_attempts` times; a table never empties only
-        // when objects fail for good.
         for frame in 0.. {
-            self.return_to_start()?;
+            match self.return_to_start() {
+                Ok(()) => {}
+                Err(TidyError::Driver(e)) if frame > 0 => {
+                    // Stuck on the way back: what is placed stays placed.
+                    self.report.stop = format!("could not drive back: {e}");
+                    break;
+                }
+                Err(e) => return Err(e),
+            }
             let (table, objects) = self.look_at_table()?;
             if frame == 0 {
                 self.report.objects = objects.len();
             }
             let c0 = thread_cpu();
-            let mut group = self.group(&table, &objects)?;
-            let chosen = self.choose(&mut group, &table, &objects);
+            let chosen = self.choose(&table, &objects);
             self.decisions.push((thread_cpu() - c0) * 1e3);
-            let Some((i, grasp, ik)) = chosen else {
+            let Some(choice) = chosen else {
+                // Out of reach from here: step up to the table and look again.
+                if !objects.is_empty() && self.step_up(&table)? {
+                    continue;
+                }
                 self.report.stop = if objects.is_empty() {
-                    "table clear".into()
+                    "table clear"
                 } else {
-                    "nothing left that can be taken".into()
-                };
+                    "nothing left that can be taken"
+                }
+                .into();
                 break;
             };
             self.report.actions += 1;
-            if let Err((reason, message)) =
-                self.move_one(&mut group, &table, &objects, (i, grasp, ik))
-            {
-                self.fail(&objects[i], reason, message);
-            } else {
-                self.report.placed += 1;
+            let i = choice.2;
+            match self.move_one(&table, &objects, choice) {
+                Ok(()) => self.report.placed += 1,
+                Err((reason, message)) => self.fail(&objects[i], reason, message),
             }
         }
         self.report.decision_ms = crate::clear::Stats::of(&self.decisions);
-        let _ = self.return_to_start();
         Ok(self.report)
     }
 
-    /// Drives back to where the run started (when the base moved) and tucks the arm.
+    /// Drives back to where the run started when the base moved: backs away from
+    /// whatever it faces first, so the way back does not sweep the base into it.
     fn return_to_start(&mut self) -> Result<(), TidyError> {
         let base = world_from_base(self.robot, self.driver).map_err(skill_error)?;
-        let (h0, h) = (heading(&self.start), heading(&base));
-        let turned = (h - h0 + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU)
-            - std::f64::consts::PI;
-        if base
-            .translation
-            .truncate()
-            .distance(self.start.translation.truncate())
-            > 0.02
-            || turned.abs() > 0.03
-        {
-            let s = self.start.translation;
-            self.driver.drive_to(s.x, s.y, h0)?;
+        let (h, h0) = (heading(&base), heading(&self.start));
+        let s = self.start.translation;
+        let turned = (h - h0).sin().abs() > 0.03 || (h - h0).cos() < 0.0;
+        if base.translation.truncate().distance(s.truncate()) <= 0.02 && !turned {
+            return Ok(());
         }
+        // Back off, turn on the spot towards the start, drive straight, turn back: a
+        // base turning while it drives sweeps its corners into what it passes.
+        let back = base.translation - Vec3::new(h.cos(), h.sin(), 0.0) * BACK_OFF;
+        self.driver.drive_to(back.x, back.y, h)?;
+        let way = s - back;
+        if way.truncate().length() > 0.05 {
+            let toward = way.y.atan2(way.x);
+            self.driver.drive_to(back.x, back.y, toward)?;
+            self.driver.drive_to(s.x, s.y, toward)?;
+        }
+        self.driver.drive_to(s.x, s.y, h0)?;
         Ok(())
+    }
+
+    /// Steps the base up to the table (its front `STEP_GAP` from the edge) when it
+    /// stands farther; whether it moved.
+    fn step_up(&mut self, table: &Table) -> Result<bool, TidyError> {
+        let base = world_from_base(self.robot, self.driver).map_err(skill_error)?;
+        let (state, root) = (self.driver.joint_state()?, self.driver.world_from_root()?);
+        let centre = base.translation.truncate();
+        // What reaches forward below the table's top (an elbow, a tucked arm) meets its
+        // edge, not the base.
+        let front = forward_extent(self.robot, &state, root, base, table.z + 0.05)
+            .max(base_half_extent(self.robot));
+        let gap = if inside_convex(&table.outline, centre) {
+            0.0
+        } else {
+            distance_to_boundary(&table.outline, centre) - front
+        };
+        if gap <= STEP_GAP + 0.03 {
+            return Ok(false);
+        }
+        let h = heading(&base);
+        let to = base.translation + Vec3::new(h.cos(), h.sin(), 0.0) * (gap - STEP_GAP);
+        match self.driver.drive_to(to.x, to.y, h) {
+            Ok(()) | Err(DriverError::Blocked { .. }) => {}
+            Err(e) => return Err(e.into()),
+        }
+        let moved = world_from_base(self.robot, self.driver).map_err(skill_error)?;
+        self.start = moved;
+        Ok(moved.translation.distance(base.translation) > 0.02)
     }
 
     /// A frame of the table: its plane and outline, the objects on it.
     fn look_at_table(&mut self) -> Result<(Table, Vec<SeenObject>), TidyError> {
         let _ = self.driver.look_at(self.look);
-        let frame = self.driver.capture(&self.params.camera)?;
-        let state = self.driver.joint_state()?;
-        let root = self.driver.world_from_root()?;
         let p = self.params;
+        let frame = self.driver.capture(&p.camera)?;
+        let (state, root) = (self.driver.joint_state()?, self.driver.world_from_root()?);
         let cloud = filtered_cloud(
             &frame,
             self.robot,
@@ -158,117 +242,133 @@ impl<'a, D: RobotDriver> Run<'a, D> {
         Ok((table, objects))
     }
 
-    /// The arm's move group with the table (its outline down to the floor) and the
-    /// objects' hulls in its world.
-    fn group(&mut self, table: &Table, objects: &[SeenObject]) -> Result<MoveGroup, TidyError> {
-        let state = self.driver.joint_state()?;
-        let root = self.driver.world_from_root()?;
-        let robot_error = |e: tabula_motion::MoveError| TidyError::Robot(e.to_string());
-        let mut group = MoveGroup::new(
-            self.robot,
-            &self.arm.name,
-            &state,
-            root,
-            self.params.motion.clone(),
-        )
-        .map_err(robot_error)?;
+    /// Arm `k`'s group at the robot's state with the table (its outline down to the
+    /// floor) and the objects' hulls in its world.
+    fn group(&mut self, k: usize, table: &Table, objects: &[SeenObject]) -> Option<MoveGroup> {
+        let mut group = self
+            .template
+            .for_arm(self.robot, &self.takers[k].arm)
+            .ok()?;
+        group
+            .set_state(self.robot, &self.driver.joint_state().ok()?)
+            .ok()?;
         let body: Vec<Vec3> = table
             .outline
             .iter()
             .flat_map(|p| [p.extend(table.z - 0.005), p.extend(0.0)])
             .collect();
-        if let Some(slab) = SharedShape::convex_hull(&body) {
-            group
-                .add_object("table", slab, Pose::IDENTITY)
-                .map_err(robot_error)?;
-        }
+        group
+            .add_object("table", SharedShape::convex_hull(&body)?, Pose::IDENTITY)
+            .ok()?;
         for o in objects {
             group
                 .add_object(&object_name(o), o.hull.clone(), Pose::IDENTITY)
-                .map_err(robot_error)?;
+                .ok()?;
         }
-        Ok(group)
+        Some(group)
     }
 
-    /// The nearest object nothing stands on, not given up on, with a top grasp no
-    /// neighbour is in the way of and whose pre-grasp and grasp have IK.
-    fn choose(
-        &self,
-        group: &mut MoveGroup,
-        table: &Table,
-        objects: &[SeenObject],
-    ) -> Option<Choice> {
+    /// The nearest object nothing stands on and not given up on, with a top grasp of
+    /// either hand no neighbour is in the way of, whose pre-grasp has IK and whose
+    /// straight lines down and up the arm can follow.
+    fn choose(&mut self, table: &Table, objects: &[SeenObject]) -> Option<Choice> {
         let on = on_pairs(objects, table.z);
         let me = self.start.translation.truncate();
         let mut order: Vec<usize> = (0..objects.len())
-            .filter(|&i| !on.iter().any(|&(_, under)| under == i))
-            .filter(|&i| self.attempts(&objects[i]) < self.params.max_attempts)
+            .filter(|&i| {
+                !on.iter().any(|&(_, under)| under == i)
+                    && self.attempts(&objects[i]) < self.params.max_attempts
+            })
             .collect();
         order.sort_by(|&a, &b| {
-            let d = |i: usize| objects[i].rect.center.distance(me);
-            d(a).total_cmp(&d(b))
+            objects[a]
+                .rect
+                .center
+                .distance(me)
+                .total_cmp(&objects[b].rect.center.distance(me))
         });
-        let seed = group.arm_values(&self.driver.joint_state().ok()?);
-        let p = self.params;
-        order.into_iter().find_map(|i| {
-            let o = &objects[i];
-            let skip = |a: usize| a == i || on.contains(&(a, i)) || on.contains(&(i, a));
-            let name = object_name(o);
-            let _ = group.remove_object(&name);
-            let found = p
-                .grasp
-                .candidates(&o.grasp_target(), &self.hand, table.up)
-                .into_iter()
-                .find_map(|g| {
-                    if !grasp_blockers(
-                        objects,
-                        &g,
-                        &self.hand,
-                        (table.up, p.pregrasp, p.clearance),
-                        &skip,
-                    )
-                    .is_empty()
-                    {
-                        return None;
-                    }
-                    g.poses.iter().find_map(|pose| {
-                        let pre = Pose::from_parts(
-                            pose.translation + table.up * p.pregrasp,
-                            pose.rotation,
-                        );
-                        let lifted =
-                            Pose::from_parts(pose.translation + table.up * p.lift, pose.rotation);
-                        // The straight lines down and up must work too: a numeric IK
-                        // reaches both ends of a line it cannot follow.
-                        let sols = group.valid_ik(&pre, &seed).ok()?;
-                        sols.into_iter().take(3).find_map(|q| {
-                            let down = group.cartesian(&q, pose).ok()?;
-                            group.cartesian(down.end(), &lifted).ok()?;
-                            Some((i, g.clone(), q))
-                        })
-                    })
-                });
-            let _ = group.add_object(&name, o.hull.clone(), Pose::IDENTITY);
-            found
-        })
+        let mut groups: Vec<Option<MoveGroup>> = (0..self.takers.len())
+            .map(|k| self.group(k, table, objects))
+            .collect();
+        let state = self.driver.joint_state().ok()?;
+        let frame = Frame {
+            table,
+            objects,
+            on: &on,
+        };
+        for i in order {
+            for (k, slot) in groups.iter_mut().enumerate() {
+                let Some(group) = slot.as_mut() else { continue };
+                let seed = group.arm_values(&state);
+                let name = object_name(&objects[i]);
+                let _ = group.remove_object(&name);
+                let found = self.grasp_of(group, k, frame, i, &seed);
+                let _ = group.add_object(&name, objects[i].hull.clone(), Pose::IDENTITY);
+                if let Some((g, q)) = found {
+                    return Some((k, slot.take()?, i, g, q));
+                }
+            }
+        }
+        None
     }
 
-    /// Takes object `i` and has placing put it on another surface; the typed reason
-    /// and message when it fails.
+    /// A top grasp of object `i` by hand `k` (see [`Self::choose`]).
+    fn grasp_of(
+        &self,
+        group: &MoveGroup,
+        k: usize,
+        f: Frame<'_>,
+        i: usize,
+        seed: &[f64],
+    ) -> Option<(GraspCandidate, Vec<f64>)> {
+        let (p, hand, up, objects, on) = (
+            self.params,
+            &self.takers[k].hand,
+            f.table.up,
+            f.objects,
+            f.on,
+        );
+        let skip = |a: usize| a == i || on.contains(&(a, i)) || on.contains(&(i, a));
+        let shifted =
+            |pose: &Pose, h: f64| Pose::from_parts(pose.translation + up * h, pose.rotation);
+        p.grasp
+            .candidates(&objects[i].grasp_target(), hand, up)
+            .into_iter()
+            .find_map(|g| {
+                if !grasp_blockers(objects, &g, hand, (up, p.pregrasp, p.clearance), &skip)
+                    .is_empty()
+                {
+                    return None;
+                }
+                let q = g.poses.iter().find_map(|pose| {
+                    // A numeric IK reaches both ends of a line it cannot follow.
+                    let sols = group.valid_ik(&shifted(pose, p.pregrasp), seed).ok()?;
+                    sols.into_iter().take(3).find(|q| {
+                        group.cartesian(q, pose).is_ok_and(|down| {
+                            group.cartesian(down.end(), &shifted(pose, p.lift)).is_ok()
+                        })
+                    })
+                })?;
+                Some((g, q))
+            })
+    }
+
+    /// Takes the chosen object and has placing put it on another surface; the typed
+    /// reason and message when that fails.
     fn move_one(
         &mut self,
-        group: &mut MoveGroup,
         table: &Table,
         objects: &[SeenObject],
-        (i, grasp, ik): Choice,
+        (k, mut group, i, grasp, ik): Choice,
     ) -> Result<(), (String, String)> {
         let p = self.params;
+        let t = &self.takers[k];
         let mut arm = Manipulator {
             driver: &mut *self.driver,
             robot: self.robot,
-            group,
-            hand: &self.hand,
-            gripper: &self.gripper,
+            group: &mut group,
+            hand: &t.hand,
+            gripper: &t.gripper,
             up: table.up,
         };
         let take = Take {
@@ -283,26 +383,21 @@ impl<'a, D: RobotDriver> Run<'a, D> {
             lift: p.lift,
             open_at_pregrasp: true,
         };
-        if let Err(e) = arm.take(&take, motion) {
-            let _ = arm.driver.open(&self.gripper.name);
-            let tucked = self.arm.tucked.clone();
-            let home: Vec<f64> = arm
-                .group
-                .joint_names()
-                .iter()
-                .map(|n| tucked.get(n).copied().unwrap_or(0.0))
-                .collect();
-            let _ = go_home(arm.driver, arm.robot, arm.group, &home);
-            let kind = if e == SkillError::Slipped {
-                "grasp slipped"
-            } else {
-                "no grasp motion"
-            };
-            return Err((kind.into(), e.to_string()));
-        }
+        let taken_at = match arm.take(&take, motion) {
+            Ok(g) => g,
+            Err(e) => {
+                let _ = self.driver.open(&t.gripper.name);
+                let kind = if e == SkillError::Slipped {
+                    "grasp slipped"
+                } else {
+                    "no grasp motion"
+                };
+                return Err((kind.into(), e.to_string()));
+            }
+        };
         // Not back onto the table it came from.
         let request = PlaceRequest {
-            arm: Some(self.arm.name.clone()),
+            arm: Some(t.arm.clone()),
             not_on: vec![objects[i].rect.center.extend(table.z)],
             near: self.request.to,
         };
@@ -311,10 +406,46 @@ impl<'a, D: RobotDriver> Run<'a, D> {
         match placed.error {
             None => Ok(()),
             Some(e) => {
-                let _ = self.driver.open(&self.gripper.name);
+                // Still held: back where it came from, not dropped wherever the hand is.
+                if self.put_back(k, &mut group, taken_at, table.up).is_err() {
+                    let _ = self.driver.open(&self.takers[k].gripper.name);
+                }
                 Err((e.kind().to_string(), e.to_string()))
             }
         }
+    }
+
+    /// Puts the held object back down where hand `k` took it (`at`, the grasp pose):
+    /// back to the start, above it, straight down, open, straight up.
+    fn put_back(
+        &mut self,
+        k: usize,
+        group: &mut MoveGroup,
+        at: Pose,
+        up: Vec3,
+    ) -> Result<(), TidyError> {
+        self.return_to_start()?;
+        let t = &self.takers[k];
+        let mut arm = Manipulator {
+            driver: &mut *self.driver,
+            robot: self.robot,
+            group,
+            hand: &t.hand,
+            gripper: &t.gripper,
+            up,
+        };
+        let pre = Pose::from_parts(at.translation + up * self.params.pregrasp, at.rotation);
+        let q = arm.sync().map_err(skill_error)?;
+        let plan = arm
+            .group
+            .plan_to_pose(&q, &pre)
+            .map_err(|e| TidyError::Robot(e.to_string()))?;
+        run_phase(arm.driver, &plan, "back over the table").map_err(skill_error)?;
+        let release = Pose::from_parts(at.translation + up * 0.005, at.rotation);
+        arm.line_to(&release, "put back").map_err(skill_error)?;
+        arm.driver.open(&t.gripper.name)?;
+        arm.line_to(&pre, "up").map_err(skill_error)?;
+        Ok(())
     }
 
     fn attempts(&self, o: &SeenObject) -> usize {

@@ -2,6 +2,9 @@
 //! some touching, some stacked, seen by a head-height Kinect-like camera that also sees
 //! the floor and a wall. The perception benchmark and its test suite are made of these.
 
+pub mod tidy;
+pub use tidy::{TidyTask, tidy_task};
+
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::fmt::Write;
@@ -716,7 +719,7 @@ const CLEAR_GRIP: f64 = 0.06;
 /// on a stand beside a table, the bin beside it, an overhead camera, the objects.
 pub fn clearing_scene(suite: ClearSuite, seed: u64) -> String {
     if suite == ClearSuite::Seed {
-        return include_str!("../../../scenes/clutter.toml").to_string();
+        return include_str!("../../../../scenes/clutter.toml").to_string();
     }
     let mut rng = ChaCha8Rng::seed_from_u64(seed ^ 0xC1EA_7AB1);
     let placed = match suite {
