@@ -20,13 +20,13 @@ macro_rules! say {
     }};
 }
 
-/// Runs the three jobs end to end in the simulator (placing, clearing, pick and place),
+/// Runs the jobs end to end in the simulator (placing, clearing, pick and place, tidying),
 /// then the capabilities they stand on, and writes the report into `report_dir`.
 pub fn run(report_dir: &Path) -> Result<()> {
     println!("tabula demo\n===========\n");
     let t0 = Instant::now();
-    let mut report = Report::create(report_dir, "tabula demo — the three jobs in the simulator")?;
-    let progress = crate::progress::steps(8, "demo");
+    let mut report = Report::create(report_dir, "tabula demo — the jobs in the simulator")?;
+    let progress = crate::progress::steps(9, "demo");
     let mut jobs = Vec::new();
     let mut summary = Vec::new();
     progress.set_message("placing an unknown object");
@@ -43,6 +43,11 @@ pub fn run(report_dir: &Path) -> Result<()> {
     let (section, json, line) = pick_place(&mut report)?;
     jobs.push(section);
     summary.push(("pick_place", json, line));
+    progress.inc(1);
+    progress.set_message("tidying a table");
+    let (section, json, line) = tidying()?;
+    jobs.push(section);
+    summary.push(("tidying", json, line));
     progress.inc(1);
     let mut log = Vec::new();
     progress.set_message("kinematics");
@@ -63,10 +68,11 @@ pub fn run(report_dir: &Path) -> Result<()> {
 
     let mut overview = Section::new("Summary");
     overview.text(
-        "Three jobs, end to end in tabula's simulator, each judged by its physics: the PR2 \
+        "Four jobs, end to end in tabula's simulator, each judged by its physics: the PR2 \
          places an object it holds and has no model of (seed 000), the WAM clears a cluttered \
          table into a bin by grasps and pushes (seed 002), Golem-III moves a can from a shelf \
-         to a table (seed 001). Each section has a 3D replay (drag to turn, wheel to zoom, \
+         to a table (seed 001), and the PR2 tidies a table onto another (built from the \
+         other three's skills). Each section has a 3D replay (drag to turn, wheel to zoom, \
          the slider scrubs), pictures of every grasp and release from the scene's camera and \
          from an overview, and plots.",
     );
@@ -219,6 +225,51 @@ fn clearing(report: &mut Report) -> Result<(Section, serde_json::Value, String)>
     Ok((section, serde_json::to_value(&out)?, line))
 }
 
+/// The fourth task, from the other three's skills: the PR2 takes every object off a
+/// table and stands each on another table it finds; physics judges it.
+fn tidying() -> Result<(Section, serde_json::Value, String)> {
+    use tabula_tasks::tidy::{TidyParams, TidyRequest};
+    println!("4. Tidying a table: the PR2 moves everything onto another table it finds\n");
+    let scene = tabula_sim::Scene::parse(
+        include_str!("../../../scenes/tidy.toml"),
+        "scenes/tidy.toml",
+    )?;
+    let world = tabula_sim::SimWorld::from_scene(&scene, Default::default())?;
+    let t0 = Instant::now();
+    let (out, _) = crate::tidy::tidy_in(
+        world,
+        (None, "table"),
+        &TidyRequest::default(),
+        &TidyParams::default(),
+        1,
+    )?;
+    let wall = t0.elapsed().as_secs_f64();
+    for f in &out.failed {
+        println!(
+            "  failed at ({:.2}, {:.2}): {} — {}",
+            f.object[0], f.object[1], f.reason, f.message
+        );
+    }
+    let line = format!(
+        "{} of {} objects moved to another table in {} actions, {} knocked over; decision median {:.0} ms CPU, {wall:.1} s in all",
+        out.moved,
+        out.objects,
+        out.actions,
+        out.verdict.knocked.len(),
+        out.decision_ms.median
+    );
+    println!("  {line}");
+    println!("\n  run it: cargo run --release -- tidy --scene scenes/tidy.toml --report DIR\n");
+    let mut section = Section::new("Tidying a table (from the shared skills)");
+    section
+        .number("objects on the table", out.objects)
+        .number("moved to another table", out.moved)
+        .number("actions", out.actions)
+        .number("knocked over", out.verdict.knocked.len());
+    section.text("Run it: cargo run --release -- tidy --scene scenes/tidy.toml --report DIR");
+    Ok((section, serde_json::to_value(&out)?, line))
+}
+
 /// Seed 001's integral test (SPEC §2.5): Golem-III looks at a can on a shelf board,
 /// plans every motion, carries it to the table, and physics judges the result.
 fn pick_place(report: &mut Report) -> Result<(Section, serde_json::Value, String)> {
@@ -289,7 +340,7 @@ fn perception(
     use tabula_sim::generate::{TABLE_TOP, TabletopLayout, tabletop_frame};
     say!(
         log,
-        "7. Perception (PCL's role): the table, its objects and its free space in that frame\n"
+        "8. Perception (PCL's role): the table, its objects and its free space in that frame\n"
     );
     let t0 = Instant::now();
     let cloud = to_world(&frame.world_from_camera, &frame.cloud);
@@ -412,7 +463,7 @@ fn motion(log: &mut Vec<String>) -> Result<()> {
     use tabula_motion::{PlannerParams, WorldParams, rrt_connect, time_parameterize};
     say!(
         log,
-        "8. Motion planning (MoveIt/OMPL's role): WAM reaches over a cluttered table\n"
+        "9. Motion planning (MoveIt/OMPL's role): WAM reaches over a cluttered table\n"
     );
     let robot = robots::load("wam")?;
     let chain = Chain::new(&robot.model, &robot.default_base, &robot.default_tip)?;
@@ -460,7 +511,7 @@ fn simulator(log: &mut Vec<String>) -> Result<tabula_sim::DepthFrame> {
     use tabula_sim::{PhysicsParams, Scene, SimWorld};
     say!(
         log,
-        "6. Simulator (Gazebo's role): seed 002's cluttered table\n"
+        "7. Simulator (Gazebo's role): seed 002's cluttered table\n"
     );
     let mut scene = Scene::parse(
         include_str!("../../../scenes/clutter.toml"),
@@ -515,7 +566,7 @@ fn planning(log: &mut Vec<String>) -> Result<()> {
     };
     say!(
         log,
-        "5. Task planning (seed 002): clearing a table, optimal PDDL plans in process\n"
+        "6. Task planning (seed 002): clearing a table, optimal PDDL plans in process\n"
     );
     let domain = parse_domain(include_str!("../../../pddl/tablewclear-domain.pddl"))?;
     let problem = parse_problem(include_str!("../../../pddl/thesis6-a.pddl"), &domain)?;
@@ -595,7 +646,7 @@ fn planning(log: &mut Vec<String>) -> Result<()> {
 fn kinematics(log: &mut Vec<String>) -> Result<()> {
     say!(
         log,
-        "4. Kinematics (seed 001): Golem-III closed-form IK, all branches\n"
+        "5. Kinematics (seed 001): Golem-III closed-form IK, all branches\n"
     );
     let golem = robots::load("golem3")?;
     let ik = Golem3Ik::new(&golem.model, ArmSide::Right, Golem3Params::default())?;

@@ -80,7 +80,7 @@ pub fn tidy_in(
         moved: verdict.moved,
         actions: report.actions,
         failed: report.failed.clone(),
-        decision_ms: report.decision_ms.clone(),
+        decision_ms: report.decision_ms,
         error: error.as_ref().map(|e| e.kind().to_string()),
         error_message: error.as_ref().map(|e| e.to_string()),
         report,

@@ -1,4 +1,4 @@
-//! `tabula demo` runs the three jobs and writes its report; the report opened in a real
+//! `tabula demo` runs the jobs and writes its report; the report opened in a real
 //! browser (headless Chromium): the page loads from disk without script errors, every
 //! image and plot decodes, every 3D replay draws (its canvas shows a scene, not one
 //! flat colour) — and the same check fails on a copy of the report with a broken
@@ -87,8 +87,13 @@ fn the_demo_runs_the_three_jobs_and_its_report_loads_draws_and_shows_every_image
     );
     let stdout = String::from_utf8_lossy(&run.stdout);
     // Outcomes are pinned by the scenario tests (tests/placing.rs, clearing.rs,
-    // pick_place.rs); here: the three jobs ran and were summarised.
-    for job in ["placing     ", "clearing    ", "pick place  "] {
+    // pick_place.rs, tidying.rs); here: the jobs ran and were summarised.
+    for job in [
+        "placing     ",
+        "clearing    ",
+        "pick place  ",
+        "tidying     ",
+    ] {
         assert!(
             stdout.contains(job),
             "the demo's summary lacks `{job}`:\n{stdout}"
@@ -105,7 +110,7 @@ fn the_demo_runs_the_three_jobs_and_its_report_loads_draws_and_shows_every_image
                 .contains("replay-")
         })
         .count();
-    assert_eq!(replays, 3, "one replay per job");
+    assert_eq!(replays, 3, "one replay per seed job (tidying records none)");
 
     let Some(chrome) = chromium() else {
         assert!(
