@@ -45,6 +45,39 @@ fn the_base_drives_and_stops_at_furniture() {
     assert!(x > 0.9 && x < 1.6 - 0.25, "stopped at x = {x}");
 }
 
+/// Up against the table, then back out the way it came: a goal straight behind with
+/// the same heading is reached backing up — turning round there would sweep the arms
+/// through the table.
+#[test]
+fn the_base_backs_away_from_a_table_without_turning() {
+    let mut w = world();
+    assert!(matches!(
+        w.drive_base("pr2", 1.5, 0.0, 0.0),
+        Err(SimError::Blocked { .. })
+    ));
+    let x0 = w.joint("pr2", "base_x_joint").unwrap();
+    w.drive_base("pr2", x0 - 0.3, 0.0, 0.0).unwrap();
+    let (x, t) = (
+        w.joint("pr2", "base_x_joint").unwrap(),
+        w.joint("pr2", "base_theta_joint").unwrap(),
+    );
+    assert!(
+        (x - (x0 - 0.3)).abs() < 1e-9 && t.abs() < 1e-9,
+        "x {x}, θ {t}"
+    );
+    // A goal behind and facing elsewhere still turns to face it first.
+    w.drive_base("pr2", x - 0.5, 0.0, 0.5).unwrap();
+    let t = w.joint("pr2", "base_theta_joint").unwrap();
+    assert!((t - 0.5).abs() < 1e-9, "θ {t}");
+    // What backing up avoids: turning round at the table.
+    let mut w = world();
+    let _ = w.drive_base("pr2", 1.5, 0.0, 0.0);
+    assert!(matches!(
+        w.drive_base("pr2", x0 - 0.3, 0.0, std::f64::consts::PI),
+        Err(SimError::Blocked { .. })
+    ));
+}
+
 #[test]
 fn the_head_looks_at_a_point() {
     let mut w = world();
