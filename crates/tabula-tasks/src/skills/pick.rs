@@ -220,6 +220,19 @@ impl<D: RobotDriver> Manipulator<'_, D> {
         Ok(())
     }
 
+    /// Puts the held object down with the tool at `at` (world; where it was taken):
+    /// above it by `pregrasp`, straight down, open, straight up.
+    pub fn put_down(&mut self, at: &Pose, pregrasp: f64) -> Result<(), SkillError> {
+        let pre = Pose::from_parts(at.translation + self.up * pregrasp, at.rotation);
+        let q = self.sync()?;
+        let plan = self.group.plan_to_pose(&q, &pre)?;
+        run_phase(self.driver, &plan, "over the spot")?;
+        let release = Pose::from_parts(at.translation + self.up * 0.005, at.rotation);
+        self.line_to(&release, "put down")?;
+        self.driver.open(&self.gripper.name)?;
+        self.line_to(&pre, "up")
+    }
+
     /// Carries the held object with the fingertips `over` (world), the hand turned
     /// whichever of four ways the arm reaches.
     pub fn carry_over(&mut self, over: Vec3, phase: &str) -> Result<(), SkillError> {

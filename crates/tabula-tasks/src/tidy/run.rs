@@ -7,17 +7,15 @@ use super::{Failure, TidyError, TidyParams, TidyReport, TidyRequest};
 use crate::place::{PlaceRequest, place};
 use crate::scene::tabletop::{decimated, filtered_cloud, perceive};
 use crate::scene::{SeenObject, Table, on_pairs};
-use crate::skills::base::{base_half_extent, forward_extent, heading, world_from_base};
-use crate::skills::motion::run_phase;
+use crate::skills::base::{drive_back, step_up_to, world_from_base};
 use crate::skills::pick::{Manipulator, PickMotion, Take, grasp_blockers, object_name};
 use crate::skills::{GraspCandidate, GraspPlanner, Hand, SkillError, arm_with_gripper};
 use tabula_geom::parry::shape::SharedShape;
-use tabula_geom::polygon::{distance_to_boundary, inside_convex};
 use tabula_geom::{Pose, Vec3};
 use tabula_motion::MoveGroup;
 use tabula_motion::group::thread_cpu;
 use tabula_robot::description::Gripper;
-use tabula_robot::driver::{DriverError, RobotDriver};
+use tabula_robot::driver::RobotDriver;
 use tabula_robot::robots::NamedRobot;
 
 /// How far the base backs away before driving back to its start (m).
@@ -63,6 +61,7 @@ pub(super) struct Run<'a, D> {
 fn skill_error(e: SkillError) -> TidyError {
     match e {
         SkillError::Robot(m) => TidyError::Robot(m),
+        SkillError::Driver(m) => TidyError::Driver(m),
         other => TidyError::Driver(other.to_string()),
     }
 }
@@ -166,57 +165,19 @@ impl<'a, D: RobotDriver> Run<'a, D> {
         Ok(self.report)
     }
 
-    /// Drives back to where the run started when the base moved: backs away from
-    /// whatever it faces first, so the way back does not sweep the base into it.
+    /// Drives back to where the run started when the base moved.
     fn return_to_start(&mut self) -> Result<(), TidyError> {
-        let base = world_from_base(self.robot, self.driver).map_err(skill_error)?;
-        let (h, h0) = (heading(&base), heading(&self.start));
-        let s = self.start.translation;
-        let turned = (h - h0).sin().abs() > 0.03 || (h - h0).cos() < 0.0;
-        if base.translation.truncate().distance(s.truncate()) <= 0.02 && !turned {
-            return Ok(());
-        }
-        // Back off, turn on the spot towards the start, drive straight, turn back: a
-        // base turning while it drives sweeps its corners into what it passes.
-        let back = base.translation - Vec3::new(h.cos(), h.sin(), 0.0) * BACK_OFF;
-        self.driver.drive_to(back.x, back.y, h)?;
-        let way = s - back;
-        if way.truncate().length() > 0.05 {
-            let toward = way.y.atan2(way.x);
-            self.driver.drive_to(back.x, back.y, toward)?;
-            self.driver.drive_to(s.x, s.y, toward)?;
-        }
-        self.driver.drive_to(s.x, s.y, h0)?;
-        Ok(())
+        drive_back(self.driver, self.robot, &self.start, BACK_OFF).map_err(skill_error)
     }
 
-    /// Steps the base up to the table (its front `STEP_GAP` from the edge) when it
-    /// stands farther; whether it moved.
+    /// Steps the base up to the table when it stands farther; whether it moved.
     fn step_up(&mut self, table: &Table) -> Result<bool, TidyError> {
-        let base = world_from_base(self.robot, self.driver).map_err(skill_error)?;
-        let (state, root) = (self.driver.joint_state()?, self.driver.world_from_root()?);
-        let centre = base.translation.truncate();
-        // What reaches forward below the table's top (an elbow, a tucked arm) meets its
-        // edge, not the base.
-        let front = forward_extent(self.robot, &state, root, base, table.z + 0.05)
-            .max(base_half_extent(self.robot));
-        let gap = if inside_convex(&table.outline, centre) {
-            0.0
-        } else {
-            distance_to_boundary(&table.outline, centre) - front
-        };
-        if gap <= STEP_GAP + 0.03 {
-            return Ok(false);
+        let moved = step_up_to(self.driver, self.robot, &table.outline, table.z, STEP_GAP)
+            .map_err(skill_error)?;
+        if let Some(pose) = moved {
+            self.start = pose;
         }
-        let h = heading(&base);
-        let to = base.translation + Vec3::new(h.cos(), h.sin(), 0.0) * (gap - STEP_GAP);
-        match self.driver.drive_to(to.x, to.y, h) {
-            Ok(()) | Err(DriverError::Blocked { .. }) => {}
-            Err(e) => return Err(e.into()),
-        }
-        let moved = world_from_base(self.robot, self.driver).map_err(skill_error)?;
-        self.start = moved;
-        Ok(moved.translation.distance(base.translation) > 0.02)
+        Ok(moved.is_some())
     }
 
     /// A frame of the table: its plane and outline, the objects on it.
@@ -434,18 +395,7 @@ impl<'a, D: RobotDriver> Run<'a, D> {
             gripper: &t.gripper,
             up,
         };
-        let pre = Pose::from_parts(at.translation + up * self.params.pregrasp, at.rotation);
-        let q = arm.sync().map_err(skill_error)?;
-        let plan = arm
-            .group
-            .plan_to_pose(&q, &pre)
-            .map_err(|e| TidyError::Robot(e.to_string()))?;
-        run_phase(arm.driver, &plan, "back over the table").map_err(skill_error)?;
-        let release = Pose::from_parts(at.translation + up * 0.005, at.rotation);
-        arm.line_to(&release, "put back").map_err(skill_error)?;
-        arm.driver.open(&t.gripper.name)?;
-        arm.line_to(&pre, "up").map_err(skill_error)?;
-        Ok(())
+        arm.put_down(&at, self.params.pregrasp).map_err(skill_error)
     }
 
     fn attempts(&self, o: &SeenObject) -> usize {
