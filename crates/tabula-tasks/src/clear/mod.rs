@@ -9,9 +9,9 @@
 //! back where it came from, and every approach and transfer is planned collision-free
 //! against the other objects' hulls and the workcell.
 //!
-//! The loop ([`run`]) goes frame by frame: [`crate::scene::tabletop`] → [`track`] → [`predicates`]
-//! (with [`push`]) → [`decide`] (the planner, built by [`problem`]; [`fallback`] when it
-//! is stuck) → [`act`] and [`execute`].
+//! The loop (`run`) goes frame by frame: [`crate::scene::tabletop`] → `track` → `predicates`
+//! (with `push`) → `decide` (the planner, built by `problem`; `fallback` when it
+//! is stuck) → `act` and `execute`.
 
 mod act;
 mod decide;

@@ -9,9 +9,9 @@
 //! candidates, each candidate is planned stage by stage, the first that plans whole is
 //! executed, and every stage reports its time and, on failure, why.
 //!
-//! The loop ([`run`]): [`look`] around with the head (what other hands [`held`] is
-//! taken out), perceive the object, the target and the occupancy ([`scene`]), propose
-//! [`grasps`] per arm, plan each candidate's [`sequence`] of stages, execute the first
+//! The loop (`run`): `look` around with the head (what other hands `held` is
+//! taken out), perceive the object, the target and the occupancy (`scene`), propose
+//! `grasps` per arm, plan each candidate's `sequence` of stages, execute the first
 //! that plans whole.
 
 mod grasps;

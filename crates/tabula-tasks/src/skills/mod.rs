@@ -4,7 +4,7 @@
 //!
 //! * [`base`]: where a mobile robot's base stands.
 //! * [`hand`]: the gripper's collision shapes, open and closed, and tool poses.
-//! * [`grasp`]: [`GraspPlanner`](grasp::GraspPlanner) and its planners.
+//! * [`grasp`]: [`GraspPlanner`] and its planners.
 //! * [`motion`]: running a planned phase, going home, the arm's current values.
 //! * [`pick`]: taking an object off a tabletop and carrying it.
 //! * [`phase`]: the phase recorder every task reports its stages with.
