@@ -8,6 +8,7 @@ use crate::place::{PlaceRequest, place};
 use crate::scene::tabletop::{decimated, filtered_cloud, perceive};
 use crate::scene::{SeenObject, Table, on_pairs};
 use crate::skills::base::{drive_back, step_up_to, world_from_base};
+use crate::skills::motion::run_phase;
 use crate::skills::pick::{Manipulator, PickMotion, Take, grasp_blockers, object_name};
 use crate::skills::{GraspCandidate, GraspPlanner, Hand, SkillError, arm_with_gripper};
 use tabula_geom::parry::shape::SharedShape;
@@ -15,7 +16,7 @@ use tabula_geom::{Pose, Vec3};
 use tabula_motion::MoveGroup;
 use tabula_motion::group::thread_cpu;
 use tabula_robot::description::Gripper;
-use tabula_robot::driver::RobotDriver;
+use tabula_robot::driver::{JointState, RobotDriver};
 use tabula_robot::robots::NamedRobot;
 
 /// How far the base backs away before driving back to its start (m).
@@ -51,6 +52,13 @@ pub(super) struct Run<'a, D> {
     template: MoveGroup,
     /// Where the base started (it comes back for every object) and where it looks.
     start: Pose,
+    /// Where the run began: placing searches and drives from there (stepped up to the
+    /// table, the base has no room to turn).
+    origin: Pose,
+    /// The robot's joints at the start (the arms out of the way) and the last table
+    /// seen (down to the floor): the arms go back there before the base drives.
+    ready: JointState,
+    table_prism: Option<SharedShape>,
     look: Vec3,
     /// Where objects failed, and how often.
     tried: Vec<(Vec3, usize)>,
@@ -116,6 +124,9 @@ impl<'a, D: RobotDriver> Run<'a, D> {
             takers,
             template,
             start,
+            origin: start,
+            ready: state.clone(),
+            table_prism: None,
             look,
             tried,
             report,
@@ -125,6 +136,7 @@ impl<'a, D: RobotDriver> Run<'a, D> {
 
     pub(super) fn run(mut self) -> Result<TidyReport, TidyError> {
         for frame in 0.. {
+            self.arms_in();
             match self.return_to_start() {
                 Ok(()) => {}
                 Err(TidyError::Driver(e)) if frame > 0 => {
@@ -163,6 +175,33 @@ impl<'a, D: RobotDriver> Run<'a, D> {
         }
         self.report.decision_ms = crate::clear::Stats::of(&self.decisions);
         Ok(self.report)
+    }
+
+    /// Brings every hand's arm back to where it was at the start before the base
+    /// drives: an arm left low beside the body sweeps into tables. An arm that cannot
+    /// get there stays.
+    fn arms_in(&mut self) {
+        let Ok(state) = self.driver.joint_state() else {
+            return;
+        };
+        for k in 0..self.takers.len() {
+            let Ok(mut g) = self.template.for_arm(self.robot, &self.takers[k].arm) else {
+                continue;
+            };
+            if g.set_state(self.robot, &state).is_err() {
+                continue;
+            }
+            if let Some(prism) = &self.table_prism {
+                let _ = g.add_object("table", prism.clone(), Pose::IDENTITY);
+            }
+            let (now, ready) = (g.arm_values(&state), g.arm_values(&self.ready));
+            if now.iter().zip(&ready).all(|(a, b)| (a - b).abs() < 0.05) {
+                continue;
+            }
+            if let Ok(plan) = g.plan_to_joints(&now, &[ready]) {
+                let _ = run_phase(self.driver, &plan, "arm in");
+            }
+        }
     }
 
     /// Drives back to where the run started when the base moved.
@@ -218,9 +257,9 @@ impl<'a, D: RobotDriver> Run<'a, D> {
             .iter()
             .flat_map(|p| [p.extend(table.z - 0.005), p.extend(0.0)])
             .collect();
-        group
-            .add_object("table", SharedShape::convex_hull(&body)?, Pose::IDENTITY)
-            .ok()?;
+        let prism = SharedShape::convex_hull(&body)?;
+        self.table_prism = Some(prism.clone());
+        group.add_object("table", prism, Pose::IDENTITY).ok()?;
         for o in objects {
             group
                 .add_object(&object_name(o), o.hull.clone(), Pose::IDENTITY)
@@ -356,6 +395,12 @@ impl<'a, D: RobotDriver> Run<'a, D> {
                 return Err((kind.into(), e.to_string()));
             }
         };
+        if let Err(e) = drive_back(self.driver, self.robot, &self.origin, BACK_OFF) {
+            if self.put_back(k, &mut group, taken_at, table.up).is_err() {
+                let _ = self.driver.open(&self.takers[k].gripper.name);
+            }
+            return Err(("driver".into(), e.to_string()));
+        }
         // Not back onto the table it came from.
         let request = PlaceRequest {
             arm: Some(t.arm.clone()),
