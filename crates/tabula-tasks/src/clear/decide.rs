@@ -129,7 +129,7 @@ impl Decider<'_> {
             let Some((i, kind)) = action_of(first, self.objects) else {
                 return Decision::NoPlan;
             };
-            match self.timed_ik(i, kind, g, &seed, &[]) {
+            match self.first_pose_ik(i, kind, g, &seed, &[]) {
                 Some(q) => return Decision::Act(i, kind, q, Vec::new()),
                 None => {
                     self.frame.ik_backtracks += 1;
@@ -209,8 +209,10 @@ impl Decider<'_> {
         }
     }
 
-    /// [`Self::first_pose_ik`], its CPU time counted as the frame's IK time.
-    pub(super) fn timed_ik(
+    /// IK (collision-free, the target object out of the world) for every pose of the
+    /// action, the gripper at either yaw; the solution of the first pose when all have
+    /// one. Its CPU time counts as the frame's IK time.
+    pub(super) fn first_pose_ik(
         &mut self,
         i: usize,
         kind: ActionKind,
@@ -219,22 +221,6 @@ impl Decider<'_> {
         nudged: &[usize],
     ) -> Option<Vec<f64>> {
         let c = thread_cpu();
-        let ik = self.first_pose_ik(i, kind, g, seed, nudged);
-        self.frame.ik_ms += (thread_cpu() - c) * 1e3;
-        ik
-    }
-
-    /// IK (collision-free, the target object out of the world) for every pose of the
-    /// action, the gripper at either yaw; the solution of the first pose when all have
-    /// one.
-    fn first_pose_ik(
-        &mut self,
-        i: usize,
-        kind: ActionKind,
-        g: &Geometry,
-        seed: &[f64],
-        nudged: &[usize],
-    ) -> Option<Vec<f64>> {
         let objects = self.objects;
         // The target, what a chain push shoves along and what a nudge grasp pushes aside
         // move: out of the world here.
@@ -272,6 +258,7 @@ impl Decider<'_> {
                 Pose::IDENTITY,
             );
         }
+        self.frame.ik_ms += (thread_cpu() - c) * 1e3;
         found
     }
 

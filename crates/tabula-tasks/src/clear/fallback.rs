@@ -63,7 +63,7 @@ impl Decider<'_> {
                 "(push_{} o{}) [chain]",
                 DIRECTIONS[k], self.objects[i].id
             )];
-            match self.timed_ik(i, ActionKind::Push(k), g, &seed, &[]) {
+            match self.first_pose_ik(i, ActionKind::Push(k), g, &seed, &[]) {
                 Some(q) => return Decision::Act(i, ActionKind::Push(k), q, Vec::new()),
                 None => self.frame.ik_backtracks += 1,
             }
@@ -90,7 +90,7 @@ impl Decider<'_> {
                     .join(" "),
                 depth * 1e3
             )];
-            match self.timed_ik(i, ActionKind::Grasp, g, &seed, &nudged) {
+            match self.first_pose_ik(i, ActionKind::Grasp, g, &seed, &nudged) {
                 Some(q) => return Decision::Act(i, ActionKind::Grasp, q, nudged),
                 None => self.frame.ik_backtracks += 1,
             }
