@@ -2,9 +2,10 @@
 //! request, parameters and a report, run against the robot's interfaces only): the CLI,
 //! the benchmarks, the judges and the ROS services run any of them the same way.
 
+use crate::skills::SkillError;
 use tabula_geom::Vec3;
 use tabula_geom::input::Validate;
-use tabula_robot::driver::RobotDriver;
+use tabula_robot::driver::{DriverError, RobotDriver};
 use tabula_robot::robots::NamedRobot;
 
 /// What a watcher of a run is told, so a judge of the run can tell what the robot meant
@@ -51,6 +52,66 @@ pub trait Task {
         params: &Self::Params,
         watch: &mut dyn FnMut(&mut D, Moment),
     ) -> Self::Outcome;
+}
+
+/// Why a task could not start or had to stop, for tasks that need no kinds of their own.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum TaskError {
+    #[error("driver: {0}")]
+    Driver(String),
+    #[error("robot: {0}")]
+    Robot(String),
+    #[error("perception: {0}")]
+    Perception(String),
+    #[error("parameter {0}")]
+    Params(String),
+}
+
+impl TaskError {
+    /// The typed reason reports and JSON carry.
+    pub fn kind(&self) -> &'static str {
+        match self {
+            TaskError::Driver(_) => "driver",
+            TaskError::Robot(_) => "robot",
+            TaskError::Perception(_) => "perception",
+            TaskError::Params(_) => "params",
+        }
+    }
+}
+
+impl From<DriverError> for TaskError {
+    fn from(e: DriverError) -> Self {
+        TaskError::Driver(e.to_string())
+    }
+}
+
+impl From<SkillError> for TaskError {
+    fn from(e: SkillError) -> Self {
+        match e {
+            SkillError::Robot(m) => TaskError::Robot(m),
+            SkillError::Driver(m) => TaskError::Driver(m),
+            other => TaskError::Driver(other.to_string()),
+        }
+    }
+}
+
+impl From<crate::scene::SceneError> for TaskError {
+    fn from(e: crate::scene::SceneError) -> Self {
+        match e {
+            crate::scene::SceneError::Perception(m) => TaskError::Perception(m),
+            crate::scene::SceneError::Driver(m) => TaskError::Driver(m),
+        }
+    }
+}
+
+/// An object a task did not get done, and why.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct Failure {
+    /// Where it was seen (world, footprint centre at mid-height).
+    pub object: [f64; 3],
+    /// The typed reason (`no grasp`, `grasp slipped`, a placing error's kind, …).
+    pub reason: String,
+    pub message: String,
 }
 
 /// Clearing a cluttered table (seed 002).

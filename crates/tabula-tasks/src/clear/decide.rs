@@ -7,6 +7,7 @@ use super::push::Push;
 use super::track::Track;
 use super::{ActionKind, ClearParams, ClearReport, FrameReport, SeenObject};
 use crate::skills::GraspCandidate;
+use crate::skills::world::{load_objects, without};
 use std::time::Duration;
 use tabula_geom::{Pose, Vec3};
 use tabula_motion::MoveGroup;
@@ -197,16 +198,7 @@ impl Decider<'_> {
     /// target is taken out per pose by [`Self::first_pose_ik`]).
     fn load_objects(&mut self) {
         let _ = self.group.set_state(self.robot, self.state);
-        for name in self.group.world.object_names() {
-            if name.starts_with("obj:") {
-                let _ = self.group.remove_object(&name);
-            }
-        }
-        for o in self.objects {
-            let _ = self
-                .group
-                .add_object(&format!("obj:{}", o.id), o.hull.clone(), Pose::IDENTITY);
-        }
+        load_objects(self.group, self.objects);
     }
 
     /// IK (collision-free, the target object out of the world) for every pose of the
@@ -229,61 +221,54 @@ impl Decider<'_> {
         if let ActionKind::Push(k) = kind {
             moving.extend(&g.pushes[i][k].chain);
         }
-        for &m in &moving {
-            let _ = self.group.remove_object(&format!("obj:{}", objects[m].id));
-        }
         let yaws: &[usize] = match kind {
             ActionKind::Grasp => &[0, 1],
             ActionKind::Push(_) => &[0],
         };
-        let found = yaws.iter().find_map(|&yaw| {
-            let poses = action_poses(kind, g.grasps[i].as_ref(), &g.pushes[i], yaw, self.params);
-            self.chain_ik(&poses, seed, |p, e| {
-                if tracing::enabled!(tracing::Level::DEBUG) {
-                    tracing::debug!(
-                        "IK {} o{} yaw {yaw} at ({:.3}, {:.3}, {:.3}): {e}",
-                        kind.pddl(),
-                        objects[i].id,
-                        p.translation.x,
-                        p.translation.y,
-                        p.translation.z
-                    );
-                }
+        let params = self.params;
+        let found = without(self.group, objects, &moving, |group| {
+            yaws.iter().find_map(|&yaw| {
+                let poses = action_poses(kind, g.grasps[i].as_ref(), &g.pushes[i], yaw, params);
+                chain_ik(group, &poses, seed, |p, e| {
+                    if tracing::enabled!(tracing::Level::DEBUG) {
+                        tracing::debug!(
+                            "IK {} o{} yaw {yaw} at ({:.3}, {:.3}, {:.3}): {e}",
+                            kind.pddl(),
+                            objects[i].id,
+                            p.translation.x,
+                            p.translation.y,
+                            p.translation.z
+                        );
+                    }
+                })
             })
         });
-        for &m in &moving {
-            let _ = self.group.add_object(
-                &format!("obj:{}", objects[m].id),
-                objects[m].hull.clone(),
-                Pose::IDENTITY,
-            );
-        }
         self.frame.ik_ms += (thread_cpu() - c) * 1e3;
         found
     }
+}
 
-    /// Collision-free IK for `poses` in turn, each seeded by the last; the first pose's
-    /// solution when all have one (`failed` is told the pose that has none).
-    fn chain_ik(
-        &self,
-        poses: &[Pose],
-        seed: &[f64],
-        failed: impl Fn(&Pose, &tabula_motion::MoveError),
-    ) -> Option<Vec<f64>> {
-        let mut first = None;
-        let mut from = seed.to_vec();
-        for p in poses {
-            match self.group.valid_ik(p, &from) {
-                Ok(sols) => {
-                    from = sols[0].clone();
-                    first.get_or_insert(sols[0].clone());
-                }
-                Err(e) => {
-                    failed(p, &e);
-                    return None;
-                }
+/// Collision-free IK for `poses` in turn, each seeded by the last; the first pose's
+/// solution when all have one (`failed` is told the pose that has none).
+fn chain_ik(
+    group: &MoveGroup,
+    poses: &[Pose],
+    seed: &[f64],
+    failed: impl Fn(&Pose, &tabula_motion::MoveError),
+) -> Option<Vec<f64>> {
+    let mut first = None;
+    let mut from = seed.to_vec();
+    for p in poses {
+        match group.valid_ik(p, &from) {
+            Ok(sols) => {
+                from = sols[0].clone();
+                first.get_or_insert(sols[0].clone());
+            }
+            Err(e) => {
+                failed(p, &e);
+                return None;
             }
         }
-        first
     }
+    first
 }

@@ -234,8 +234,13 @@ impl ClearParams {
         Fallback(top, NarrowPartGrasps { top })
     }
 
-    /// The tabletop pipeline's parameters for this run's decimated frames.
-    pub fn decimated_tabletop(&self) -> TabletopParams {
-        crate::scene::tabletop::decimated(&self.tabletop, self.decimate)
+    /// How this run looks at the table.
+    pub fn observer(&self) -> crate::scene::Observer<'_> {
+        crate::scene::Observer::new(
+            &self.camera,
+            self.decimate,
+            self.self_filter_padding,
+            &self.tabletop,
+        )
     }
 }

@@ -7,12 +7,10 @@ use super::{
     ActionKind, ClearError, ClearEvent, ClearParams, ClearReport, ClearRequest, DOMAIN,
     FrameReport, SeenObject, Table,
 };
-use crate::scene::tabletop::{filtered_cloud, perceive};
 use crate::skills::Hand;
 use tabula_motion::MoveGroup;
 use tabula_motion::group::thread_cpu;
 use tabula_pddl::Domain;
-use tabula_perception::tabletop::TabletopParams;
 use tabula_robot::description::Gripper;
 use tabula_robot::driver::{JointState, RobotDriver};
 use tabula_robot::robots::NamedRobot;
@@ -38,7 +36,6 @@ pub(super) struct Run<'a, D> {
     /// Out of the camera's view between actions: the arm's tucked pose, else where it
     /// started.
     pub(super) home: Vec<f64>,
-    pub(super) tabletop: TabletopParams,
     /// Perception runs on one thread, so its CPU time is all of the work.
     pub(super) single: rayon::ThreadPool,
     pub(super) tracks: Vec<Track>,
@@ -219,7 +216,6 @@ impl<'a, D: RobotDriver> Run<'a, D> {
             domain,
             group,
             home,
-            tabletop: params.decimated_tabletop(),
             single,
             tracks: Vec::new(),
             report: ClearReport::default(),
@@ -229,51 +225,42 @@ impl<'a, D: RobotDriver> Run<'a, D> {
     /// Captures a frame and perceives the table and its objects, tracked; `Err` when
     /// the driver fails, `Ok(Err)` when the frame shows no table.
     fn perceive(&mut self) -> Result<Result<Seen, ClearError>, ClearError> {
-        let frame = self.driver.capture(&self.params.camera)?;
-        let state = self.driver.joint_state()?;
-        let world_from_root = self.driver.world_from_root()?;
-        let (robot, params, tabletop) = (self.robot, self.params, &self.tabletop);
-        let (perceived, perception, filtered) = self.single.install(|| {
-            let c0 = thread_cpu();
-            let cloud = filtered_cloud(
-                &frame,
-                robot,
-                &state,
-                world_from_root,
-                params.decimate,
-                params.self_filter_padding,
-            );
-            let filtered = thread_cpu() - c0;
-            let perceived = perceive(&cloud, frame.world_from_camera.translation, tabletop)
-                .map_err(|e| ClearError::Perception(e.to_string()));
-            (perceived, thread_cpu() - c0, filtered)
-        });
-        if tracing::enabled!(tracing::Level::DEBUG) {
+        let (robot, params) = (self.robot, self.params);
+        let observer = params.observer();
+        let captured = observer.capture(self.driver)?;
+        let observed = self.single.install(|| observer.perceive(robot, &captured));
+        if let Ok(o) = &observed
+            && tracing::enabled!(tracing::Level::DEBUG)
+        {
             tracing::debug!(
                 "perception CPU {:.1} ms, of which transform + self-filter {:.1} ms",
-                perception * 1e3,
-                filtered * 1e3
+                o.cpu_s * 1e3,
+                o.filter_cpu_s * 1e3
             );
         }
-        Ok(perceived.map(|(table, mut objects)| {
-            track(
-                &mut objects,
-                &mut self.tracks,
-                params.track_radius,
-                params.push_jam_share,
-            );
-            let frame = FrameReport {
-                objects: objects.len(),
-                perception_ms: perception * 1e3,
-                ..FrameReport::default()
-            };
-            Seen {
-                table,
-                objects,
-                state,
-                frame,
-            }
-        }))
+        let state = captured.state;
+        Ok(observed
+            .map_err(|e| ClearError::Perception(e.to_string()))
+            .map(|o| {
+                let (table, mut objects, perception) = (o.table, o.objects, o.cpu_s);
+                track(
+                    &mut objects,
+                    &mut self.tracks,
+                    params.track_radius,
+                    params.push_jam_share,
+                );
+                let frame = FrameReport {
+                    objects: objects.len(),
+                    perception_ms: perception * 1e3,
+                    ..FrameReport::default()
+                };
+                Seen {
+                    table,
+                    objects,
+                    state,
+                    frame,
+                }
+            }))
     }
 
     /// Predicates, plan, IK of the first action with backtracking; the fallbacks when

@@ -3,7 +3,12 @@
 //! by [`tabletop`] from a camera frame — and the geometric tests tasks decide with
 //! (hull against hull, hand against hull).
 
+pub mod attempts;
+pub mod observer;
 pub mod tabletop;
+
+pub use attempts::Attempts;
+pub use observer::{Observation, Observer};
 
 /// Why a frame gave no scene.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -11,6 +16,9 @@ pub enum SceneError {
     /// The perception pipeline found no table (or no usable points).
     #[error("{0}")]
     Perception(String),
+    /// The robot gave no frame.
+    #[error("driver: {0}")]
+    Driver(String),
 }
 
 use crate::skills::GraspTarget;
@@ -74,11 +82,24 @@ impl SeenObject {
 }
 
 /// The table as one frame sees it.
-pub(crate) struct Table {
-    pub(crate) z: f64,
-    pub(crate) up: Vec3,
+pub struct Table {
+    pub z: f64,
+    pub up: Vec3,
     /// Convex outline (world xy).
-    pub(crate) outline: Vec<Vec2>,
+    pub outline: Vec<Vec2>,
+}
+
+impl Table {
+    /// The table as a solid for planning: its outline from just below the top down to
+    /// the floor (an arm swinging low must not pass under it).
+    pub fn prism(&self) -> Option<SharedShape> {
+        let body: Vec<Vec3> = self
+            .outline
+            .iter()
+            .flat_map(|p| [p.extend(self.z - 0.005), p.extend(0.0)])
+            .collect();
+        SharedShape::convex_hull(&body)
+    }
 }
 
 /// `(on a b)` for every pair: `a`'s bottom is `b`'s top and most of `a`'s points are over

@@ -11,6 +11,61 @@ use tabula_robot::robots::NamedRobot;
 /// Pre-grasp openings are modelled every 5 mm of finger gap.
 pub const OPENING_STEP: f64 = 0.005;
 
+/// An arm that can take things: its name, its gripper and the gripper's hand.
+pub struct HandArm {
+    pub arm: String,
+    pub gripper: Gripper,
+    pub hand: Hand,
+}
+
+impl HandArm {
+    /// The arm named `wanted`, else every arm of the robot that has a gripper.
+    pub fn all(robot: &NamedRobot, wanted: Option<&str>) -> Result<Vec<HandArm>, SkillError> {
+        let names: Vec<&str> = match wanted {
+            Some(a) => vec![a],
+            None => robot
+                .description
+                .arms
+                .iter()
+                .filter(|a| a.gripper.is_some())
+                .map(|a| a.name.as_str())
+                .collect(),
+        };
+        if names.is_empty() {
+            return Err(SkillError::Robot("no arm with a gripper".into()));
+        }
+        names
+            .into_iter()
+            .map(|name| {
+                let (arm, gripper) = super::arm_with_gripper(robot, Some(name))?;
+                let hand = Hand::new(robot, &gripper)?;
+                Ok(HandArm {
+                    arm: arm.name,
+                    gripper,
+                    hand,
+                })
+            })
+            .collect()
+    }
+
+    /// This arm acting through `driver` with `group` (the arm's), `up` the table's up.
+    pub fn manipulator<'a, D>(
+        &'a self,
+        (driver, robot): (&'a mut D, &'a NamedRobot),
+        group: &'a mut tabula_motion::MoveGroup,
+        up: tabula_geom::Vec3,
+    ) -> super::pick::Manipulator<'a, D> {
+        super::pick::Manipulator {
+            driver,
+            robot,
+            group,
+            hand: &self.hand,
+            gripper: &self.gripper,
+            up,
+        }
+    }
+}
+
 /// The gripper's collision shapes in its tool frame, open and closed, from the URDF.
 #[derive(Clone)]
 pub struct Hand {

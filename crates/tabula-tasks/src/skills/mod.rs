@@ -8,6 +8,8 @@
 //! * [`motion`]: running a planned phase, going home, the arm's current values.
 //! * [`pick`]: taking an object off a tabletop and carrying it.
 //! * [`phase`]: the phase recorder every task reports its stages with.
+//! * [`reach`]: which object to pick with which hand.
+//! * [`world`]: the seen objects in the planning world.
 
 pub mod base;
 pub mod grasp;
@@ -15,6 +17,8 @@ pub mod hand;
 pub mod motion;
 pub mod phase;
 pub mod pick;
+pub mod reach;
+pub mod world;
 
 pub use grasp::{GraspCandidate, GraspKind, GraspPlanner, GraspTarget};
 pub use hand::Hand;

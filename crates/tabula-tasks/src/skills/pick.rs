@@ -53,6 +53,38 @@ pub fn grasp_blockers(
         .collect()
 }
 
+/// The first of `candidates` (grasps of object `i` of `objects`) that no other object
+/// is in the way of (except those `skip` names), whose pre-grasp has collision-free IK
+/// and whose straight lines down to the grasp and up to the lift the arm can follow:
+/// the grasp and its pre-grasp joint values.
+pub fn first_reachable(
+    group: &MoveGroup,
+    hand: &Hand,
+    candidates: Vec<GraspCandidate>,
+    (objects, skip): (&[SeenObject], &dyn Fn(usize) -> bool),
+    (up, motion, clearance): (Vec3, PickMotion, f64),
+    seed: &[f64],
+) -> Option<(GraspCandidate, Vec<f64>)> {
+    let shifted = |pose: &Pose, h: f64| Pose::from_parts(pose.translation + up * h, pose.rotation);
+    candidates.into_iter().find_map(|g| {
+        if !grasp_blockers(objects, &g, hand, (up, motion.pregrasp, clearance), skip).is_empty() {
+            return None;
+        }
+        let q = g.poses.iter().find_map(|pose| {
+            // A numeric IK reaches both ends of a line it cannot follow.
+            let sols = group.valid_ik(&shifted(pose, motion.pregrasp), seed).ok()?;
+            sols.into_iter().take(3).find(|q| {
+                group.cartesian(q, pose).is_ok_and(|down| {
+                    group
+                        .cartesian(down.end(), &shifted(pose, motion.lift))
+                        .is_ok()
+                })
+            })
+        })?;
+        Some((g, q))
+    })
+}
+
 /// Distances of a grasp's motions (m): the pre-grasp above the grasp (SPEC §3.2: 10
 /// cm) and the lift after it (SPEC §3.2: 20 cm).
 #[derive(Debug, Clone, Copy, PartialEq)]

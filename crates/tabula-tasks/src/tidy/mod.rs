@@ -5,6 +5,8 @@
 
 mod run;
 
+pub use crate::task::Failure;
+
 use crate::place::PlaceParams;
 use crate::skills::grasp::TopGrasps;
 use serde::Serialize;
@@ -12,11 +14,10 @@ use tabula_geom::Vec3;
 use tabula_geom::input::{Validate, check_count, check_non_negative, nested};
 use tabula_motion::MoveGroupParams;
 use tabula_perception::tabletop::TabletopParams;
-use tabula_robot::driver::{DriverError, RobotDriver};
+use tabula_robot::driver::RobotDriver;
 use tabula_robot::robots::NamedRobot;
 
-/// Parameters of tidying; the grasp, perception and placing parts default to clearing's
-/// and placing's seed values.
+/// Parameters of tidying (defaults: clearing's and placing's seed values).
 #[derive(Debug, Clone, serde::Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct TidyParams {
@@ -95,16 +96,6 @@ pub struct TidyRequest {
     pub to: Option<Vec3>,
 }
 
-/// An object that was not moved, and why.
-#[derive(Debug, Clone, Serialize)]
-pub struct Failure {
-    /// Where it was seen (world, footprint centre at mid-height).
-    pub object: [f64; 3],
-    /// The typed reason (`no grasp`, `grasp slipped`, a placing error's kind, …).
-    pub reason: String,
-    pub message: String,
-}
-
 /// What a tidying run did.
 #[derive(Debug, Clone, Default, Serialize)]
 pub struct TidyReport {
@@ -122,34 +113,7 @@ pub struct TidyReport {
 }
 
 /// Why tidying could not start or had to stop.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-pub enum TidyError {
-    #[error("driver: {0}")]
-    Driver(String),
-    #[error("robot: {0}")]
-    Robot(String),
-    #[error("perception: {0}")]
-    Perception(String),
-    #[error("parameter {0}")]
-    Params(String),
-}
-
-impl TidyError {
-    pub fn kind(&self) -> &'static str {
-        match self {
-            TidyError::Driver(_) => "driver",
-            TidyError::Robot(_) => "robot",
-            TidyError::Perception(_) => "perception",
-            TidyError::Params(_) => "params",
-        }
-    }
-}
-
-impl From<DriverError> for TidyError {
-    fn from(e: DriverError) -> Self {
-        TidyError::Driver(e.to_string())
-    }
-}
+pub type TidyError = crate::task::TaskError;
 
 /// Tidies the table: see the module's documentation.
 pub fn tidy<D: RobotDriver>(
