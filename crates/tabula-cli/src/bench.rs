@@ -179,16 +179,16 @@ pub fn run(c: BenchCommand, report: Option<&std::path::Path>) -> Result<()> {
             save_failures,
             json,
             spread,
-        } => crate::clear::bench(
-            &suite,
-            scenes,
+        } => crate::clear::bench(&crate::trials::SuiteRun {
+            suite: &suite,
+            count: scenes,
             seed,
-            params.as_deref(),
-            save_failures.as_deref(),
+            params: params.as_deref(),
+            save_failures: save_failures.as_deref(),
             json,
             report,
-            &spread,
-        ),
+            spread: &spread,
+        }),
         BenchCommand::Place {
             suite,
             trials,
@@ -197,16 +197,16 @@ pub fn run(c: BenchCommand, report: Option<&std::path::Path>) -> Result<()> {
             save_failures,
             json,
             spread,
-        } => crate::place::bench(
-            &suite,
-            trials,
+        } => crate::place::bench(&crate::trials::SuiteRun {
+            suite: &suite,
+            count: trials,
             seed,
-            params.as_deref(),
-            save_failures.as_deref(),
+            params: params.as_deref(),
+            save_failures: save_failures.as_deref(),
             json,
             report,
-            &spread,
-        ),
+            spread: &spread,
+        }),
         #[cfg(feature = "ros")]
         BenchCommand::Ros { frames, json } => ros_latency(frames, json),
         BenchCommand::StablePoses { dir, reps, json } => {
@@ -215,58 +215,16 @@ pub fn run(c: BenchCommand, report: Option<&std::path::Path>) -> Result<()> {
     }
 }
 
-#[derive(serde::Serialize)]
-struct PickPlaceRow {
-    seed: u64,
-    target: String,
-    success: bool,
-    arm: Option<String>,
-    error: Option<String>,
-    decision_cpu_ms: f64,
-    target_error_cm: f64,
-}
-
 /// Runs the generated shelf tasks (both cores, one task each) and prints a table.
 fn pick_place(variants: u64, json: bool, report: Option<&std::path::Path>) -> Result<()> {
     use rayon::prelude::*;
-    use tabula_tasks::pick_place::{PickPlaceParams, PickPlaceRequest};
+    use tabula_bench::pick_place::BenchRow as PickPlaceRow;
     let progress = crate::progress::steps(variants, "tasks");
     let rows: Vec<Result<PickPlaceRow>> = (1..=variants)
         .into_par_iter()
         .map(|seed| {
             let _tick = crate::progress::Tick(&progress);
-            let task = tabula_sim::generate::golem_shelf_task(seed);
-            let scene = tabula_sim::Scene::parse(&task.scene, "generated")?;
-            let world = tabula_sim::SimWorld::from_scene(&scene, Default::default())?;
-            let request = PickPlaceRequest {
-                arm: None,
-                pick: tabula_geom::Vec3::from_array(task.pick),
-                place: tabula_geom::Vec3::from_array(task.place),
-            };
-            let (out, _, _) = crate::tasks::pick_place_in(
-                world,
-                None,
-                &request,
-                &PickPlaceParams::default(),
-                seed,
-                false,
-            )?;
-            Ok(PickPlaceRow {
-                seed,
-                target: task.target,
-                success: out.success,
-                arm: out.report.arm.clone(),
-                error: out
-                    .error_message
-                    .clone()
-                    .map(|e| match out.report.rejected.last() {
-                        Some(why) => format!("{e} (last: {why})"),
-                        None => e,
-                    })
-                    .or_else(|| (!out.success).then(|| format!("{:?}", out.verdict))),
-                decision_cpu_ms: out.report.decision_cpu_ms,
-                target_error_cm: out.verdict.target_error * 100.0,
-            })
+            tabula_bench::pick_place::trial(seed)
         })
         .collect();
     progress.finish_and_clear();

@@ -4,11 +4,12 @@ use crate::report::{Recorded, Recording, Report, Section};
 use crate::tasks::{TaskRunArgs, load_params, scene_robot_named};
 use anyhow::{Result, anyhow, bail};
 use clap::Args;
-use serde::Serialize;
+use tabula_bench::clear::{BIN, TABLE};
+use tabula_bench::clear::{ClearRun as ClearJson, Summary};
 use tabula_sim::SimWorld;
 use tabula_sim::generate::{ClearSuite, clearing_scene};
-use tabula_sim::verdict::{ClearSetup, ClearVerdict, run_clear_judged};
-use tabula_tasks::clear::{ClearError, ClearParams, ClearReport, ClearRequest, clear};
+use tabula_sim::judge::ClearSetup;
+use tabula_tasks::clear::{ClearParams, clear};
 
 #[derive(Args)]
 pub struct ClearArgs {
@@ -19,22 +20,8 @@ pub struct ClearArgs {
     pub max_actions: Option<usize>,
 }
 
-/// Everything `clear` prints with `--json`: the task's own metrics, the judged ones.
-#[derive(Serialize)]
-pub struct ClearJson {
-    /// Every object that stood on the table (if any) ended in the bin.
-    pub success: bool,
-    pub error: Option<String>,
-    pub error_message: Option<String>,
-    #[serde(flatten)]
-    pub report: ClearReport,
-    /// Arm–object contacts with objects the arm was not acting on (judged).
-    pub collisions: usize,
-    pub verdict: ClearVerdict,
-}
-
-/// Clears the table of `world` with its robot, judged by physics; returns the world
-/// afterwards.
+/// Clears the table of `world` with its robot, judged by physics (recorded for the
+/// report when `record`); returns the world afterwards.
 pub fn clear_in(
     world: SimWorld,
     robot: Option<&str>,
@@ -43,50 +30,13 @@ pub fn clear_in(
     seed: u64,
     record: bool,
 ) -> Result<(ClearJson, SimWorld, Option<Recorded>)> {
-    let (robot_name, robot) = scene_robot_named(&world, robot)?;
     let mut recording = Recording::new(record);
-    let (outcome, verdict, world) = run_clear_judged(
-        world,
-        &robot_name,
-        (TABLE, BIN),
-        seed,
-        |driver, setup, hook| {
-            recording.start(driver);
-            let request = clear_request(setup, max_actions);
-            clear(driver, &robot, &request, params, &mut |d, e| {
-                hook(d, e.judged())
-            })
-        },
-    )?;
+    let (out, world) =
+        tabula_bench::clear::clear_in(world, robot, (params, max_actions), seed, |d| {
+            recording.start(d)
+        })?;
     let recorded = recording.finish(&world);
-    Ok((clear_json(outcome, verdict), world, recorded))
-}
-
-/// What `clear` prints, from the task's outcome and the judge's verdict.
-fn clear_json(outcome: Result<ClearReport, ClearError>, verdict: ClearVerdict) -> ClearJson {
-    let (report, error) = match outcome {
-        Ok(r) => (r, None),
-        Err(e) => (ClearReport::default(), Some(e)),
-    };
-    ClearJson {
-        success: error.is_none() && verdict.in_bin == verdict.objects,
-        error: error.as_ref().map(|e| e.kind().to_string()),
-        error_message: error.as_ref().map(|e| e.to_string()),
-        report,
-        collisions: verdict.collisions.len(),
-        verdict,
-    }
-}
-
-/// The request a clearing run makes of its workcell.
-fn clear_request(setup: &ClearSetup, max_actions: Option<usize>) -> ClearRequest {
-    ClearRequest {
-        arm: None,
-        drop_point: setup.drop_point,
-        drop_spread: setup.drop_spread,
-        obstacles: setup.obstacles.clone(),
-        max_actions,
-    }
+    Ok((out, world, recorded))
 }
 
 /// One clearing run by the robot served at `--connect`, judged there; the workcell
@@ -99,13 +49,16 @@ fn clear_remote(a: &ClearArgs, params: &ClearParams) -> Result<(ClearJson, Strin
     let mut driver = crate::remote::connect(&a.run, &robot_name)?;
     crate::remote::begin(
         &driver,
-        tabula_ros::protocol::JudgedTask::Clear {
-            seed: a.run.seed,
-            table: TABLE.into(),
-            bin: BIN.into(),
-        },
+        tabula_ros::protocol::JudgedTask::new(
+            "clear",
+            a.run.seed,
+            tabula_ros::protocol::ground::Clear {
+                table: TABLE.into(),
+                bin: BIN.into(),
+            },
+        ),
     )?;
-    let request = clear_request(&setup, a.max_actions);
+    let request = tabula_bench::clear::request(&setup, a.max_actions);
     let outcome = clear(&mut driver, &robot, &request, params, &mut |d, e| {
         if let Err(err) = d.clear_event(e.judged()) {
             tracing::warn!("the judge missed a moment: {err}");
@@ -113,12 +66,8 @@ fn clear_remote(a: &ClearArgs, params: &ClearParams) -> Result<(ClearJson, Strin
     });
     let verdict = crate::remote::verdict(&driver, None)?;
     let scene = crate::remote::scene(&driver)?;
-    Ok((clear_json(outcome, verdict), scene))
+    Ok((ClearJson::of(outcome, verdict), scene))
 }
-
-/// The furniture a clearing scene clears, and the bin it clears into.
-const TABLE: &str = "table";
-const BIN: &str = "bin";
 
 pub fn run(a: ClearArgs) -> Result<()> {
     if a.run.dry_run {
@@ -290,134 +239,14 @@ fn summary_lines(out: &ClearJson) -> Vec<String> {
     lines
 }
 
-#[derive(Serialize, serde::Deserialize)]
-pub struct BenchRow {
-    seed: u64,
-    objects: usize,
-    in_bin: usize,
-    actions: usize,
-    grasps: usize,
-    failed_grasps: usize,
-    pushes: usize,
-    no_plan_frames: usize,
-    ik_backtracks: usize,
-    push_loops: usize,
-    collisions: usize,
-    disturbed: usize,
-    decision_median_ms: f64,
-    stop: String,
-    /// Cleared without error (every object on the table in the bin).
-    success: bool,
-}
-
-/// Wilson score interval (95 %) of `k` successes in `n`.
-pub fn wilson(k: usize, n: usize) -> (f64, f64) {
-    if n == 0 {
-        return (0.0, 1.0);
-    }
-    let (k, n, z) = (k as f64, n as f64, 1.96);
-    let p = k / n;
-    let d = 1.0 + z * z / n;
-    let c = (p + z * z / (2.0 * n)) / d;
-    let h = z * ((p * (1.0 - p) / n + z * z / (4.0 * n * n)).sqrt()) / d;
-    ((c - h).max(0.0), (c + h).min(1.0))
-}
-
-/// One scene of a clearing suite, cleared in the simulator and judged by physics: its
-/// row and each frame's decision time and its parts.
-#[derive(Serialize, serde::Deserialize)]
-pub struct Trial {
-    row: BenchRow,
-    frames: Vec<[f64; 5]>,
-}
-
-fn trial(which: ClearSuite, s: u64, params: &ClearParams) -> Result<Trial> {
-    let text = clearing_scene(which, s);
-    let scene = tabula_sim::Scene::parse(&text, "generated")?;
-    let world = SimWorld::from_scene(&scene, Default::default())?;
-    let (out, _, _) = clear_in(world, None, params, None, s, false)?;
-    let r = &out.report;
-    let v = &out.verdict;
-    let frames = r
-        .frames
-        .iter()
-        .map(|f| {
-            [
-                f.decision_ms,
-                f.perception_ms,
-                f.predicates_ms,
-                f.planning_ms,
-                f.ik_ms,
-            ]
-        })
-        .collect();
-    Ok(Trial {
-        row: BenchRow {
-            seed: s,
-            objects: v.objects,
-            in_bin: v.in_bin,
-            actions: r.actions,
-            grasps: r.grasps,
-            failed_grasps: r.failed_grasps,
-            pushes: r.pushes,
-            no_plan_frames: r.no_plan_frames,
-            ik_backtracks: r.ik_backtracks,
-            push_loops: r.push_loops,
-            collisions: out.collisions,
-            disturbed: v.disturbed.len(),
-            decision_median_ms: r.decision_ms.median,
-            stop: match &out.error_message {
-                Some(e) => e.clone(),
-                None => r.stop.clone(),
-            },
-            success: out.success,
-        },
-        frames,
-    })
-}
-
-/// A clearing trial as a worker runs it.
-#[cfg(feature = "ros")]
-pub fn trial_of(spec: &crate::trials::TrialSpec) -> Result<Trial> {
-    let which: ClearSuite = spec.suite.parse().map_err(|e: String| anyhow!(e))?;
-    let params: ClearParams = match &spec.params {
-        Some(text) => crate::tasks::parse_params(text, "the bench's parameters")?,
-        None => ClearParams::default(),
-    };
-    trial(which, spec.seed, &params)
-}
-
 /// `tabula bench clear`: every scene of a suite cleared in the simulator (both cores,
 /// one scene each, or spread over workers), judged by physics.
-#[allow(clippy::too_many_arguments)]
-pub fn bench(
-    suite: &str,
-    scenes: u64,
-    seed: u64,
-    params_path: Option<&std::path::Path>,
-    save_failures: Option<&std::path::Path>,
-    json: bool,
-    report: Option<&std::path::Path>,
-    spread: &crate::trials::TrialArgs,
-) -> Result<()> {
+pub fn bench(b: &crate::trials::SuiteRun<'_>) -> Result<()> {
+    let (suite, scenes, seed) = (b.suite, b.count, b.seed);
     let which: ClearSuite = suite.parse().map_err(|e: String| anyhow!(e))?;
-    let params: ClearParams = load_params(params_path)?;
-    params.validate()?;
-    let params_text = crate::trials::params_text(params_path)?;
-    let progress = crate::progress::steps(scenes, suite);
-    let runs = crate::trials::run(
-        spread,
-        seed..seed.saturating_add(scenes),
-        |s| crate::trials::TrialSpec {
-            bench: "clear".into(),
-            suite: suite.into(),
-            params: params_text.clone(),
-            seed: s,
-        },
-        |s| trial(which, s, &params),
-        &progress,
-    )?;
-    if let Some(dir) = save_failures {
+    let params: ClearParams = load_params(b.params)?;
+    let runs = b.run("clear", |s| tabula_bench::clear::trial(which, s, &params))?;
+    if let Some(dir) = b.save_failures {
         for t in &runs {
             if !t.row.success || t.row.collisions > 0 {
                 std::fs::create_dir_all(dir)?;
@@ -428,52 +257,15 @@ pub fn bench(
             }
         }
     }
-    progress.finish_and_clear();
     let mut rows = Vec::new();
     let mut frames: Vec<[f64; 5]> = Vec::new();
     for t in runs {
         rows.push(t.row);
         frames.extend(t.frames);
     }
-    let sum = |f: fn(&BenchRow) -> usize| rows.iter().map(f).sum::<usize>();
-    let (objects, in_bin, actions) = (sum(|r| r.objects), sum(|r| r.in_bin), sum(|r| r.actions));
-    let (grasps, failed) = (sum(|r| r.grasps), sum(|r| r.failed_grasps));
-    let cleared = rows
-        .iter()
-        .filter(|r| r.objects > 0 && r.in_bin == r.objects)
-        .count();
-    let (lo, hi) = wilson(in_bin, objects);
-    let col =
-        |k: usize| tabula_tasks::clear::Stats::of(&frames.iter().map(|f| f[k]).collect::<Vec<_>>());
-    let decision = col(0);
-    let summary = serde_json::json!({
-        "suite": suite,
-        "scenes": rows.len(),
-        "objects": objects,
-        "removed": in_bin,
-        "completion": in_bin as f64 / objects.max(1) as f64,
-        "completion_95": [lo, hi],
-        "scenes_cleared": cleared,
-        "actions": actions,
-        "objects_per_action": in_bin as f64 / actions.max(1) as f64,
-        "grasps": grasps,
-        "failed_grasps": failed,
-        "grasp_success": (grasps - failed) as f64 / grasps.max(1) as f64,
-        "pushes": sum(|r| r.pushes),
-        "push_loops": sum(|r| r.push_loops),
-        "collisions": sum(|r| r.collisions),
-        "disturbed": sum(|r| r.disturbed),
-        "no_plan_frames": sum(|r| r.no_plan_frames),
-        "ik_backtracks": sum(|r| r.ik_backtracks),
-        "frames": frames.len(),
-        "decision_ms": decision,
-        "perception_ms": col(1).median,
-        "predicates_ms": col(2).median,
-        "planning_ms": col(3).median,
-        "ik_ms": col(4).median,
-        "rows": rows,
-    });
-    if let Some(dir) = report {
+    let s = Summary::of(suite, &rows, &frames);
+    let summary = serde_json::to_value(&s)?;
+    if let Some(dir) = b.report {
         let numbers = [
             "scenes",
             "objects",
@@ -535,7 +327,7 @@ pub fn bench(
             &summary,
         )?;
     }
-    if json {
+    if b.json {
         println!("{}", serde_json::to_string_pretty(&summary)?);
         return Ok(());
     }
@@ -564,31 +356,31 @@ pub fn bench(
     }
     println!(
         "\n{suite}: {} scenes, completion {}/{} = {:.1} % (95 %: {:.1}–{:.1} %), {} scenes cleared; {:.2} objects per action; grasp success {:.1} % ({} of {}); push loops {}; collisions {}; moved by accident {}",
-        rows.len(),
-        in_bin,
-        objects,
-        100.0 * in_bin as f64 / objects.max(1) as f64,
-        100.0 * lo,
-        100.0 * hi,
-        cleared,
-        in_bin as f64 / actions.max(1) as f64,
-        100.0 * (grasps - failed) as f64 / grasps.max(1) as f64,
-        grasps - failed,
-        grasps,
-        sum(|r| r.push_loops),
-        sum(|r| r.collisions),
-        sum(|r| r.disturbed)
+        s.scenes,
+        s.removed,
+        s.objects,
+        100.0 * s.completion,
+        100.0 * s.completion_95[0],
+        100.0 * s.completion_95[1],
+        s.scenes_cleared,
+        s.objects_per_action,
+        100.0 * s.grasp_success,
+        s.grasps - s.failed_grasps,
+        s.grasps,
+        s.push_loops,
+        s.collisions,
+        s.disturbed
     );
     println!(
         "decision CPU per frame ({} frames): median {:.1} ms, p95 {:.1}, max {:.1}; medians: perception {:.1}, predicates {:.1}, planning {:.1}, IK {:.1}",
-        frames.len(),
-        decision.median,
-        decision.p95,
-        decision.max,
-        col(1).median,
-        col(2).median,
-        col(3).median,
-        col(4).median
+        s.frames,
+        s.decision_ms.median,
+        s.decision_ms.p95,
+        s.decision_ms.max,
+        s.perception_ms,
+        s.predicates_ms,
+        s.planning_ms,
+        s.ik_ms
     );
     Ok(())
 }

@@ -236,12 +236,12 @@ fn tidying() -> Result<(Section, serde_json::Value, String)> {
     )?;
     let world = tabula_sim::SimWorld::from_scene(&scene, Default::default())?;
     let t0 = Instant::now();
-    let (out, _) = crate::tidy::tidy_in(
+    let (out, _) = tabula_bench::tidy::tidy_in(
         world,
         (None, "table"),
-        &TidyRequest::default(),
-        &TidyParams::default(),
+        (&TidyRequest::default(), &TidyParams::default()),
         1,
+        |_| {},
     )?;
     let wall = t0.elapsed().as_secs_f64();
     for f in &out.failed {

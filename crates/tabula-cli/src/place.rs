@@ -4,13 +4,11 @@
 use crate::report::{Recorded, Recording, Report, Section};
 use crate::tasks::{TaskRunArgs, load_params, scene_robot, scene_robot_named};
 use anyhow::Result;
-use serde::Serialize;
-use tabula_geom::{Pose, Quat, Vec3};
+use tabula_bench::judged::planned_rest;
+use tabula_bench::place::{BenchRow, PlaceRun as PlaceJson, suite_of, task_of, trial};
+use tabula_bench::stats::wilson;
 use tabula_sim::SimWorld;
-use tabula_sim::verdict::{StablePlaceVerdict, run_place_judged};
-use tabula_tasks::pick_place::Phase;
-use tabula_tasks::place::{PlaceOutcome, PlaceParams, PlaceReport, PlaceRequest, place};
-use tabula_tasks::stable::StablePose;
+use tabula_tasks::place::{PlaceParams, PlaceRequest, place};
 
 #[derive(clap::Args)]
 pub struct PlaceArgs {
@@ -21,71 +19,8 @@ pub struct PlaceArgs {
     pub arm: String,
 }
 
-/// A typed failure: its kind and its message.
-#[derive(Debug, Clone, Serialize)]
-pub struct TypedError {
-    pub kind: String,
-    pub message: String,
-}
-
-/// Everything `place` prints with `--json`.
-#[derive(Debug, Clone, Serialize)]
-pub struct PlaceJson {
-    pub success: bool,
-    /// The furniture the object rests on (physics), and the surface perceived.
-    pub surface: Option<String>,
-    pub stable_pose: Option<StablePose>,
-    /// Poses as x y z qx qy qz qw (world).
-    pub predicted_pose: Option<[f64; 7]>,
-    pub final_pose: [f64; 7],
-    pub orientation_error_deg: f64,
-    pub phases: Vec<Phase>,
-    pub decision_ms: f64,
-    pub error: Option<TypedError>,
-    pub report: PlaceReport,
-    pub verdict: StablePlaceVerdict,
-    /// Run with `--dry-run`: no physics judged the verdict.
-    pub dry_run: bool,
-}
-
-/// Where the task expects the object to rest: the tool's planned pose lowered by the
-/// release height (none when the task failed).
-fn planned_rest(out: &PlaceOutcome, params: &PlaceParams) -> Option<Pose> {
-    out.report.planned_world_from_tool.and_then(|p| {
-        let q = Quat::from_xyzw(p[3], p[4], p[5], p[6]);
-        let pose = Pose::from_parts(Vec3::new(p[0], p[1], p[2]), q);
-        out.error.is_none().then(|| {
-            Pose::from_parts(
-                pose.translation - Vec3::Z * params.release_height,
-                pose.rotation,
-            )
-        })
-    })
-}
-
-/// What `place` prints, from the task's outcome and the judge's verdict.
-fn place_json(outcome: PlaceOutcome, verdict: StablePlaceVerdict, dry_run: bool) -> PlaceJson {
-    let error = outcome.error.as_ref().map(|e| TypedError {
-        kind: e.kind().into(),
-        message: e.to_string(),
-    });
-    PlaceJson {
-        success: verdict.success && error.is_none(),
-        surface: verdict.surface.clone(),
-        stable_pose: outcome.report.stable_pose.clone(),
-        predicted_pose: verdict.predicted_pose,
-        final_pose: verdict.final_pose,
-        orientation_error_deg: verdict.orientation_error_deg,
-        phases: outcome.report.phases.clone(),
-        decision_ms: outcome.report.decision_ms,
-        error,
-        report: outcome.report,
-        verdict,
-        dry_run,
-    }
-}
-
-/// One placement in `world`, judged by its physics; returns the world afterwards.
+/// One placement in `world`, judged by its physics (recorded for the report when
+/// `record`); returns the world afterwards.
 pub fn place_in(
     world: SimWorld,
     robot: Option<&str>,
@@ -94,17 +29,12 @@ pub fn place_in(
     seed: u64,
     record: bool,
 ) -> Result<(PlaceJson, SimWorld, Option<Recorded>)> {
-    let (robot_name, robot) = scene_robot_named(&world, robot)?;
-    let dry_run = world.kinematic_only;
     let mut recording = Recording::new(record);
-    let (outcome, verdict, world) = run_place_judged(world, &robot_name, seed, |driver| {
-        recording.start(driver);
-        let out = place(driver, &robot, request, params);
-        let planned = planned_rest(&out, params);
-        (out, planned)
+    let (out, world) = tabula_bench::place::place_in(world, robot, (request, params), seed, |d| {
+        recording.start(d)
     })?;
     let recorded = recording.finish(&world);
-    Ok((place_json(outcome, verdict, dry_run), world, recorded))
+    Ok((out, world, recorded))
 }
 
 /// One placement by the robot served at `--connect`, judged there.
@@ -119,12 +49,12 @@ fn place_remote(
     let mut driver = crate::remote::connect(&a.run, &robot_name)?;
     crate::remote::begin(
         &driver,
-        tabula_ros::protocol::JudgedTask::Place { seed: a.run.seed },
+        tabula_ros::protocol::JudgedTask::new("place", a.run.seed, ()),
     )?;
     let outcome = place(&mut driver, &robot, request, params);
     let verdict = crate::remote::verdict(&driver, planned_rest(&outcome, params))?;
     let scene = crate::remote::scene(&driver)?;
-    Ok((place_json(outcome, verdict, false), scene))
+    Ok((PlaceJson::of(outcome, verdict, false), scene))
 }
 
 pub fn run(a: PlaceArgs) -> Result<()> {
@@ -396,264 +326,12 @@ fn held_by(world: &SimWorld, robot: &str) -> Option<String> {
         .map(|(_, n)| n)
 }
 
-#[derive(Serialize, serde::Deserialize)]
-pub struct BenchRow {
-    seed: u64,
-    object: String,
-    layout: tabula_sim::generate::PlaceLayout,
-    clutter: usize,
-    arm: String,
-    success: bool,
-    cause: Option<String>,
-    orientation_error_deg: f64,
-    moved_after_release_mm: f64,
-    decision_ms: f64,
-    wall_s: f64,
-    /// The surface the task chose is the generated table's top (centroid over it,
-    /// height within 2 cm): the sweep found it.
-    #[serde(default)]
-    table_found: bool,
-    /// Ground truth for meshes: whether the true object, held as the task holds it,
-    /// has a resting pose the hand leaves free (see [`resting_faces`]).
-    #[serde(default)]
-    grip_allows_rest: Option<bool>,
-    /// Ground truth for meshes: the angle (°) from the chosen pose's support normal to
-    /// the nearest stable pose of the true object, both in the tool frame — how well the
-    /// scan found the face it set the object down on.
-    #[serde(default)]
-    normal_error_deg: Option<f64>,
-}
-
-/// The true object's (the scene's held mesh's) stable poses as support normals in the
-/// tool frame, each with whether it is a resting face the hand leaves free: it tilts at
-/// least `min_topple_deg` before toppling, it is a flat face (not a curved side), and
-/// the hand stays clear of its plane — the tests the placer applies to its scanned
-/// model, here on the exact mesh. When no
-/// face leaves the hand clear, no placement can rest as planned without a regrasp (a
-/// ball with a pocket held across the pocket). `None` for primitives and scenes
-/// without a held mesh.
-fn resting_faces(scene: &tabula_sim::Scene, params: &PlaceParams) -> Option<Vec<(Vec3, bool)>> {
-    let (robot_spec, hold) = scene
-        .robots
-        .iter()
-        .find_map(|r| r.hold.as_ref().map(|h| (r, h)))?;
-    let object = scene
-        .objects
-        .iter()
-        .find(|o| *o.name.get_ref() == hold.object)?;
-    let tabula_sim::scene::ShapeSpec::Mesh { path, scale } = &object.shape else {
-        return None;
-    };
-    let path = scene
-        .base_dir
-        .as_ref()
-        .map_or_else(|| path.into(), |d| d.join(path));
-    let (vertices, triangles) = tabula_geom::mesh::load_mesh(&path, *scale).ok()?;
-    // At the placer's own contact tolerance: a rim of slightly uneven vertices (a
-    // pocket's) is one support, as a scanned one is to the placer.
-    let tolerant = tabula_tasks::stable::StableParams {
-        contact_tolerance: params.stable.cloud_contact_tolerance,
-        ..params.stable.clone()
-    };
-    let poses = tabula_tasks::stable::of_mesh(&vertices, &triangles, &tolerant).ok()?;
-    let com = Vec3::from_array(poses.center_of_mass);
-    let robot = tabula_robot::robots::load(&robot_spec.urdf).ok()?;
-    let arm = robot
-        .description
-        .arms
-        .iter()
-        .find(|a| {
-            a.gripper
-                .as_deref()
-                .and_then(|g| robot.description.grippers.iter().find(|x| x.name == g))
-                .is_some_and(|g| g.tool_link == hold.tool_link)
-        })?
-        .name
-        .clone();
-    let tool_from_object = hold.tool_from_object.as_ref().map_or(Pose::IDENTITY, |p| {
-        tabula_geom::pose_from_xyz_rpy(p.xyz, p.rpy)
-    });
-    let object_from_tool = tool_from_object.inverse();
-    let gripper: Vec<Vec3> = tabula_tasks::place::gripper_points(&robot, &arm)
-        .into_iter()
-        .map(|g| object_from_tool.transform_point(g))
-        .collect();
-    // A flat support (not a curved side that only looks flat within the tolerance:
-    // most of its energy barrier really there), tilting far enough, the hand clear.
-    Some(
-        poses
-            .poses
-            .iter()
-            .map(|s| {
-                let flat =
-                    s.topple_deg >= params.min_topple_deg && s.rocking(&vertices, com) >= 0.5;
-                (
-                    tool_from_object.rotation * s.normal(),
-                    flat && s.clear_of(&gripper, params.gripper_clearance - params.release_height),
-                )
-            })
-            .collect(),
-    )
-}
-
-/// The suite's generated task `seed`.
-fn task_of(
-    seed: u64,
-    suite: Suite,
-    mesh_dir: &std::path::Path,
-) -> std::io::Result<tabula_sim::generate::PlaceTask> {
-    match suite {
-        Suite::Rooms => tabula_sim::generate::room_task(seed, mesh_dir),
-        Suite::Simple => tabula_sim::generate::place_task(seed, true, mesh_dir),
-        Suite::Complex => tabula_sim::generate::place_task(seed, false, mesh_dir),
-    }
-}
-
-/// Whether a found surface is the task's table top.
-fn is_table(
-    task: &tabula_sim::generate::PlaceTask,
-    surface: &tabula_tasks::place::SurfaceReport,
-) -> bool {
-    let [cx, cy] = task.table_center;
-    let (dx, dy) = (surface.centroid[0] - cx, surface.centroid[1] - cy);
-    let (s, c) = task.table_yaw.sin_cos();
-    let (u, v) = (c * dx + s * dy, -s * dx + c * dy);
-    u.abs() <= task.table_size[0] / 2.0
-        && v.abs() <= task.table_size[1] / 2.0
-        && (surface.height - task.table_size[2]).abs() <= 0.02
-}
-
-/// One task of the placing suite (`simple` or complex objects), placed in the
-/// simulator and judged by physics; complex objects' meshes go to `mesh_dir`.
-fn trial(
-    s: u64,
-    suite: Suite,
-    params: &PlaceParams,
-    mesh_dir: &std::path::Path,
-) -> Result<BenchRow> {
-    let task = task_of(s, suite, mesh_dir)?;
-    let scene = tabula_sim::Scene::parse(&task.scene, "generated")
-        .map_err(|e| anyhow::anyhow!("task {s}: {e}"))?;
-    let world = SimWorld::from_scene(&scene, Default::default())
-        .map_err(|e| anyhow::anyhow!("task {s}: {e}"))?;
-    let faces = resting_faces(&scene, params);
-    let grip_allows_rest = faces.as_ref().map(|f| f.iter().any(|(_, clear)| *clear));
-    let t0 = std::time::Instant::now();
-    let request = PlaceRequest {
-        arm: Some(task.arm.clone()),
-        not_on: Vec::new(),
-        near: None,
-    };
-    let (out, _, _) = place_in(world, None, &request, params, s, false)?;
-    let cause = if out.success {
-        None
-    } else if let Some(e) = &out.error {
-        Some(e.kind.clone())
-    } else {
-        let v = &out.verdict;
-        Some(
-            if v.surface.is_none() {
-                "fell off"
-            } else if !v.inside_edges {
-                "over the edge"
-            } else if v.orientation_error_deg > 5.0 {
-                "toppled or turned"
-            } else if v.moved_after_release_m >= 0.01 {
-                "slid after release"
-            } else if !v.disturbed.is_empty() {
-                "disturbed others"
-            } else if !v.furniture_contacts.is_empty() {
-                "hit furniture"
-            } else {
-                "not released"
-            }
-            .to_string(),
-        )
-    };
-    let table_found = out
-        .report
-        .surface
-        .as_ref()
-        .is_some_and(|f| is_table(&task, f));
-    Ok(BenchRow {
-        seed: s,
-        table_found,
-        grip_allows_rest,
-        normal_error_deg: faces
-            .zip(out.report.stable_pose.as_ref())
-            .and_then(|(f, chosen)| {
-                f.iter()
-                    .map(|(n, _)| n.angle_between(chosen.normal()).to_degrees())
-                    .min_by(f64::total_cmp)
-            }),
-        object: task.object,
-        layout: task.layout,
-        clutter: task.clutter,
-        arm: task.arm,
-        success: out.success,
-        cause,
-        orientation_error_deg: out.orientation_error_deg,
-        moved_after_release_mm: out.verdict.moved_after_release_m * 1e3,
-        decision_ms: out.decision_ms,
-        wall_s: t0.elapsed().as_secs_f64(),
-    })
-}
-
-/// The placing suites.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Suite {
-    Simple,
-    Complex,
-    /// Simple objects in rooms with walls and things that are not surfaces.
-    Rooms,
-}
-
-fn suite_of(suite: &str) -> Result<Suite> {
-    match suite {
-        "simple" => Ok(Suite::Simple),
-        "complex" => Ok(Suite::Complex),
-        "rooms" => Ok(Suite::Rooms),
-        other => anyhow::bail!("--suite is `simple`, `complex` or `rooms`, not `{other}`"),
-    }
-}
-
-/// A placing trial as a worker runs it (meshes in the worker's own temporary folder).
-#[cfg(feature = "ros")]
-pub fn trial_of(spec: &crate::trials::TrialSpec) -> Result<BenchRow> {
-    let params: PlaceParams = match &spec.params {
-        Some(text) => crate::tasks::parse_params(text, "the bench's parameters")?,
-        None => PlaceParams::default(),
-    };
-    trial(
-        spec.seed,
-        suite_of(&spec.suite)?,
-        &params,
-        &worker_mesh_dir(),
-    )
-}
-
-/// Where a worker process writes the complex objects' meshes.
-#[cfg(feature = "ros")]
-pub fn worker_mesh_dir() -> std::path::PathBuf {
-    std::env::temp_dir().join(format!("tabula-worker-meshes-{}", std::process::id()))
-}
-
 /// `tabula bench place`: the generated suite, each task placed in the simulator (both
 /// cores, one task each, or spread over workers) and judged by physics.
-#[allow(clippy::too_many_arguments)]
-pub fn bench(
-    suite: &str,
-    trials: u64,
-    seed: u64,
-    params_path: Option<&std::path::Path>,
-    save_failures: Option<&std::path::Path>,
-    json: bool,
-    report: Option<&std::path::Path>,
-    spread: &crate::trials::TrialArgs,
-) -> Result<()> {
+pub fn bench(b: &crate::trials::SuiteRun<'_>) -> Result<()> {
+    let (suite, trials, seed, save_failures) = (b.suite, b.count, b.seed, b.save_failures);
     let kind = suite_of(suite)?;
-    let params: PlaceParams = load_params(params_path)?;
-    let params_text = crate::trials::params_text(params_path)?;
+    let params: PlaceParams = load_params(b.params)?;
     // Saved failures keep their meshes beside them.
     let mesh_dir = match save_failures {
         Some(d) => d.join("meshes"),
@@ -662,19 +340,7 @@ pub fn bench(
     if let Some(d) = save_failures {
         std::fs::create_dir_all(d)?;
     }
-    let progress = crate::progress::steps(trials, suite);
-    let rows = crate::trials::run(
-        spread,
-        seed..seed.saturating_add(trials),
-        |s| crate::trials::TrialSpec {
-            bench: "place".into(),
-            suite: suite.into(),
-            params: params_text.clone(),
-            seed: s,
-        },
-        |s| trial(s, kind, &params, &mesh_dir),
-        &progress,
-    );
+    let rows = b.run("place", |s| trial(s, kind, &params, &mesh_dir));
     // Failures are kept; so are slow decisions (over a second), to look into.
     if let (Some(d), Ok(rows)) = (save_failures, &rows) {
         for r in rows {
@@ -690,7 +356,6 @@ pub fn bench(
     if save_failures.is_none() {
         let _ = std::fs::remove_dir_all(&mesh_dir);
     }
-    progress.finish_and_clear();
     let rows: Vec<BenchRow> = rows?;
     // Failures by cause, for the report and the summary line.
     let mut causes: std::collections::BTreeMap<&str, usize> = Default::default();
@@ -699,10 +364,10 @@ pub fn bench(
             *causes.entry(c.as_str()).or_default() += 1;
         }
     }
-    if let Some(dir) = report {
+    if let Some(dir) = b.report {
         let n = rows.len();
         let k = rows.iter().filter(|r| r.success).count();
-        let (lo, hi) = crate::clear::wilson(k, n);
+        let (lo, hi) = wilson(k, n);
         let mut numbers = vec![
             ("trials".to_string(), n.to_string()),
             (
@@ -742,7 +407,7 @@ pub fn bench(
             &rows,
         )?;
     }
-    if json {
+    if b.json {
         println!("{}", serde_json::to_string_pretty(&rows)?);
         return Ok(());
     }
@@ -765,7 +430,7 @@ pub fn bench(
     }
     let n = rows.len();
     let k = rows.iter().filter(|r| r.success).count();
-    let (lo, hi) = crate::clear::wilson(k, n);
+    let (lo, hi) = wilson(k, n);
     let decisions: Vec<f64> = rows.iter().map(|r| r.decision_ms).collect();
     let d = tabula_robot::ik::bench::Spread::of(&decisions);
     println!(
@@ -777,7 +442,7 @@ pub fn bench(
         d.p95
     );
     let found = rows.iter().filter(|r| r.table_found).count();
-    let (flo, fhi) = crate::clear::wilson(found, n);
+    let (flo, fhi) = wilson(found, n);
     println!(
         "the table found by the sweep: {found}/{n} = {:.1} % (95 % interval {:.1}–{:.1} %)",
         100.0 * found as f64 / n.max(1) as f64,
@@ -791,7 +456,7 @@ pub fn bench(
     let judged = rows.iter().filter(|r| r.grip_allows_rest.is_some()).count();
     if judged > 0 {
         let placed = free.iter().filter(|r| r.success).count();
-        let (plo, phi) = crate::clear::wilson(placed, free.len());
+        let (plo, phi) = wilson(placed, free.len());
         println!(
             "grips that leave the true object a resting face: {}/{judged}; of those, {placed} placed = {:.1} % (95 % interval {:.1}–{:.1} %)",
             free.len(),

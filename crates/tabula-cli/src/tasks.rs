@@ -6,8 +6,7 @@ use clap::Args;
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 use tabula_geom::Vec3;
-use tabula_geom::input::{Format, Validate, check_toml_numbers, read_text};
-use tabula_sim::verdict::{PlaceVerdict, run_judged};
+
 use tabula_sim::{PhysicsParams, Scene, SimWorld};
 use tabula_tasks::pick_place::{PickPlaceParams, PickPlaceRequest, pick_place};
 
@@ -151,31 +150,8 @@ pub fn load_world(scene_path: &Path) -> Result<(Scene, SimWorld)> {
     Ok((scene, world))
 }
 
-pub fn scene_robot(world: &SimWorld, wanted: Option<&str>) -> Result<String> {
-    match wanted {
-        Some(r) => {
-            world.robot(r)?;
-            Ok(r.to_string())
-        }
-        None => match world.robots.first() {
-            Some(r) => Ok(r.name.clone()),
-            None => bail!("the scene has no robot"),
-        },
-    }
-}
-
-/// The scene's robot (`wanted`, or its first) by name, with its model and description.
-pub fn scene_robot_named(
-    world: &SimWorld,
-    wanted: Option<&str>,
-) -> Result<(String, tabula_robot::robots::NamedRobot)> {
-    let name = scene_robot(world, wanted)?;
-    let r = world.robot(&name)?;
-    let mut robot =
-        tabula_robot::robots::NamedRobot::new(r.model.clone(), r.description.clone(), &name);
-    robot.srdf = r.srdf.clone();
-    Ok((name, robot))
-}
+pub use tabula_bench::pick_place::PickPlaceRun as PickPlaceJson;
+pub use tabula_bench::{scene_robot, scene_robot_named};
 
 /// `--arm NAME` must name one of the robot's arms (or be `auto`): a typo is an error
 /// of the input, not a failed task.
@@ -186,62 +162,13 @@ pub fn check_arm(world: &SimWorld, robot: &str, arm: &str) -> Result<()> {
     Ok(())
 }
 
-/// A module's `Params` from a TOML file, or its defaults (SPEC's values) without one.
-/// Every number is checked (finite, bounded) before deserializing, and the values'
-/// ranges after (INPUT_POLICY.md).
-pub fn load_params<T: serde::de::DeserializeOwned + Default + Validate>(
-    path: Option<&Path>,
-) -> Result<T> {
-    match path {
-        Some(p) => parse_params(&read_text(p, Format::Params)?, &p.display().to_string()),
-        None => Ok(T::default()),
-    }
-}
-
-/// A module's `Params` from TOML text (`origin` names it in errors), checked as
-/// [`load_params`] checks a file.
-pub fn parse_params<T: serde::de::DeserializeOwned + Validate>(
-    text: &str,
-    origin: &str,
-) -> Result<T> {
-    check_toml_numbers(text).map_err(|e| anyhow::anyhow!("{origin}: {e}"))?;
-    let params: T = toml::from_str(text).map_err(|e| {
-        // toml's message names the key and lists the valid ones; its display puts that
-        // on a later line, after a source excerpt, where a one-line error loses it.
-        let line = e.span().map_or(1, |s| {
-            text.as_bytes()[..s.start.min(text.len())]
-                .iter()
-                .filter(|&&b| b == b'\n')
-                .count()
-                + 1
-        });
-        anyhow::anyhow!("{origin}: line {line}: {}", e.message().trim())
-    })?;
-    params
-        .validate()
-        .map_err(|e| anyhow::anyhow!("{origin}: {e}"))?;
-    Ok(params)
-}
+pub use tabula_geom::input::load_params;
 
 fn vec3(v: &[f64], what: &str) -> Result<Vec3> {
     match v {
         [x, y, z] if v.iter().all(|c| c.is_finite()) => Ok(Vec3::new(*x, *y, *z)),
         _ => bail!("--{what} takes three finite numbers"),
     }
-}
-
-/// Everything `pick-place` prints with `--json`.
-#[derive(Serialize)]
-pub struct PickPlaceJson {
-    pub success: bool,
-    pub error: Option<String>,
-    pub error_message: Option<String>,
-    #[serde(flatten)]
-    pub report: tabula_tasks::pick_place::PickPlaceReport,
-    pub verdict: PlaceVerdict,
-    pub final_pose: [f64; 6],
-    /// Run with `--dry-run`: no physics judged the verdict.
-    pub dry_run: bool,
 }
 
 /// Runs one pick and place in the simulator, judges it, and saves what was asked.
@@ -361,7 +288,8 @@ pub fn phase_plot(
     Ok(())
 }
 
-/// A pick and place in `world`, judged by its physics; returns the world afterwards.
+/// A pick and place in `world`, judged by its physics (recorded for the report when
+/// `record`); returns the world afterwards.
 pub fn pick_place_in(
     world: SimWorld,
     robot: Option<&str>,
@@ -370,40 +298,13 @@ pub fn pick_place_in(
     seed: u64,
     record: bool,
 ) -> Result<(PickPlaceJson, SimWorld, Option<Recorded>)> {
-    let (robot_name, robot) = scene_robot_named(&world, robot)?;
-    let dry_run = world.kinematic_only;
     let mut recording = Recording::new(record);
-    let (outcome, verdict, world) = run_judged(
-        world,
-        &robot_name,
-        request.pick,
-        request.place.truncate(),
-        seed,
-        |driver| {
-            recording.start(driver);
-            pick_place(driver, &robot, request, params)
-        },
-    )?;
+    let (out, world) =
+        tabula_bench::pick_place::pick_place_in(world, robot, (request, params), seed, |d| {
+            recording.start(d)
+        })?;
     let recorded = recording.finish(&world);
-    Ok((pick_place_json(outcome, verdict, dry_run), world, recorded))
-}
-
-/// What `pick-place` prints, from the task's outcome and the judge's verdict.
-fn pick_place_json(
-    outcome: tabula_tasks::pick_place::PickPlaceOutcome,
-    mut verdict: PlaceVerdict,
-    dry_run: bool,
-) -> PickPlaceJson {
-    verdict.success &= outcome.error.is_none();
-    PickPlaceJson {
-        success: verdict.success,
-        error: outcome.error.as_ref().map(|e| e.kind().to_string()),
-        error_message: outcome.error.as_ref().map(|e| e.to_string()),
-        report: outcome.report,
-        final_pose: verdict.final_pose,
-        verdict,
-        dry_run,
-    }
+    Ok((out, world, recorded))
 }
 
 /// One pick and place by the robot served at `--connect`, judged there.
@@ -419,16 +320,19 @@ fn pick_place_remote(
     let mut driver = crate::remote::connect(&a.run, &robot_name)?;
     crate::remote::begin(
         &driver,
-        tabula_ros::protocol::JudgedTask::PickPlace {
-            seed: a.run.seed,
-            pick: request.pick.to_array(),
-            place: request.place.to_array(),
-        },
+        tabula_ros::protocol::JudgedTask::new(
+            "pick-place",
+            a.run.seed,
+            tabula_ros::protocol::ground::PickPlace {
+                pick: request.pick.to_array(),
+                place: request.place.to_array(),
+            },
+        ),
     )?;
     let outcome = pick_place(&mut driver, &robot, request, params);
     let verdict = crate::remote::verdict(&driver, None)?;
     let scene = crate::remote::scene(&driver)?;
-    Ok((pick_place_json(outcome, verdict, false), scene))
+    Ok((PickPlaceJson::of(outcome, verdict, false), scene))
 }
 
 pub fn run(a: PickPlaceArgs) -> Result<()> {

@@ -1,13 +1,12 @@
 //! `tabula tidy`: take every object from one table and stand each on another surface,
 //! in the simulator, judged by its physics.
 
-use crate::tasks::{TaskRunArgs, load_params, scene_robot_named};
+use crate::tasks::{TaskRunArgs, load_params};
 use anyhow::{Result, bail};
 use clap::Args;
-use serde::Serialize;
+use tabula_bench::tidy::{BenchRow, TidyRun as TidyJson};
 use tabula_geom::Vec3;
-use tabula_sim::judge::tidy::{TidyStart, TidyVerdict};
-use tabula_tasks::tidy::{Failure, TidyParams, TidyReport, TidyRequest, tidy};
+use tabula_tasks::tidy::{TidyParams, TidyRequest};
 
 #[derive(Args)]
 pub struct TidyArgs {
@@ -27,66 +26,11 @@ pub struct TidyArgs {
     pub arm: Option<String>,
 }
 
-/// Everything `tidy` prints with `--json`.
-#[derive(Serialize)]
-pub struct TidyJson {
-    /// Every object of the table rests on another surface and nothing was knocked.
-    pub success: bool,
-    /// Objects on the table to clear at the start (judged).
-    pub objects: usize,
-    /// Of those, resting on another surface at the end (judged by physics).
-    pub moved: usize,
-    pub actions: usize,
-    pub failed: Vec<Failure>,
-    pub decision_ms: tabula_tasks::clear::Stats,
-    pub error: Option<String>,
-    pub error_message: Option<String>,
-    pub report: TidyReport,
-    pub verdict: TidyVerdict,
-}
-
 /// The height the default look point and `--from`'s are taken at (m): a table's.
 const TABLE_HEIGHT: f64 = 0.75;
 
 fn point(xy: &Option<Vec<f64>>) -> Option<Vec3> {
     xy.as_ref().map(|v| Vec3::new(v[0], v[1], TABLE_HEIGHT))
-}
-
-/// Runs tidying on `world` (settled first) with its robot (`robot`, or the only one),
-/// judged against furniture `source`; camera noise from `seed`. Returns what it prints
-/// and the world afterwards.
-pub fn tidy_in(
-    mut world: tabula_sim::SimWorld,
-    (robot, source): (Option<&str>, &str),
-    request: &TidyRequest,
-    params: &TidyParams,
-    seed: u64,
-) -> Result<(TidyJson, tabula_sim::SimWorld)> {
-    let (robot_name, robot) = scene_robot_named(&world, robot)?;
-    world.settle();
-    let start = TidyStart::of(&world, source)?;
-    let mut driver = tabula_sim::SimDriver::new(world, &robot_name, seed)?;
-    let outcome = tidy(&mut driver, &robot, request, params);
-    let mut world = driver.world;
-    world.settle();
-    let verdict = start.verdict(&world);
-    let (report, error) = match outcome {
-        Ok(r) => (r, None),
-        Err(e) => (TidyReport::default(), Some(e)),
-    };
-    let out = TidyJson {
-        success: error.is_none() && verdict.moved == verdict.objects && verdict.knocked.is_empty(),
-        objects: verdict.objects,
-        moved: verdict.moved,
-        actions: report.actions,
-        failed: report.failed.clone(),
-        decision_ms: report.decision_ms,
-        error: error.as_ref().map(|e| e.kind().to_string()),
-        error_message: error.as_ref().map(|e| e.to_string()),
-        report,
-        verdict,
-    };
-    Ok((out, world))
 }
 
 fn print_summary(out: &TidyJson) {
@@ -120,12 +64,12 @@ pub fn run(a: TidyArgs) -> Result<()> {
         from: point(&a.from),
         to: point(&a.to),
     };
-    let (out, world) = tidy_in(
+    let (out, world) = tabula_bench::tidy::tidy_in(
         a.run.world()?,
         (a.run.robot.as_deref(), &a.source),
-        &request,
-        &params,
+        (&request, &params),
         a.run.seed,
+        |_| {},
     )?;
     a.run
         .finish(&world, &out, out.success, print_summary, |report, out| {
@@ -140,25 +84,6 @@ pub fn run(a: TidyArgs) -> Result<()> {
         })
 }
 
-/// One generated task's outcome, as `bench tidy` reports it.
-#[derive(Serialize)]
-struct BenchRow {
-    seed: u64,
-    objects: usize,
-    moved: usize,
-    knocked: usize,
-    lost: usize,
-    actions: usize,
-    targets: usize,
-    residents: usize,
-    decision_ms: f64,
-    wall_s: f64,
-    error: Option<String>,
-    /// Why the task's loop ended, and what failed on the way.
-    stop: String,
-    failed: Vec<String>,
-}
-
 /// `tabula bench tidy`: the family's tasks `seed..seed + tasks`, both cores.
 pub fn bench(
     tasks: u64,
@@ -170,37 +95,7 @@ pub fn bench(
     let params = TidyParams::default();
     let rows: Vec<BenchRow> = (seed..seed.saturating_add(tasks))
         .into_par_iter()
-        .map(|s| -> Result<BenchRow> {
-            let task = tabula_sim::generate::tidy_task(s);
-            if let Some(dir) = save_scenes {
-                std::fs::create_dir_all(dir)?;
-                std::fs::write(dir.join(format!("tidy-{s}.toml")), &task.scene)?;
-            }
-            let scene = tabula_sim::Scene::parse(&task.scene, &format!("tidy task {s}"))?;
-            let world = tabula_sim::SimWorld::from_scene(&scene, Default::default())?;
-            let t0 = std::time::Instant::now();
-            let request = TidyRequest::default();
-            let (out, _) = tidy_in(world, (None, &task.source), &request, &params, s)?;
-            Ok(BenchRow {
-                seed: s,
-                objects: out.objects,
-                moved: out.moved,
-                knocked: out.verdict.knocked.len(),
-                lost: out.verdict.lost.len(),
-                actions: out.actions,
-                targets: task.targets.len(),
-                residents: task.residents,
-                decision_ms: out.decision_ms.median,
-                wall_s: t0.elapsed().as_secs_f64(),
-                error: out.error_message,
-                stop: out.report.stop.clone(),
-                failed: out
-                    .failed
-                    .iter()
-                    .map(|f| format!("{}: {}", f.reason, f.message))
-                    .collect(),
-            })
-        })
+        .map(|s| tabula_bench::tidy::trial(s, &params, save_scenes))
         .collect::<Result<_>>()?;
     let objects: usize = rows.iter().map(|r| r.objects).sum();
     let moved: usize = rows.iter().map(|r| r.moved).sum();
@@ -234,7 +129,7 @@ pub fn bench(
                 .unwrap_or_default()
         );
     }
-    let (lo, hi) = crate::clear::wilson(moved, objects);
+    let (lo, hi) = tabula_bench::stats::wilson(moved, objects);
     println!(
         "tidy: {moved} of {objects} objects moved ({:.1} %, 95 % {:.1}–{:.1} %), {knocked} knocked over; decision median {:.0} ms, p95 {:.0} ms",
         100.0 * moved as f64 / objects.max(1) as f64,

@@ -1,9 +1,9 @@
-//! Where a benchmark's trials run: on this machine's cores, or spread over `tabula
-//! worker` processes on any machines a zenoh network reaches. A trial is a pure function
-//! of its seed, so both give the same rows for the same seeds (timings aside).
+//! The flags that say where a benchmark's trials run (here, or on `tabula worker`s;
+//! see `tabula_bench::trials`), and a suite's run with its progress bar.
 
-use anyhow::{Result, bail};
-use serde::{Deserialize, Serialize, de::DeserializeOwned};
+use anyhow::Result;
+use serde::{Serialize, de::DeserializeOwned};
+use tabula_bench::trials::{Spread, TrialSpec};
 
 /// The flags that spread a benchmark over workers.
 #[derive(clap::Args, Clone, Debug, Default)]
@@ -24,65 +24,53 @@ pub struct TrialArgs {
     pub domain: u32,
 }
 
-/// One trial, as a worker is asked to run it.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct TrialSpec {
-    /// `place` or `clear`.
-    pub bench: String,
-    pub suite: String,
-    /// The parameters file's text (TOML), if one was given.
-    pub params: Option<String>,
-    pub seed: u64,
-}
-
-/// The parameters file's text, to send along with every trial.
-pub fn params_text(path: Option<&std::path::Path>) -> Result<Option<String>> {
-    path.map(|p| tabula_geom::input::read_text(p, tabula_geom::input::Format::Params))
-        .transpose()
-        .map_err(Into::into)
-}
-
-/// Runs `local(seed)` for every seed, here (both cores) or on the workers (each
-/// runs [`trial`] of `spec(seed)`); the rows come back in seed order.
-pub fn run<R>(
-    args: &TrialArgs,
-    seeds: std::ops::Range<u64>,
-    spec: impl Fn(u64) -> TrialSpec + Sync,
-    local: impl Fn(u64) -> Result<R> + Sync,
-    progress: &indicatif::ProgressBar,
-) -> Result<Vec<R>>
-where
-    R: Serialize + DeserializeOwned + Send,
-{
-    use rayon::prelude::*;
-    match args.workers {
-        None => seeds
-            .into_par_iter()
-            .map(|s| {
-                let _tick = crate::progress::Tick(progress);
-                local(s)
-            })
-            .collect(),
-        Some(n) => {
-            #[cfg(feature = "ros")]
-            {
-                crate::worker::spread(args, n, seeds, spec, progress)
-            }
-            #[cfg(not(feature = "ros"))]
-            {
-                let _ = (n, spec);
-                bail!("this tabula was built without ROS 2 support (feature `ros`)")
-            }
+impl TrialArgs {
+    pub fn spread(&self) -> Spread {
+        Spread {
+            workers: self.workers,
+            connect: self.connect.clone(),
+            listen: self.listen.clone(),
+            domain: self.domain,
         }
     }
 }
 
-/// One trial of a benchmark, as its row in JSON: what a worker answers.
-#[cfg(feature = "ros")]
-pub fn trial(spec: &TrialSpec) -> Result<serde_json::Value> {
-    Ok(match spec.bench.as_str() {
-        "place" => serde_json::to_value(crate::place::trial_of(spec)?)?,
-        "clear" => serde_json::to_value(crate::clear::trial_of(spec)?)?,
-        other => bail!("no benchmark `{other}` runs on workers"),
-    })
+/// A suite benchmark as asked: which suite, how many trials from which seed, the
+/// parameters file, where failures and the report go, JSON or a table, and where the
+/// trials run.
+pub struct SuiteRun<'a> {
+    pub suite: &'a str,
+    pub count: u64,
+    pub seed: u64,
+    pub params: Option<&'a std::path::Path>,
+    pub save_failures: Option<&'a std::path::Path>,
+    pub json: bool,
+    pub report: Option<&'a std::path::Path>,
+    pub spread: &'a TrialArgs,
+}
+
+impl SuiteRun<'_> {
+    /// Runs the suite's trials of benchmark `bench` (`local(seed)` here, or on the
+    /// workers) with a progress bar; the rows in seed order.
+    pub fn run<R>(&self, bench: &str, local: impl Fn(u64) -> Result<R> + Sync) -> Result<Vec<R>>
+    where
+        R: Serialize + DeserializeOwned + Send,
+    {
+        let params = tabula_bench::trials::params_text(self.params)?;
+        let progress = crate::progress::steps(self.count, self.suite);
+        let spec = |s| TrialSpec {
+            bench: bench.into(),
+            suite: self.suite.into(),
+            params: params.clone(),
+            seed: s,
+        };
+        let rows = tabula_bench::trials::run(
+            &self.spread.spread(),
+            self.seed..self.seed.saturating_add(self.count),
+            (spec, local),
+            &|| progress.inc(1),
+        );
+        progress.finish_and_clear();
+        rows
+    }
 }

@@ -86,6 +86,48 @@ pub enum InputError {
     },
     #[error("{path} is not UTF-8 text (first bad byte at offset {offset})")]
     NotText { path: String, offset: usize },
+    /// A parameter file that was read but is not valid (`origin` names it).
+    #[error("{origin}: {message}")]
+    Params { origin: String, message: String },
+}
+
+/// A module's `Params` from a TOML file, or its defaults (SPEC's values) without one.
+/// Every number is checked (finite, bounded) before deserializing, and the values'
+/// ranges after (INPUT_POLICY.md).
+pub fn load_params<T: serde::de::DeserializeOwned + Default + Validate>(
+    path: Option<&Path>,
+) -> Result<T, InputError> {
+    match path {
+        Some(p) => parse_params(&read_text(p, Format::Params)?, &p.display().to_string()),
+        None => Ok(T::default()),
+    }
+}
+
+/// A module's `Params` from TOML text (`origin` names it in errors), checked as
+/// [`load_params`] checks a file.
+pub fn parse_params<T: serde::de::DeserializeOwned + Validate>(
+    text: &str,
+    origin: &str,
+) -> Result<T, InputError> {
+    let invalid = |message: String| InputError::Params {
+        origin: origin.to_string(),
+        message,
+    };
+    check_toml_numbers(text).map_err(invalid)?;
+    let params: T = toml::from_str(text).map_err(|e| {
+        // toml's message names the key and lists the valid ones; its display puts that
+        // on a later line, after a source excerpt, where a one-line error loses it.
+        let line = e.span().map_or(1, |s| {
+            text.as_bytes()[..s.start.min(text.len())]
+                .iter()
+                .filter(|&&b| b == b'\n')
+                .count()
+                + 1
+        });
+        invalid(format!("line {line}: {}", e.message().trim()))
+    })?;
+    params.validate().map_err(invalid)?;
+    Ok(params)
 }
 
 /// The whole file, after checking that it is a regular file within `format`'s limit.

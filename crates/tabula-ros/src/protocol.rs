@@ -77,24 +77,57 @@ pub enum Command {
     },
 }
 
-/// The judged runs a server knows, with what each judge needs from the task.
+/// A judged run a server is asked to start: the task's name (its `Task::NAME`:
+/// `place`, `pick-place`, `clear`, `tidy`), the camera-noise seed, and what its judge
+/// must know of the workcell besides the world, as JSON (see [`ground`]). A name the
+/// server has no judge for is refused with the names it has.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(tag = "task", rename_all = "snake_case")]
-pub enum JudgedTask {
-    /// Placing what the robot holds (seed 000).
-    Place { seed: u64 },
-    /// Pick at `pick`, place at `place` (seed 001).
-    PickPlace {
-        seed: u64,
-        pick: [f64; 3],
-        place: [f64; 3],
-    },
-    /// Clearing furniture `table` into `bin` (seed 002).
-    Clear {
-        seed: u64,
-        table: String,
-        bin: String,
-    },
+pub struct JudgedTask {
+    pub task: String,
+    pub seed: u64,
+    #[serde(default)]
+    pub ground: serde_json::Value,
+}
+
+impl JudgedTask {
+    pub fn new(task: &str, seed: u64, ground: impl Serialize) -> Self {
+        Self {
+            task: task.into(),
+            seed,
+            ground: serde_json::to_value(ground).unwrap_or(serde_json::Value::Null),
+        }
+    }
+
+    /// The judge's ground as the task's type; a message naming the task when it is not.
+    pub fn ground<T: serde::de::DeserializeOwned>(&self) -> Result<T, String> {
+        serde_json::from_value(self.ground.clone())
+            .map_err(|e| format!("`{}`'s judge cannot read its ground: {e}", self.task))
+    }
+}
+
+/// What each task's judge is told besides the world.
+pub mod ground {
+    use serde::{Deserialize, Serialize};
+
+    /// Pick and place: where the object is picked and where it goes (world, m).
+    #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+    pub struct PickPlace {
+        pub pick: [f64; 3],
+        pub place: [f64; 3],
+    }
+
+    /// Clearing: the furniture cleared and the bin it is cleared into.
+    #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+    pub struct Clear {
+        pub table: String,
+        pub bin: String,
+    }
+
+    /// Tidying: the furniture cleared.
+    #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+    pub struct Tidy {
+        pub source: String,
+    }
 }
 
 /// What `describe` answers.

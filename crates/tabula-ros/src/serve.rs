@@ -17,7 +17,8 @@ use crate::msgs::{
 use crate::node::{Node, NodeConfig, Publisher, Request, RosError, Service, Subscription};
 use crate::protocol::{
     Answer, CALL_TYPE, CAPTURE_SERVICE, CAPTURE_TYPE, CaptureRequest, CaptureResponse, Command,
-    DRIVER_SERVICE, Description, JudgedTask, WireDriverError, pose_from_array, pose_to_array,
+    DRIVER_SERVICE, Description, JudgedTask, WireDriverError, ground, pose_from_array,
+    pose_to_array,
 };
 use crate::wire::Qos;
 use std::sync::Arc;
@@ -28,7 +29,7 @@ use tabula_geom::Vec3;
 use tabula_robot::driver::{
     Annotations, Arms, BaseControl, DriverError, Grippers, HeadControl, JointStates,
 };
-use tabula_sim::verdict::{run_clear_judged, run_judged, run_place_judged};
+use tabula_sim::judge::{self, ClearJudge, PlacementJudge, StablePlaceJudge, TidyStart};
 use tabula_sim::{PhysicsParams, SimDriver, SimWorld};
 
 /// How often the server publishes on its own (0: only after commands).
@@ -242,6 +243,16 @@ impl Server {
         begin: Request<CallRequest>,
         stop: &dyn Fn() -> bool,
     ) -> Result<SimWorld, RosError> {
+        let ground = match Ground::of(&task) {
+            Ok(g) => g,
+            Err(e) => {
+                reply_err(
+                    begin,
+                    &DriverError::Hardware(format!("cannot judge this run: {e}")),
+                );
+                return Ok(world);
+            }
+        };
         // A runner that refuses the world (a hand holding nothing, an unknown bin)
         // consumes it: keep the scene to rebuild it.
         let backup = world.to_scene();
@@ -261,25 +272,37 @@ impl Server {
                     _ => None,
                 }
             };
-        let judged = match task {
-            JudgedTask::Place { seed } => {
-                run_place_judged(world, &robot, seed, |d| ((), serve_task(self, d, None)))
-                    .map(|((), v, w)| (serde_json::to_value(v), w))
+        let seed = task.seed;
+        let judged = match ground {
+            Ground::Place => {
+                let judge = |w: &SimWorld| StablePlaceJudge::new(w, &robot);
+                judge::run(world, &robot, seed, judge, |d, _| {
+                    ((), serve_task(self, d, None))
+                })
+                .map(|((), v, w)| (serde_json::to_value(v), w))
             }
-            JudgedTask::PickPlace { seed, pick, place } => run_judged(
-                world,
-                &robot,
-                Vec3::from_array(pick),
-                Vec2::new(place[0], place[1]),
-                seed,
-                |d| {
+            Ground::PickPlace(g) => {
+                let (pick, target) = (Vec3::from_array(g.pick), Vec2::new(g.place[0], g.place[1]));
+                let judge = |w: &SimWorld| PlacementJudge::new(w, &robot, pick, target);
+                judge::run(world, &robot, seed, judge, |d, _| {
                     serve_task(self, d, None);
-                },
-            )
-            .map(|((), v, w)| (serde_json::to_value(v), w)),
-            JudgedTask::Clear { seed, table, bin } => {
-                run_clear_judged(world, &robot, (&table, &bin), seed, |d, _, hook| {
+                    ((), ())
+                })
+                .map(|((), v, w)| (serde_json::to_value(v), w))
+            }
+            Ground::Clear(g) => {
+                let judge = |w: &SimWorld| ClearJudge::new(w, &robot, (&g.table, &g.bin));
+                judge::run(world, &robot, seed, judge, |d, hook| {
                     serve_task(self, d, Some(hook));
+                    ((), ())
+                })
+                .map(|((), v, w)| (serde_json::to_value(v), w))
+            }
+            Ground::Tidy(g) => {
+                let judge = |w: &SimWorld| TidyStart::of(w, &g.source);
+                judge::run(world, &robot, seed, judge, |d, _| {
+                    serve_task(self, d, None);
+                    ((), ())
                 })
                 .map(|((), v, w)| (serde_json::to_value(v), w))
             }
@@ -622,5 +645,29 @@ fn gripper_command(d: &mut SimDriver, name: &str, cmd: GripperCommand) -> Result
         d.close_with_effort(name, cmd.max_effort).map(|_| ())
     } else {
         d.close(name).map(|_| ())
+    }
+}
+
+/// What a judged run's judge is told, by task.
+enum Ground {
+    Place,
+    PickPlace(ground::PickPlace),
+    Clear(ground::Clear),
+    Tidy(ground::Tidy),
+}
+
+impl Ground {
+    /// The ground of `task`, read by its name; a message when the server has no judge
+    /// for that name or the ground is not the task's.
+    fn of(task: &JudgedTask) -> Result<Self, String> {
+        match task.task.as_str() {
+            "place" => Ok(Ground::Place),
+            "pick-place" => task.ground().map(Ground::PickPlace),
+            "clear" => task.ground().map(Ground::Clear),
+            "tidy" => task.ground().map(Ground::Tidy),
+            other => Err(format!(
+                "no judge for a task `{other}` (judged here: place, pick-place, clear, tidy)"
+            )),
+        }
     }
 }

@@ -11,7 +11,6 @@ pub mod objects;
 pub mod replay;
 pub mod robot;
 pub mod scene;
-pub mod verdict;
 pub mod world;
 
 pub use camera::{Camera, DepthFrame};

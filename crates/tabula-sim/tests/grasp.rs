@@ -264,15 +264,14 @@ fn the_gripper_opens_to_a_gap_and_lets_go() {
 #[test]
 fn a_taken_object_is_excused_what_it_touched_when_taken_only() {
     use tabula_robot::driver::Grippers;
-    use tabula_sim::verdict::ClearJudge;
+    use tabula_sim::judge::ClearJudge;
     let scene = format!(
         "{SCENE}\n[[furniture]]\nname = \"bin\"\nkind = \"bin\"\npose = {{ xyz = [0.0, 0.6, 0.0] }}\nsize = [0.3, 0.3, 0.3]\n\n\
          [[object]]\nname = \"beside\"\nshape = {{ box = [0.05, 0.05, 0.05] }}\npose = {{ xyz = [0.55, 0.0515, 0.425] }}\nmass = 0.1\n\n\
          [[object]]\nname = \"far\"\nshape = {{ box = [0.05, 0.05, 0.05] }}\npose = {{ xyz = [0.55, -0.2, 0.425] }}\nmass = 0.1\n"
     );
     let world = settled_around_the_box(&scene);
-    let start = world.object_poses();
-    let mut judge = ClearJudge::new(&world, "table").unwrap();
+    let mut judge = ClearJudge::new(&world, "wam", ("table", "bin")).unwrap();
     let held_at = world.pose("box").unwrap().translation;
     judge.before(&world, held_at, &[]);
     let mut observe = judge.observer("wam");
@@ -289,7 +288,7 @@ fn a_taken_object_is_excused_what_it_touched_when_taken_only() {
         observe(&d.world);
     }
     judge.after(&d.world);
-    let verdict = judge.verdict(&start, &d.world, "bin");
+    let verdict = judge.verdict_on(&d.world);
     assert_eq!(
         verdict.collisions,
         vec![("box".to_string(), "far".to_string())]

@@ -6,7 +6,7 @@
 use rayon::prelude::*;
 use tabula_robot::robots::NamedRobot;
 use tabula_sim::generate::{ClearSuite, clearing_scene};
-use tabula_sim::verdict::{ClearVerdict, run_clear_judged};
+use tabula_sim::judge::{self, ClearJudge, ClearSetup, ClearVerdict};
 use tabula_sim::{Scene, SimWorld};
 use tabula_tasks::clear::{ClearError, ClearParams, ClearReport, ClearRequest, clear};
 
@@ -15,26 +15,25 @@ fn run(scene_text: &str, seed: u64) -> (Result<ClearReport, ClearError>, ClearVe
     let world = SimWorld::from_scene(&scene, Default::default()).unwrap();
     let r = world.robot("wam").unwrap();
     let robot = NamedRobot::new(r.model.clone(), r.description.clone(), "wam");
-    let (report, verdict, _) = run_clear_judged(
+    let setup = ClearSetup::of(&world, "bin").unwrap();
+    let request = ClearRequest {
+        arm: None,
+        drop_point: setup.drop_point,
+        drop_spread: setup.drop_spread,
+        obstacles: setup.obstacles.clone(),
+        max_actions: None,
+    };
+    let (report, verdict, _) = judge::run(
         world,
         "wam",
-        ("table", "bin"),
         seed,
-        |driver, setup, hook| {
-            let request = ClearRequest {
-                arm: None,
-                drop_point: setup.drop_point,
-                drop_spread: setup.drop_spread,
-                obstacles: setup.obstacles.clone(),
-                max_actions: None,
-            };
-            clear(
-                driver,
-                &robot,
-                &request,
-                &ClearParams::default(),
-                &mut |d, e| hook(d, e.judged()),
-            )
+        |w| ClearJudge::new(w, "wam", ("table", "bin")),
+        |driver, hook| {
+            let params = ClearParams::default();
+            let out = clear(driver, &robot, &request, &params, &mut |d, e| {
+                hook(d, e.judged())
+            });
+            (out, ())
         },
     )
     .unwrap();

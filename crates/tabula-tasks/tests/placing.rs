@@ -6,7 +6,7 @@
 use rayon::prelude::*;
 use tabula_geom::{Pose, Quat, Vec3};
 use tabula_robot::robots::NamedRobot;
-use tabula_sim::verdict::{StablePlaceVerdict, run_place_judged};
+use tabula_sim::judge::{self, StablePlaceJudge, StablePlaceVerdict};
 use tabula_sim::{Scene, SimWorld};
 use tabula_tasks::place::{PlaceOutcome, PlaceParams, PlaceRequest, place};
 
@@ -21,7 +21,8 @@ fn run(scene_text: &str, arm: &str, seed: u64) -> (PlaceOutcome, StablePlaceVerd
         not_on: Vec::new(),
         near: None,
     };
-    let (outcome, verdict, _) = run_place_judged(world, "pr2", seed, |driver| {
+    let judge = |w: &SimWorld| StablePlaceJudge::new(w, "pr2");
+    let (outcome, verdict, _) = judge::run(world, "pr2", seed, judge, |driver, _| {
         let out = place(driver, &robot, &request, &params);
         let planned = out.report.planned_world_from_tool.map(|p| {
             Pose::from_parts(

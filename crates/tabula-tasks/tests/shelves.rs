@@ -7,7 +7,7 @@
 use rayon::prelude::*;
 use tabula_geom::Vec3;
 use tabula_robot::robots::NamedRobot;
-use tabula_sim::verdict::{PlaceVerdict, run_judged};
+use tabula_sim::judge::{self, PlaceVerdict, PlacementJudge};
 use tabula_sim::{Scene, SimWorld};
 use tabula_tasks::pick_place::{PickPlaceOutcome, PickPlaceParams, PickPlaceRequest, pick_place};
 
@@ -20,8 +20,12 @@ fn run(scene: &Scene, pick: Vec3, place: Vec3, seed: u64) -> (PickPlaceOutcome, 
         pick,
         place,
     };
-    let (out, verdict, _) = run_judged(world, "golem", pick, place.truncate(), seed, |d| {
-        pick_place(d, &robot, &request, &PickPlaceParams::default())
+    let judge = |w: &SimWorld| PlacementJudge::new(w, "golem", pick, place.truncate());
+    let (out, verdict, _) = judge::run(world, "golem", seed, judge, |d, _| {
+        (
+            pick_place(d, &robot, &request, &PickPlaceParams::default()),
+            (),
+        )
     })
     .unwrap();
     (out, verdict)

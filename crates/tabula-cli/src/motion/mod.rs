@@ -14,7 +14,7 @@ pub const PLANNING_PADDING: f64 = 0.001;
 /// `--params` when given, else the defaults with [`PLANNING_PADDING`].
 fn planning_params(path: Option<&std::path::Path>) -> anyhow::Result<MoveGroupParams> {
     if path.is_some() {
-        return crate::tasks::load_params(path);
+        return Ok(crate::tasks::load_params(path)?);
     }
     let mut params = MoveGroupParams::default();
     params.world.padding = PLANNING_PADDING;

@@ -211,57 +211,8 @@ fn odd_grip(rng: &mut ChaCha8Rng, mesh: &ObjectMesh) -> tabula_geom::Pose {
     // both sides (an L's or a mug's bounding-box centre may be empty air), with the hand
     // above the object's base: it was picked up from a table, so the hand came from
     // above or the side, never from under it.
-    let gripper = tabula_robot::robots::load("pr2")
-        .ok()
-        .and_then(|r| r.description.grippers.first().cloned());
-    // The fingers: the part of the hand reaching furthest forward (tool frame, x the
-    // approach): their span along the approach and their half height.
-    let fingers = gripper.as_ref().and_then(|g| {
-        g.self_filter_boxes
-            .iter()
-            .max_by(|a, b| {
-                (a.center[0] + a.size[0] / 2.0).total_cmp(&(b.center[0] + b.size[0] / 2.0))
-            })
-            .map(|b| {
-                (
-                    b.center[0] - b.size[0] / 2.0,
-                    b.center[0] + b.size[0] / 2.0,
-                    b.size[2] / 2.0,
-                )
-            })
-    });
-    // The mesh's surface, sampled: where the fingers meet it.
-    let surface: Vec<Vec3> = mesh
-        .triangles
-        .iter()
-        .flat_map(|t| {
-            let [a, b, c] = t.map(|i| mesh.vertices[i as usize]);
-            (0..=8).flat_map(move |i| {
-                (0..=8 - i).map(move |j| {
-                    let (s, t) = (i as f64 / 8.0, j as f64 / 8.0);
-                    a + (b - a) * s + (c - a) * t
-                })
-            })
-        })
-        .collect();
-    let hand: Vec<Vec3> = gripper
-        .map(|g| {
-            g.self_filter_boxes
-                .iter()
-                .flat_map(|b| {
-                    (0..8).map(move |i| {
-                        Vec3::from_array(b.center)
-                            + Vec3::from_array(b.size) / 2.0
-                                * Vec3::new(
-                                    if i & 1 == 0 { -1.0 } else { 1.0 },
-                                    if i & 2 == 0 { -1.0 } else { 1.0 },
-                                    if i & 4 == 0 { -1.0 } else { 1.0 },
-                                )
-                    })
-                })
-                .collect()
-        })
-        .unwrap_or_default();
+    let (fingers, hand) = pr2_hand();
+    let surface = surface_samples(mesh);
     let mut grip = None;
     for attempt in 0..400 {
         let closing = axes[rng.random_range(0..axes.len())];
@@ -328,7 +279,7 @@ fn odd_grip(rng: &mut ChaCha8Rng, mesh: &ObjectMesh) -> tabula_geom::Pose {
         let clear = |o: Vec3| hand.iter().all(|h| (o + rotation * *h).z >= lo.z + 0.004);
         let chosen = [seated, origin]
             .into_iter()
-            .find(|o| clear(*o) && ray_hits(&mesh, *o, closing) && ray_hits(&mesh, *o, -closing));
+            .find(|o| clear(*o) && ray_hits(mesh, *o, closing) && ray_hits(mesh, *o, -closing));
         if let Some(o) = chosen {
             grip = Some((o, approach, closing));
             break;
@@ -534,4 +485,63 @@ fn ray_hits(mesh: &crate::objects::ObjectMesh, o: tabula_geom::Vec3, d: tabula_g
         let v = d.dot(q) / det;
         u >= 0.0 && v >= 0.0 && u + v <= 1.0 && e2.dot(q) / det > 0.0
     })
+}
+
+/// The PR2 gripper's fingers — the part of the hand reaching furthest forward (tool
+/// frame, x the approach): their span along the approach and their half height — and
+/// the corners of every box of the hand (tool frame).
+fn pr2_hand() -> (Option<(f64, f64, f64)>, Vec<tabula_geom::Vec3>) {
+    use tabula_geom::Vec3;
+    let gripper = tabula_robot::robots::load("pr2")
+        .ok()
+        .and_then(|r| r.description.grippers.first().cloned());
+    let fingers = gripper.as_ref().and_then(|g| {
+        g.self_filter_boxes
+            .iter()
+            .max_by(|a, b| {
+                (a.center[0] + a.size[0] / 2.0).total_cmp(&(b.center[0] + b.size[0] / 2.0))
+            })
+            .map(|b| {
+                (
+                    b.center[0] - b.size[0] / 2.0,
+                    b.center[0] + b.size[0] / 2.0,
+                    b.size[2] / 2.0,
+                )
+            })
+    });
+    let hand: Vec<Vec3> = gripper
+        .map(|g| {
+            g.self_filter_boxes
+                .iter()
+                .flat_map(|b| {
+                    (0..8).map(move |i| {
+                        Vec3::from_array(b.center)
+                            + Vec3::from_array(b.size) / 2.0
+                                * Vec3::new(
+                                    if i & 1 == 0 { -1.0 } else { 1.0 },
+                                    if i & 2 == 0 { -1.0 } else { 1.0 },
+                                    if i & 4 == 0 { -1.0 } else { 1.0 },
+                                )
+                    })
+                })
+                .collect()
+        })
+        .unwrap_or_default();
+    (fingers, hand)
+}
+
+/// The mesh's surface, sampled: where the fingers meet it.
+fn surface_samples(mesh: &ObjectMesh) -> Vec<tabula_geom::Vec3> {
+    mesh.triangles
+        .iter()
+        .flat_map(|t| {
+            let [a, b, c] = t.map(|i| mesh.vertices[i as usize]);
+            (0..=8).flat_map(move |i| {
+                (0..=8 - i).map(move |j| {
+                    let (s, t) = (i as f64 / 8.0, j as f64 / 8.0);
+                    a + (b - a) * s + (c - a) * t
+                })
+            })
+        })
+        .collect()
 }

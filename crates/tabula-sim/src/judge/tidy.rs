@@ -2,6 +2,7 @@
 //! resting on another piece of furniture's top, and nothing that already stood there
 //! may be knocked over or pushed aside.
 
+use super::Judge;
 use crate::world::EntityKind;
 use crate::{SimError, SimWorld};
 use tabula_geom::parry::bounding_volume::Aabb;
@@ -121,5 +122,14 @@ impl TidyStart {
             }
         }
         v
+    }
+}
+
+impl Judge for TidyStart {
+    type Verdict = TidyVerdict;
+    type Told = ();
+
+    fn verdict(self, world: &SimWorld, (): ()) -> Result<TidyVerdict, SimError> {
+        Ok(TidyStart::verdict(&self, world))
     }
 }

@@ -1,0 +1,80 @@
+//! Ground truth for placing a mesh: the true object's stable poses, which of them the
+//! grip leaves free — what the placer should have found from its scan.
+
+use tabula_geom::{Pose, Vec3};
+use tabula_tasks::place::PlaceParams;
+
+/// The true object's (the scene's held mesh's) stable poses as support normals in the
+/// tool frame, each with whether it is a resting face the hand leaves free: it tilts at
+/// least `min_topple_deg` before toppling, it is a flat face (not a curved side), and
+/// the hand stays clear of its plane — the tests the placer applies to its scanned
+/// model, here on the exact mesh. When no
+/// face leaves the hand clear, no placement can rest as planned without a regrasp (a
+/// ball with a pocket held across the pocket). `None` for primitives and scenes
+/// without a held mesh.
+pub(super) fn resting_faces(
+    scene: &tabula_sim::Scene,
+    params: &PlaceParams,
+) -> Option<Vec<(Vec3, bool)>> {
+    let (robot_spec, hold) = scene
+        .robots
+        .iter()
+        .find_map(|r| r.hold.as_ref().map(|h| (r, h)))?;
+    let object = scene
+        .objects
+        .iter()
+        .find(|o| *o.name.get_ref() == hold.object)?;
+    let tabula_sim::scene::ShapeSpec::Mesh { path, scale } = &object.shape else {
+        return None;
+    };
+    let path = scene
+        .base_dir
+        .as_ref()
+        .map_or_else(|| path.into(), |d| d.join(path));
+    let (vertices, triangles) = tabula_geom::mesh::load_mesh(&path, *scale).ok()?;
+    // At the placer's own contact tolerance: a rim of slightly uneven vertices (a
+    // pocket's) is one support, as a scanned one is to the placer.
+    let tolerant = tabula_tasks::stable::StableParams {
+        contact_tolerance: params.stable.cloud_contact_tolerance,
+        ..params.stable.clone()
+    };
+    let poses = tabula_tasks::stable::of_mesh(&vertices, &triangles, &tolerant).ok()?;
+    let com = Vec3::from_array(poses.center_of_mass);
+    let robot = tabula_robot::robots::load(&robot_spec.urdf).ok()?;
+    let arm = robot
+        .description
+        .arms
+        .iter()
+        .find(|a| {
+            a.gripper
+                .as_deref()
+                .and_then(|g| robot.description.grippers.iter().find(|x| x.name == g))
+                .is_some_and(|g| g.tool_link == hold.tool_link)
+        })?
+        .name
+        .clone();
+    let tool_from_object = hold.tool_from_object.as_ref().map_or(Pose::IDENTITY, |p| {
+        tabula_geom::pose_from_xyz_rpy(p.xyz, p.rpy)
+    });
+    let object_from_tool = tool_from_object.inverse();
+    let gripper: Vec<Vec3> = tabula_tasks::place::gripper_points(&robot, &arm)
+        .into_iter()
+        .map(|g| object_from_tool.transform_point(g))
+        .collect();
+    // A flat support (not a curved side that only looks flat within the tolerance:
+    // most of its energy barrier really there), tilting far enough, the hand clear.
+    Some(
+        poses
+            .poses
+            .iter()
+            .map(|s| {
+                let flat =
+                    s.topple_deg >= params.min_topple_deg && s.rocking(&vertices, com) >= 0.5;
+                (
+                    tool_from_object.rotation * s.normal(),
+                    flat && s.clear_of(&gripper, params.gripper_clearance - params.release_height),
+                )
+            })
+            .collect(),
+    )
+}
