@@ -6,6 +6,7 @@
 
 pub mod clear;
 pub mod judged;
+pub mod perception;
 pub mod pick_place;
 pub mod place;
 pub mod stats;

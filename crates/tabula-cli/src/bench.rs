@@ -3,19 +3,10 @@
 
 use anyhow::Result;
 use clap::Subcommand;
-use std::time::Instant;
-use tabula_geom::polygon::{inside_convex, polygon_area};
-use tabula_geom::{PointCloud, Vec2, Vec3};
-use tabula_perception::eval::{Score, score, table_top_truth};
-use tabula_perception::filters::{
-    NormalParams, OutlierParams, local_planes_at, statistical_outliers, voxel_grid,
-};
-use tabula_perception::plane::{RansacParams, ransac_plane};
-use tabula_perception::segment::euclidean_clusters;
-use tabula_perception::surfaces::plane_basis;
-use tabula_perception::{TabletopParams, extract, to_world};
-use tabula_robot::ik::bench::thread_cpu_seconds;
-use tabula_sim::generate::{TABLE_TOP, TabletopLayout, tabletop_frame};
+use tabula_bench::perception::{Timer, frame, frame_rows, quality, stage_times, suite_row};
+use tabula_bench::stats::median;
+use tabula_perception::TabletopParams;
+use tabula_sim::generate::TabletopLayout;
 
 #[derive(Subcommand)]
 pub enum BenchCommand {
@@ -265,7 +256,7 @@ fn pick_place(variants: u64, json: bool, report: Option<&std::path::Path>) -> Re
             serde_json::json!({
                 "variants": rows.len(),
                 "succeeded": ok,
-                "median_decision_cpu_ms": if decisions.is_empty() { f64::NAN } else { median(decisions.clone()) },
+                "median_decision_cpu_ms": median(&decisions).unwrap_or(f64::NAN),
                 "rows": rows,
             })
         );
@@ -288,65 +279,9 @@ fn pick_place(variants: u64, json: bool, report: Option<&std::path::Path>) -> Re
     println!(
         "\n{ok} of {} placed (physics verdict); median decision {:.1} ms CPU",
         rows.len(),
-        if decisions.is_empty() {
-            f64::NAN
-        } else {
-            median(decisions)
-        }
+        median(&decisions).unwrap_or(f64::NAN)
     );
     Ok(())
-}
-
-#[derive(serde::Serialize)]
-struct StageTime {
-    stage: String,
-    cpu_ms_1_thread: f64,
-    wall_ms_2_threads: f64,
-    anchor: &'static str,
-}
-
-fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(f64::total_cmp);
-    v[v.len() / 2]
-}
-
-struct Timer {
-    one: rayon::ThreadPool,
-    two: rayon::ThreadPool,
-    reps: usize,
-}
-
-impl Timer {
-    fn new(reps: usize) -> Result<Self> {
-        Ok(Self {
-            one: rayon::ThreadPoolBuilder::new().num_threads(1).build()?,
-            two: rayon::ThreadPoolBuilder::new().num_threads(2).build()?,
-            reps,
-        })
-    }
-
-    /// Median CPU ms on one thread and median wall ms on two.
-    fn time(&self, f: &(dyn Fn() + Sync)) -> (f64, f64) {
-        let cpu = (0..self.reps)
-            .map(|_| {
-                self.one.install(|| {
-                    let c0 = thread_cpu_seconds();
-                    f();
-                    (thread_cpu_seconds() - c0) * 1e3
-                })
-            })
-            .collect();
-        let wall = (0..self.reps)
-            .map(|_| {
-                self.two.install(|| {
-                    let t = Instant::now();
-                    f();
-                    t.elapsed().as_secs_f64() * 1e3
-                })
-            })
-            .collect();
-        (median(cpu), median(wall))
-    }
 }
 
 /// `tabula bench frames`: framing (support search when the file gives no pose) and
@@ -361,8 +296,6 @@ fn frames(
     if !["both", "organized", "unorganized"].contains(&layout) {
         anyhow::bail!("--layout is both, organized or unorganized, not `{layout}`");
     }
-    use tabula_perception::support::{SupportParams, frame_cloud};
-    use tabula_perception::tabletop::extract_framed;
     let timer = Timer::new(reps)?;
     let params = TabletopParams::default();
     let mut rows = Vec::new();
@@ -370,45 +303,12 @@ fn frames(
     for path in clouds {
         let _tick = crate::progress::Tick(&progress);
         let file = crate::perceive::read_cloud_file(path)?;
-        let grid_free = PointCloud::unorganized(
-            file.cloud
-                .points
-                .iter()
-                .copied()
-                .filter(|q| q.is_finite())
-                .collect(),
-        );
-        for (name, cloud) in [("organized", &file.cloud), ("unorganized", &grid_free)] {
-            if layout != "both" && layout != name {
-                continue;
-            }
-            let run = || -> Result<tabula_perception::tabletop::Tabletop> {
-                let framing = frame_cloud(
-                    cloud,
-                    &file.viewpoint,
-                    None,
-                    None,
-                    &SupportParams::default(),
-                )?;
-                let world = to_world(&framing.world_from_cloud, cloud);
-                Ok(extract_framed(&world, &framing, &params)?)
-            };
-            let t = run()?;
-            let (cpu, wall) = timer.time(&|| {
-                let _ = run();
-            });
-            rows.push(serde_json::json!({
-                "file": path.display().to_string(),
-                "layout": name,
-                "points": cloud.finite_count(),
-                "objects": t.objects.len(),
-                "partial_objects": t.partial.len(),
-                "cpu_ms": cpu,
-                "wall_ms": wall,
-                "stages_ms": t.times,
-            }));
-        }
+        let name = path.display().to_string();
+        rows.extend(frame_rows((&name, &file), layout, &params, &timer)?);
     }
+    progress.finish_and_clear();
+    let rows = serde_json::to_value(&rows)?;
+    let rows = rows.as_array().cloned().unwrap_or_default();
     if let Some(dir) = report {
         let bars = |key: &str| -> Vec<(String, f64)> {
             rows.iter()
@@ -473,41 +373,6 @@ fn frames(
     Ok(())
 }
 
-struct Frame {
-    cloud: PointCloud,
-    viewpoint: Vec3,
-    labels: Vec<u32>,
-    table_label: u32,
-    object_labels: Vec<u32>,
-}
-
-fn frame(seed: u64, layout: &TabletopLayout) -> Result<Frame> {
-    let g = tabletop_frame(seed, layout)?;
-    Ok(Frame {
-        cloud: to_world(&g.frame.world_from_camera, &g.frame.cloud),
-        viewpoint: g.frame.world_from_camera.translation,
-        labels: g.frame.labels,
-        table_label: g.table_label,
-        object_labels: g.object_labels.iter().map(|o| o.1).collect(),
-    })
-}
-
-fn quality(f: &Frame, params: &TabletopParams) -> Result<Score> {
-    let t = extract(&f.cloud, f.viewpoint, params)?;
-    let finite: Vec<bool> = f.cloud.points.iter().map(|p| p.is_finite()).collect();
-    let top = table_top_truth(&f.cloud.points, TABLE_TOP);
-    Ok(score(
-        &t,
-        &finite,
-        &f.labels,
-        f.table_label,
-        &top,
-        &f.object_labels,
-        0.8,
-        200,
-    ))
-}
-
 fn perception(
     scenes: u64,
     reps: usize,
@@ -517,132 +382,20 @@ fn perception(
     let timer = Timer::new(reps)?;
     let params = TabletopParams::default();
     let nine = frame(0, &TabletopLayout::nine())?;
-    let cloud = &nine.cloud;
-    let eye = nine.viewpoint;
-    let finite_points: Vec<Vec3> = cloud
-        .points
-        .iter()
-        .copied()
-        .filter(|p| p.is_finite())
-        .collect();
-    let unorganized = PointCloud::unorganized(finite_points.clone());
-    let all: Vec<usize> = (0..cloud.points.len())
-        .filter(|&i| cloud.points[i].is_finite())
-        .collect();
-    // The prism of the reference frame, for the stages that run on it.
-    let t = extract(cloud, eye, &params)?;
-    let (u, v) = plane_basis(t.plane.normal);
-    let to2 = |q: Vec3| Vec2::new(q.dot(u), q.dot(v));
-    let mut hull: Vec<Vec2> = t.table.hull.iter().map(|&q| to2(q)).collect();
-    if polygon_area(&hull) < 0.0 {
-        hull.reverse();
-    }
-    let prism: Vec<bool> = cloud
-        .points
-        .iter()
-        .map(|&q| q.is_finite() && t.plane.distance(q) > 0.01 && inside_convex(&hull, to2(q)))
-        .collect();
-    let prism_idx: Vec<usize> = (0..prism.len()).filter(|&i| prism[i]).collect();
-    let anchor_sor = OutlierParams {
-        mean_k: 20,
-        std_mul: 2.0,
-    };
-    let fixed = RansacParams {
-        confidence: 1.0,
-        ..RansacParams::default()
-    };
-    let adaptive = RansacParams::default();
-    type Stage<'a> = (&'a str, &'static str, Box<dyn Fn() + Sync + 'a>);
-    let stages: Vec<Stage> = vec![
-        (
-            "statistical outlier removal k=20 2σ (image grid)",
-            "PCL/Open3D 681–801 ms",
-            Box::new(|| {
-                let _ = statistical_outliers(cloud, Some(eye), &anchor_sor);
-            }),
-        ),
-        (
-            "statistical outlier removal k=20 2σ (kd-tree, unorganized)",
-            "PCL/Open3D 681–801 ms",
-            Box::new(|| {
-                let _ = statistical_outliers(&unorganized, Some(eye), &anchor_sor);
-            }),
-        ),
-        (
-            "statistical outlier removal k=10 1σ (seed's, image grid)",
-            "—",
-            Box::new(|| {
-                let _ = statistical_outliers(cloud, Some(eye), &params.outliers);
-            }),
-        ),
-        (
-            "RANSAC plane 1 cm, 1000 iterations, raw frame",
-            "PCL 262 ms, Open3D 771 ms",
-            Box::new(|| {
-                let _ = ransac_plane(&cloud.points, &all, &fixed);
-            }),
-        ),
-        (
-            "RANSAC plane 1 cm, adaptive (p = 0.999), raw frame",
-            "PCL 262 ms, Open3D 771 ms",
-            Box::new(|| {
-                let _ = ransac_plane(&cloud.points, &all, &adaptive);
-            }),
-        ),
-        (
-            "voxel grid 2 cm",
-            "12–14 ms",
-            Box::new(|| {
-                let _ = voxel_grid(&finite_points, 0.02);
-            }),
-        ),
-        (
-            "normals of the prism (7×7 PCA)",
-            "—",
-            Box::new(|| {
-                let _ = local_planes_at(cloud, eye, &prism, &prism_idx, &NormalParams::default());
-            }),
-        ),
-        (
-            "Euclidean clustering 1 cm of the prism (image grid)",
-            "PCL/Open3D 162–169 ms",
-            Box::new(|| {
-                let _ = euclidean_clusters(cloud, Some(&prism), 0.01, 200);
-            }),
-        ),
-        (
-            "whole tabletop pipeline, same points unorganized (kd-tree paths)",
-            "PCL 1,199 ms, Open3D 1,332 ms",
-            Box::new(|| {
-                let _ = extract(&unorganized, eye, &params);
-            }),
-        ),
-        (
-            "whole tabletop pipeline (outliers → planes → hull → prism → segmentation → objects)",
-            "PCL 1,199 ms, Open3D 1,332 ms",
-            Box::new(|| {
-                let _ = extract(cloud, eye, &params);
-            }),
-        ),
-    ];
-    let mut rows = Vec::new();
-    for (stage, anchor, f) in &stages {
-        let (cpu, wall) = timer.time(f.as_ref());
-        if !json {
-            println!("{stage:<90} {cpu:>8.2} ms CPU  {wall:>8.2} ms wall   anchor {anchor}");
+    let (rows, valid_points) = stage_times(&nine, &params, &timer)?;
+    if !json {
+        for r in &rows {
+            println!(
+                "{:<90} {:>8.2} ms CPU  {:>8.2} ms wall   anchor {}",
+                r.stage, r.cpu_ms_1_thread, r.wall_ms_2_threads, r.anchor
+            );
         }
-        rows.push(StageTime {
-            stage: stage.to_string(),
-            cpu_ms_1_thread: cpu,
-            wall_ms_2_threads: wall,
-            anchor,
-        });
     }
     let reference = quality(&nine, &params)?;
     if !json {
         println!(
             "\nnine-object frame ({} valid points): table precision {:.4} recall {:.4}; {} of {} objects with IoU > 0.8 ({} segments)",
-            finite_points.len(),
+            valid_points,
             reference.table_precision,
             reference.table_recall,
             reference.recovered,
@@ -651,37 +404,26 @@ fn perception(
         );
     }
     // The suite: quality of every frame and the pipeline's CPU time on it.
-    let suite_timer = Timer {
-        reps: reps.min(5),
-        ..timer
-    };
+    let suite_timer = timer.with_reps(reps.min(5));
     let mut suite = Vec::new();
     let progress = crate::progress::steps(scenes, "scenes");
     for seed in 1..=scenes {
         let _tick = crate::progress::Tick(&progress);
-        let layout = TabletopLayout::random(seed);
-        let f = frame(seed, &layout)?;
-        let s = quality(&f, &params)?;
-        let (cpu, wall) = suite_timer.time(&|| {
-            let _ = extract(&f.cloud, f.viewpoint, &params);
-        });
+        let s = suite_row(seed, &params, &suite_timer)?;
         if !json {
             println!(
-                "scene {seed:>3}: {:>2} objects ({} touching pairs, {} stacked), {:>2} recovered, table P {:.4} R {:.4}, {cpu:.1} ms CPU, {wall:.1} ms wall",
+                "scene {seed:>3}: {:>2} objects ({} touching pairs, {} stacked), {:>2} recovered, table P {:.4} R {:.4}, {:.1} ms CPU, {:.1} ms wall",
                 s.objects,
-                layout.touching_pairs,
-                layout.stacked_pairs,
+                s.touching_pairs,
+                s.stacked_pairs,
                 s.recovered,
                 s.table_precision,
-                s.table_recall
+                s.table_recall,
+                s.cpu_ms,
+                s.wall_ms
             );
         }
-        suite.push(serde_json::json!({
-            "seed": seed, "objects": s.objects, "recovered": s.recovered,
-            "touching_pairs": layout.touching_pairs, "stacked_pairs": layout.stacked_pairs,
-            "table_precision": s.table_precision, "table_recall": s.table_recall,
-            "cpu_ms": cpu, "wall_ms": wall,
-        }));
+        suite.push(serde_json::to_value(&s)?);
     }
     let objects: usize = suite
         .iter()
@@ -746,11 +488,11 @@ fn perception(
             serde_json::to_string_pretty(&serde_json::json!({
                 "stages": rows,
                 "reference_frame": reference,
-                "reference_frame_valid_points": finite_points.len(),
+                "reference_frame_valid_points": valid_points,
                 "suite": suite,
                 "suite_objects": objects,
                 "suite_recovered": recovered,
-                "suite_pipeline_cpu_ms_median": if cpu.is_empty() { 0.0 } else { median(cpu.clone()) },
+                "suite_pipeline_cpu_ms_median": median(&cpu).unwrap_or(0.0),
                 "suite_pipeline_cpu_ms_max": worst_cpu,
             }))?
         );
@@ -758,7 +500,7 @@ fn perception(
         println!(
             "suite: {recovered} of {objects} objects ({:.1} %), table found in all {scenes} frames, table precision ≥ {min_precision:.4}, recall ≥ {min_recall:.4}; pipeline CPU median {:.1} ms, max {worst_cpu:.1} ms",
             100.0 * recovered as f64 / objects.max(1) as f64,
-            median(cpu)
+            median(&cpu).unwrap_or(0.0)
         );
     }
     Ok(())

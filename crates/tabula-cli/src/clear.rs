@@ -47,7 +47,7 @@ fn clear_remote(a: &ClearArgs, params: &ClearParams) -> Result<(ClearJson, Strin
     let (robot_name, robot) = scene_robot_named(&world, a.run.robot.as_deref())?;
     let setup = ClearSetup::of(&world, BIN)?;
     let mut driver = crate::remote::connect(&a.run, &robot_name)?;
-    crate::remote::begin(
+    let session = crate::remote::begin(
         &driver,
         tabula_ros::protocol::JudgedTask::new(
             "clear",
@@ -59,12 +59,12 @@ fn clear_remote(a: &ClearArgs, params: &ClearParams) -> Result<(ClearJson, Strin
         ),
     )?;
     let request = tabula_bench::clear::request(&setup, a.max_actions);
-    let outcome = clear(&mut driver, &robot, &request, params, &mut |d, e| {
-        if let Err(err) = d.clear_event(e.judged()) {
+    let outcome = clear(&mut driver, &robot, &request, params, &mut |_, e| {
+        if let Err(err) = session.moment(e.judged()) {
             tracing::warn!("the judge missed a moment: {err}");
         }
     });
-    let verdict = crate::remote::verdict(&driver, None)?;
+    let verdict = crate::remote::verdict(session, None)?;
     let scene = crate::remote::scene(&driver)?;
     Ok((ClearJson::of(outcome, verdict), scene))
 }

@@ -47,12 +47,12 @@ fn place_remote(
 ) -> Result<(PlaceJson, String)> {
     let (robot_name, robot) = scene_robot_named(world, a.run.robot.as_deref())?;
     let mut driver = crate::remote::connect(&a.run, &robot_name)?;
-    crate::remote::begin(
+    let session = crate::remote::begin(
         &driver,
         tabula_ros::protocol::JudgedTask::new("place", a.run.seed, ()),
     )?;
     let outcome = place(&mut driver, &robot, request, params);
-    let verdict = crate::remote::verdict(&driver, planned_rest(&outcome, params))?;
+    let verdict = crate::remote::verdict(session, planned_rest(&outcome, params))?;
     let scene = crate::remote::scene(&driver)?;
     Ok((PlaceJson::of(outcome, verdict, false), scene))
 }

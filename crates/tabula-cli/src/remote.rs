@@ -5,6 +5,7 @@ use crate::tasks::TaskRunArgs;
 use anyhow::{Result, anyhow, bail};
 use std::time::Duration;
 use tabula_ros::driver::ZenohDriver;
+use tabula_ros::judge::JudgeSession;
 use tabula_ros::node::{Mode, NodeConfig};
 use tabula_ros::protocol::JudgedTask;
 
@@ -29,18 +30,17 @@ pub fn connect(run: &TaskRunArgs, robot: &str) -> Result<ZenohDriver> {
 }
 
 /// Starts a judged run of `task` there.
-pub fn begin(driver: &ZenohDriver, task: JudgedTask) -> Result<()> {
-    driver
-        .begin(task)
+pub fn begin(driver: &ZenohDriver, task: JudgedTask) -> Result<JudgeSession> {
+    JudgeSession::begin(driver, task)
         .map_err(|e| anyhow!("the served robot cannot run this task: {e}"))
 }
 
 /// Ends the judged run and reads its verdict.
 pub fn verdict<V: serde::de::DeserializeOwned>(
-    driver: &ZenohDriver,
+    session: JudgeSession,
     planned: Option<tabula_geom::Pose>,
 ) -> Result<V> {
-    let v = driver
+    let v = session
         .finish(planned)
         .map_err(|e| anyhow!("no verdict from the served robot: {e}"))?;
     serde_json::from_value(v).map_err(|e| anyhow!("malformed verdict: {e}"))

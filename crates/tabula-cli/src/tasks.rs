@@ -318,7 +318,7 @@ fn pick_place_remote(
     let (robot_name, robot) = scene_robot_named(&world, a.run.robot.as_deref())?;
     check_arm(&world, &robot_name, &a.arm)?;
     let mut driver = crate::remote::connect(&a.run, &robot_name)?;
-    crate::remote::begin(
+    let session = crate::remote::begin(
         &driver,
         tabula_ros::protocol::JudgedTask::new(
             "pick-place",
@@ -330,7 +330,7 @@ fn pick_place_remote(
         ),
     )?;
     let outcome = pick_place(&mut driver, &robot, request, params);
-    let verdict = crate::remote::verdict(&driver, None)?;
+    let verdict = crate::remote::verdict(session, None)?;
     let scene = crate::remote::scene(&driver)?;
     Ok((PickPlaceJson::of(outcome, verdict, false), scene))
 }

@@ -7,7 +7,7 @@ use crate::msgs::{CallRequest, CallResponse};
 use crate::node::{Client, Node, NodeConfig, RosError};
 use crate::protocol::{
     Answer, CALL_TYPE, CAPTURE_SERVICE, CAPTURE_TYPE, CaptureRequest, CaptureResponse, Command,
-    DRIVER_SERVICE, Description, JudgedTask, WireDriverError, pose_from_array,
+    DRIVER_SERVICE, Description, WireDriverError, pose_from_array,
 };
 use std::sync::Arc;
 use std::time::Duration;
@@ -27,7 +27,7 @@ pub struct ZenohDriver {
     description: Description,
 }
 
-fn hardware(e: RosError) -> DriverError {
+pub(crate) fn hardware(e: RosError) -> DriverError {
     DriverError::Hardware(e.to_string())
 }
 
@@ -76,56 +76,9 @@ impl ZenohDriver {
         }
     }
 
-    /// Starts a run the server judges from its ground truth (see [`JudgedTask`]).
-    pub fn begin(&self, task: JudgedTask) -> Result<(), DriverError> {
-        match self.send(&Command::Begin { task }, Duration::ZERO)? {
-            Answer::Begun => Ok(()),
-            other => Err(unexpected(other)),
-        }
-    }
-
-    /// Tells a clearing run's judge what the task is about to do (`Some`: the target
-    /// and what it shoves, as seen) or that it did it (`None`).
-    pub fn clear_event(&self, event: Option<(Vec3, Vec<Vec3>)>) -> Result<(), DriverError> {
-        let (target, shoved) = match event {
-            Some((t, s)) => (Some(t.to_array()), s.iter().map(|p| p.to_array()).collect()),
-            None => (None, Vec::new()),
-        };
-        self.done(&Command::ClearEvent { target, shoved }, Duration::ZERO)
-    }
-
-    /// Ends the judged run (a placing task gives the object's planned resting pose);
-    /// the verdict, as the task's verdict type in JSON.
-    pub fn finish(&self, planned: Option<Pose>) -> Result<serde_json::Value, DriverError> {
-        let planned = planned.map(|p| crate::protocol::pose_to_array(&p));
-        // The judge lets the world settle first.
-        match self.send(&Command::Finish { planned }, Duration::from_secs(60))? {
-            Answer::Verdict { verdict } => Ok(verdict),
-            other => Err(unexpected(other)),
-        }
-    }
-
     /// Sends one command; `extra` is how long it is expected to run.
     fn send(&self, command: &Command, extra: Duration) -> Result<Answer, DriverError> {
-        if stop_requested() && command.moves() {
-            return Err(DriverError::Stopped);
-        }
-        let request = CallRequest {
-            request: serde_json::to_string(command)
-                .map_err(|e| DriverError::Hardware(e.to_string()))?,
-        };
-        let response = self
-            .call
-            .call(&request, self.timeout + extra)
-            .map_err(hardware)?;
-        if response.ok {
-            serde_json::from_str(&response.response)
-                .map_err(|e| DriverError::Hardware(format!("malformed answer: {e}")))
-        } else {
-            let e: WireDriverError = serde_json::from_str(&response.response)
-                .map_err(|_| DriverError::Hardware(response.response.clone()))?;
-            Err(e.into())
-        }
+        send(&self.call, command, self.timeout + extra)
     }
 
     fn done(&self, command: &Command, extra: Duration) -> Result<(), DriverError> {
@@ -143,7 +96,32 @@ impl ZenohDriver {
     }
 }
 
-fn unexpected(a: Answer) -> DriverError {
+/// Sends one command on `call` and waits up to `timeout` for its answer; a command
+/// that moves the robot is not sent once Ctrl+C was pressed.
+pub(crate) fn send(
+    call: &Client<CallRequest, CallResponse>,
+    command: &Command,
+    timeout: Duration,
+) -> Result<Answer, DriverError> {
+    if stop_requested() && command.moves() {
+        return Err(DriverError::Stopped);
+    }
+    let request = CallRequest {
+        request: serde_json::to_string(command)
+            .map_err(|e| DriverError::Hardware(e.to_string()))?,
+    };
+    let response = call.call(&request, timeout).map_err(hardware)?;
+    if response.ok {
+        serde_json::from_str(&response.response)
+            .map_err(|e| DriverError::Hardware(format!("malformed answer: {e}")))
+    } else {
+        let e: WireDriverError = serde_json::from_str(&response.response)
+            .map_err(|_| DriverError::Hardware(response.response.clone()))?;
+        Err(e.into())
+    }
+}
+
+pub(crate) fn unexpected(a: Answer) -> DriverError {
     DriverError::Hardware(format!("unexpected answer {a:?}"))
 }
 

@@ -16,6 +16,7 @@
 
 pub mod bench;
 pub mod driver;
+pub mod judge;
 pub mod msgs;
 pub mod node;
 pub mod protocol;

@@ -671,3 +671,49 @@ impl Ground {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn judged_runs_are_asked_by_task_name_with_a_json_ground() {
+        let clear = JudgedTask::new(
+            "clear",
+            7,
+            ground::Clear {
+                table: "table".into(),
+                bin: "bin".into(),
+            },
+        );
+        let wire = serde_json::to_string(&Command::Begin { task: clear }).unwrap();
+        assert!(wire.contains("\"task\":\"clear\""), "{wire}");
+        let Command::Begin { task } = serde_json::from_str(&wire).unwrap() else {
+            panic!("{wire}")
+        };
+        assert!(matches!(Ground::of(&task), Ok(Ground::Clear(g)) if g.bin == "bin"));
+        assert!(matches!(
+            Ground::of(&JudgedTask::new("place", 1, ())),
+            Ok(Ground::Place)
+        ));
+        let tidy = JudgedTask::new(
+            "tidy",
+            1,
+            ground::Tidy {
+                source: "desk".into(),
+            },
+        );
+        assert!(matches!(Ground::of(&tidy), Ok(Ground::Tidy(g)) if g.source == "desk"));
+        // A name with no judge, and a ground that is not the task's, say so.
+        let e = Ground::of(&JudgedTask::new("dance", 1, ())).err().unwrap();
+        assert!(e.contains("`dance`") && e.contains("pick-place"), "{e}");
+        let e = Ground::of(&JudgedTask::new(
+            "pick-place",
+            1,
+            ground::Tidy { source: "x".into() },
+        ))
+        .err()
+        .unwrap();
+        assert!(e.contains("pick-place") && e.contains("ground"), "{e}");
+    }
+}
