@@ -1,7 +1,9 @@
 #!/usr/bin/env python3
 """The code-shape numbers issue 31 measures, on the source (tests excluded): files over
-800 lines, functions over 120 lines, `too_many_arguments` allowances, the CLI crate's
-size. Usage: python3 scripts/shape.py [--all]"""
+800 lines, functions over 120 lines, `too_many_arguments` allowances, each crate's size,
+and import circles between a crate's top-level modules (a module that names another
+through `crate::`, which names it back, directly or around a longer circle).
+Usage: python3 scripts/shape.py [--all]"""
 import os, re, sys
 
 ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "crates")
@@ -45,6 +47,87 @@ def functions(lines):
     return out
 
 
+CRATE_PATH = re.compile(r"\bcrate::(\{[^}]*\}|\w+)")
+
+
+def top_module(crate, path):
+    """The top-level module a source file belongs to (`None`: the crate root)."""
+    rel = os.path.relpath(path, os.path.join(ROOT, crate, "src")).split(os.sep)
+    if len(rel) == 1:
+        name = rel[0][:-3]
+        return None if name in ("lib", "main") else name
+    return rel[0]
+
+
+def root_reexports(crate):
+    """Names the crate root re-exports (`pub use module::{A, B}`), by the module they
+    come from: `crate::A` is a path into that module."""
+    out = {}
+    for root in ("lib.rs", "main.rs"):
+        path = os.path.join(ROOT, crate, "src", root)
+        if not os.path.exists(path):
+            continue
+        text = open(path).read()
+        for m in re.finditer(r"pub use (\w+)::(\{[^}]*\}|[\w:]+)\s*;", text):
+            names = re.findall(r"(\w+)\s*(?:[,}]|$)", m.group(2).strip("{}") + ",")
+            for n in names:
+                out[n.split("::")[-1]] = m.group(1)
+    return out
+
+
+def circles():
+    """Per crate, the strongly connected groups (more than one module) of the graph of
+    top-level modules and the `crate::` paths between them (re-exports followed)."""
+    edges, modules, reexports = {}, {}, {}
+    for crate, path in source_files():
+        me = top_module(crate, path)
+        if me is None:
+            continue
+        modules.setdefault(crate, set()).add(me)
+        if crate not in reexports:
+            reexports[crate] = root_reexports(crate)
+        text = "\n".join(strip_tests(open(path).read().split("\n")))
+        text = re.sub(r"//.*", "", text)
+        for m in CRATE_PATH.finditer(text):
+            names = re.findall(r"(?:^|[{,\s])(\w+)", m.group(1).strip("{}")) if m.group(1).startswith("{") else [m.group(1)]
+            for n in names:
+                n = reexports[crate].get(n, n)
+                if n != me:
+                    edges.setdefault(crate, {}).setdefault(me, set()).add(n)
+    out = {}
+    for crate, mods in modules.items():
+        graph = {m: {n for n in edges.get(crate, {}).get(m, ()) if n in mods} for m in mods}
+        index, low, stack, on, groups = {}, {}, [], set(), []
+
+        def visit(v):
+            index[v] = low[v] = len(index)
+            stack.append(v)
+            on.add(v)
+            for w in sorted(graph[v]):
+                if w not in index:
+                    visit(w)
+                    low[v] = min(low[v], low[w])
+                elif w in on:
+                    low[v] = min(low[v], index[w])
+            if low[v] == index[v]:
+                group = []
+                while True:
+                    w = stack.pop()
+                    on.discard(w)
+                    group.append(w)
+                    if w == v:
+                        break
+                if len(group) > 1:
+                    groups.append(sorted(group))
+
+        for m in sorted(mods):
+            if m not in index:
+                visit(m)
+        if groups:
+            out[crate] = groups
+    return out
+
+
 def main():
     show_all = "--all" in sys.argv
     big_files, long_fns, allowances, per_crate = [], [], 0, {}
@@ -67,6 +150,11 @@ def main():
     print(f"too_many_arguments allowances: {allowances}")
     for crate, n in sorted(per_crate.items()):
         print(f"  {crate}: {n} lines")
+    found = circles()
+    print(f"import circles: {sum(len(g) for g in found.values())}")
+    for crate, groups in sorted(found.items()):
+        for g in groups:
+            print(f"  {crate}: {' ↔ '.join(g)}")
 
 
 if __name__ == "__main__":

@@ -2,8 +2,8 @@
 //! (what `tabula clear --json` prints), and the suites' trials (`bench clear`).
 
 use crate::judged::run_judged;
+use crate::spec::TrialSpec;
 use crate::stats::wilson;
-use crate::trials::TrialSpec;
 use anyhow::{Result, anyhow};
 use serde::{Deserialize, Serialize};
 use tabula_sim::generate::{ClearSuite, clearing_scene};

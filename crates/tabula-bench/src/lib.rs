@@ -9,6 +9,8 @@ pub mod judged;
 pub mod perception;
 pub mod pick_place;
 pub mod place;
+pub mod registry;
+pub mod spec;
 pub mod stats;
 pub mod tidy;
 pub mod trials;

@@ -5,7 +5,7 @@
 //! `/tabula/workers/<id>/trial` (`tabula_msgs/srv/Call`: a [`TrialSpec`] in, the
 //! trial's row out, as JSON); the bench finds them in the graph and keeps each busy.
 
-use crate::trials::{Spread, TrialSpec};
+use crate::spec::{Spread, TrialSpec};
 use anyhow::{Result, anyhow, bail};
 use serde::de::DeserializeOwned;
 use std::collections::{BTreeMap, VecDeque};
@@ -47,7 +47,7 @@ pub fn serve(connect: &[String], domain: u32, duration: Option<f64>) -> Result<(
         };
         let answer = serde_json::from_str::<TrialSpec>(&r.request.request)
             .map_err(|e| anyhow!("not a trial: {e}"))
-            .and_then(|spec| crate::trials::trial(&spec));
+            .and_then(|spec| crate::registry::trial(&spec));
         r.reply(&match answer {
             Ok(row) => CallResponse {
                 ok: true,

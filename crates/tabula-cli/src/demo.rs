@@ -285,8 +285,14 @@ fn pick_place(report: &mut Report) -> Result<(Section, serde_json::Value, String
         place: Vec3::new(0.82, -0.2, 1.01),
     };
     let t0 = Instant::now();
-    let (out, _, recorded) =
-        crate::tasks::pick_place_in(world, None, &request, &PickPlaceParams::default(), 1, true)?;
+    let (out, _, recorded) = crate::pick_place::pick_place_in(
+        world,
+        None,
+        &request,
+        &PickPlaceParams::default(),
+        1,
+        true,
+    )?;
     let wall = t0.elapsed().as_secs_f64();
     let r = &out.report;
     if let Some(o) = &r.object {
@@ -318,7 +324,7 @@ fn pick_place(report: &mut Report) -> Result<(Section, serde_json::Value, String
     println!("  {line}");
     let command = "cargo run --release -- pick-place --scene scenes/golem_shelves.toml --pick 0.556 -0.663 1.07 --place 0.82 -0.2 1.01 --report DIR";
     println!("\n  run it: {command}\n");
-    let mut section = crate::tasks::pick_place_section(report, &out, recorded.as_ref())?;
+    let mut section = crate::pick_place::pick_place_section(report, &out, recorded.as_ref())?;
     section.text(format!("Run it: {command}"));
     Ok((section, serde_json::to_value(&out)?, line))
 }

@@ -10,6 +10,7 @@ mod graph;
 mod ik;
 mod motion;
 mod perceive;
+mod pick_place;
 mod place;
 mod plan;
 mod plots;
@@ -131,7 +132,7 @@ enum Command {
     },
     /// Pick an object at given coordinates and place it at others (seed 001's integral
     /// test), in the simulator, judged by its physics.
-    PickPlace(tasks::PickPlaceArgs),
+    PickPlace(pick_place::PickPlaceArgs),
     /// Place the object the robot holds stably on a free spot of a surface it finds
     /// (seed 000): scan it, find how it rests, search surfaces, approach, put it down;
     /// in the simulator, judged by its physics.
@@ -246,7 +247,7 @@ fn main() {
         Command::Motion { command } => motion::run(command),
         Command::Perceive(args) => perceive::run(args),
         Command::Place(args) => place::run(args),
-        Command::PickPlace(args) => tasks::run(args),
+        Command::PickPlace(args) => pick_place::run(args),
         Command::Sim { command } => sim::run(command),
         #[cfg(feature = "ros")]
         Command::Serve(args) => serve::run(args),

@@ -214,7 +214,7 @@ pub fn report_section(
         )?;
         s.figures.push(fig);
     }
-    crate::tasks::phase_plot(report, &mut s, &out.phases)?;
+    crate::pick_place::phase_plot(report, &mut s, &out.phases)?;
     if let Some(rec) = recorded {
         report.recorded(&mut s, "place", rec)?;
     }

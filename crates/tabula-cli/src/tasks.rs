@@ -1,14 +1,12 @@
 //! `tabula pick-place`: the task layer run in the simulator, judged by its physics.
 
-use crate::report::{Recorded, Recording, Report, Section};
-use anyhow::{Context, Result, bail};
+use crate::report::Report;
+use anyhow::{Context, Result};
 use clap::Args;
 use serde::Serialize;
 use std::path::{Path, PathBuf};
-use tabula_geom::Vec3;
 
 use tabula_sim::{PhysicsParams, Scene, SimWorld};
-use tabula_tasks::pick_place::{PickPlaceParams, PickPlaceRequest, pick_place};
 
 /// What every task run in the simulator takes: the scene and its robot, parameters,
 /// camera noise, and where its results go.
@@ -128,21 +126,6 @@ impl TaskRunArgs {
     }
 }
 
-#[derive(Args)]
-pub struct PickPlaceArgs {
-    #[command(flatten)]
-    pub run: TaskRunArgs,
-    /// Which arm: a name from the robot's description (`left`, `right`) or `auto`.
-    #[arg(long, default_value = "auto")]
-    pub arm: String,
-    /// Approximate world position of the object (m).
-    #[arg(long, num_args = 3, allow_negative_numbers = true, value_names = ["X", "Y", "Z"], required = true, value_parser = crate::args::finite)]
-    pub pick: Vec<f64>,
-    /// Where the object goes (m): its footprint centre; the surface is found under Z.
-    #[arg(long, num_args = 3, allow_negative_numbers = true, value_names = ["X", "Y", "Z"], required = true, value_parser = crate::args::finite)]
-    pub place: Vec<f64>,
-}
-
 pub fn load_world(scene_path: &Path) -> Result<(Scene, SimWorld)> {
     let scene = Scene::load(scene_path)?;
     let world = SimWorld::from_scene(&scene, PhysicsParams::default())
@@ -150,7 +133,6 @@ pub fn load_world(scene_path: &Path) -> Result<(Scene, SimWorld)> {
     Ok((scene, world))
 }
 
-pub use tabula_bench::pick_place::PickPlaceRun as PickPlaceJson;
 pub use tabula_bench::{scene_robot, scene_robot_named};
 
 /// `--arm NAME` must name one of the robot's arms (or be `auto`): a typo is an error
@@ -163,221 +145,3 @@ pub fn check_arm(world: &SimWorld, robot: &str, arm: &str) -> Result<()> {
 }
 
 pub use tabula_geom::input::load_params;
-
-fn vec3(v: &[f64], what: &str) -> Result<Vec3> {
-    match v {
-        [x, y, z] if v.iter().all(|c| c.is_finite()) => Ok(Vec3::new(*x, *y, *z)),
-        _ => bail!("--{what} takes three finite numbers"),
-    }
-}
-
-/// Runs one pick and place in the simulator, judges it, and saves what was asked.
-pub fn run_pick_place(a: &PickPlaceArgs) -> Result<PickPlaceJson> {
-    let pick = vec3(&a.pick, "pick")?;
-    let place = vec3(&a.place, "place")?;
-    let params: PickPlaceParams = load_params(a.run.params.as_deref())?;
-    let request = PickPlaceRequest {
-        arm: (a.arm != "auto").then(|| a.arm.clone()),
-        pick,
-        place,
-    };
-    if !a.run.connect.is_empty() {
-        #[cfg(feature = "ros")]
-        {
-            let (out, scene) = pick_place_remote(a, &request, &params)?;
-            a.run.save(&scene, &out, |report, out| {
-                report.title = "tabula pick-place".into();
-                let section = pick_place_section(report, out, None)?;
-                report.sections.push(section);
-                Ok(())
-            })?;
-            return Ok(out);
-        }
-        #[cfg(not(feature = "ros"))]
-        bail!("this tabula was built without ROS 2 support (feature `ros`)");
-    }
-    let world = a.run.world()?;
-    let robot = scene_robot(&world, a.run.robot.as_deref())?;
-    check_arm(&world, &robot, &a.arm)?;
-    let (out, world, recorded) = pick_place_in(
-        world,
-        a.run.robot.as_deref(),
-        &request,
-        &params,
-        a.run.seed,
-        a.run.recording(),
-    )?;
-    a.run.save(&world, &out, |report, out| {
-        report.title = "tabula pick-place".into();
-        let section = pick_place_section(report, out, recorded.as_ref())?;
-        report.sections.push(section);
-        Ok(())
-    })?;
-    Ok(out)
-}
-
-/// The report's part for a pick and place: the verdict, the phases, the replay.
-pub fn pick_place_section(
-    report: &mut Report,
-    out: &PickPlaceJson,
-    recorded: Option<&Recorded>,
-) -> Result<Section> {
-    let r = &out.report;
-    let v = &out.verdict;
-    let mut s = Section::new("Pick and place by coordinates (seed 001)");
-    s.text(format!(
-        "{}: arm {}, {} grasp; `{}` ended {:.1} cm from the target, tilted {:.1}°.",
-        if out.success { "Success" } else { "Failed" },
-        r.arm.as_deref().unwrap_or("-"),
-        r.grasp
-            .map_or("-".into(), |g| format!("{g:?}").to_lowercase()),
-        v.object,
-        v.target_error * 100.0,
-        v.tilt.to_degrees()
-    ));
-    if let Some(e) = &out.error_message {
-        s.text(format!("Error: {e}"));
-    }
-    s.number("success", out.success)
-        .number("arm", r.arm.as_deref().unwrap_or("-"))
-        .number("decision CPU (ms)", format!("{:.1}", r.decision_cpu_ms))
-        .number("grasp candidates tried", r.candidates_tried)
-        .number(
-            "target error (cm)",
-            format!("{:.2}", v.target_error * 100.0),
-        )
-        .number("tilt (°)", format!("{:.2}", v.tilt.to_degrees()))
-        .number("furniture contacts", v.furniture_contacts.len());
-    s.log = r
-        .rejected
-        .iter()
-        .map(|w| format!("rejected: {w}"))
-        .collect();
-    phase_plot(report, &mut s, &r.phases)?;
-    if let Some(rec) = recorded {
-        report.recorded(&mut s, "pick-place", rec)?;
-    }
-    Ok(s)
-}
-
-/// Time per phase as bars (wall ms: the simulated motion is in it).
-pub fn phase_plot(
-    report: &mut Report,
-    section: &mut Section,
-    phases: &[tabula_tasks::pick_place::Phase],
-) -> Result<()> {
-    if phases.is_empty() {
-        return Ok(());
-    }
-    let bars: Vec<(String, f64)> = phases
-        .iter()
-        .map(|p| {
-            (
-                format!("{}{}", p.name, if p.ok { "" } else { " (failed)" }),
-                p.ms,
-            )
-        })
-        .collect();
-    let svg = crate::plots::bars(
-        "Time per phase",
-        "ms (wall, simulated motion included)",
-        &bars,
-    )?;
-    let fig = report.svg("phases", "Time per phase", &svg)?;
-    section.figures.push(fig);
-    Ok(())
-}
-
-/// A pick and place in `world`, judged by its physics (recorded for the report when
-/// `record`); returns the world afterwards.
-pub fn pick_place_in(
-    world: SimWorld,
-    robot: Option<&str>,
-    request: &PickPlaceRequest,
-    params: &PickPlaceParams,
-    seed: u64,
-    record: bool,
-) -> Result<(PickPlaceJson, SimWorld, Option<Recorded>)> {
-    let mut recording = Recording::new(record);
-    let (out, world) =
-        tabula_bench::pick_place::pick_place_in(world, robot, (request, params), seed, |d| {
-            recording.start(d)
-        })?;
-    let recorded = recording.finish(&world);
-    Ok((out, world, recorded))
-}
-
-/// One pick and place by the robot served at `--connect`, judged there.
-#[cfg(feature = "ros")]
-fn pick_place_remote(
-    a: &PickPlaceArgs,
-    request: &PickPlaceRequest,
-    params: &PickPlaceParams,
-) -> Result<(PickPlaceJson, String)> {
-    let world = load_world(&a.run.scene)?.1;
-    let (robot_name, robot) = scene_robot_named(&world, a.run.robot.as_deref())?;
-    check_arm(&world, &robot_name, &a.arm)?;
-    let mut driver = crate::remote::connect(&a.run, &robot_name)?;
-    let session = crate::remote::begin(
-        &driver,
-        tabula_ros::protocol::JudgedTask::new(
-            "pick-place",
-            a.run.seed,
-            tabula_ros::protocol::ground::PickPlace {
-                pick: request.pick.to_array(),
-                place: request.place.to_array(),
-            },
-        ),
-    )?;
-    let outcome = pick_place(&mut driver, &robot, request, params);
-    let verdict = crate::remote::verdict(session, None)?;
-    let scene = crate::remote::scene(&driver)?;
-    Ok((PickPlaceJson::of(outcome, verdict, false), scene))
-}
-
-pub fn run(a: PickPlaceArgs) -> Result<()> {
-    let out = run_pick_place(&a)?;
-    if a.run.json {
-        println!("{}", serde_json::to_string_pretty(&out)?);
-    } else {
-        let r = &out.report;
-        println!(
-            "pick-place{}: {} (arm {}, {} grasp)",
-            if out.dry_run { " (dry run)" } else { "" },
-            if out.success { "success" } else { "FAILED" },
-            r.arm.as_deref().unwrap_or("-"),
-            r.grasp
-                .map_or("-".into(), |g| format!("{g:?}").to_lowercase()),
-        );
-        if let Some(e) = &out.error_message {
-            println!("  error: {e}");
-            for why in r.rejected.iter().take(12) {
-                println!("    rejected: {why}");
-            }
-        }
-        for p in &r.phases {
-            println!(
-                "  {:<22} {:>9.1} ms  {}{}",
-                p.name,
-                p.ms,
-                if p.ok { "ok" } else { "failed" },
-                p.plan_ms
-                    .map_or(String::new(), |m| format!("  (planned in {m:.1} ms)"))
-            );
-        }
-        println!("  decision (CPU)        {:>9.1} ms", r.decision_cpu_ms);
-        let v = &out.verdict;
-        println!(
-            "  verdict: `{}` {:.1} cm from the target, tilted {:.1}°, {}; furniture contacts: {}",
-            v.object,
-            v.target_error * 100.0,
-            v.tilt.to_degrees(),
-            if v.resting { "resting" } else { "moving" },
-            v.furniture_contacts.len()
-        );
-    }
-    match crate::exit::of_task(out.success) {
-        crate::exit::OK => Ok(()),
-        status => std::process::exit(status),
-    }
-}

@@ -91,6 +91,43 @@ pub enum InputError {
     Params { origin: String, message: String },
 }
 
+/// The deepest element nesting of XML text, counted before the XML reader (which
+/// recurses) sees it: tags opened minus closed, skipping comments, declarations,
+/// processing instructions and self-closing tags. Stops counting past `limit`.
+pub fn xml_depth(text: &str, limit: usize) -> usize {
+    let bytes = text.as_bytes();
+    let (mut depth, mut deepest, mut i) = (0usize, 0usize, 0usize);
+    while let Some(off) = bytes[i..].iter().position(|&b| b == b'<') {
+        let start = i + off;
+        let rest = &text[start..];
+        let skip_to = |end: &str| {
+            rest.find(end)
+                .map_or(bytes.len(), |e| start + e + end.len())
+        };
+        if rest.starts_with("<!--") {
+            i = skip_to("-->");
+            continue;
+        }
+        if rest.starts_with("<![CDATA[") {
+            i = skip_to("]]>");
+            continue;
+        }
+        let close = rest.find('>').map_or(bytes.len(), |e| start + e);
+        let tag = &text[start..close.min(bytes.len())];
+        if tag.starts_with("</") {
+            depth = depth.saturating_sub(1);
+        } else if !(tag.starts_with("<?") || tag.starts_with("<!") || tag.ends_with('/')) {
+            depth += 1;
+            deepest = deepest.max(depth);
+            if deepest > limit {
+                return deepest;
+            }
+        }
+        i = (close + 1).min(bytes.len());
+    }
+    deepest
+}
+
 /// A module's `Params` from a TOML file, or its defaults (SPEC's values) without one.
 /// Every number is checked (finite, bounded) before deserializing, and the values'
 /// ranges after (INPUT_POLICY.md).

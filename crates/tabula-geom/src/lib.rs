@@ -21,6 +21,7 @@ pub mod mesh;
 pub mod pcd;
 pub mod ply;
 pub mod polygon;
+pub mod raster;
 pub mod shape_cache;
 pub use angles::*;
 pub use cloud::{CloudFile, PcdEncoding, PointCloud, bounds, packed_voxel_key, voxel_key};

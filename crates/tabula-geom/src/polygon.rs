@@ -1,6 +1,12 @@
 //! 2D polygons: convex hulls, areas and containment, for surfaces seen from above.
 
-use crate::Vec2;
+use crate::{Vec2, Vec3};
+
+/// A basis of the plane: `u`, `v` and the normal form a right-handed frame.
+pub fn plane_basis(normal: Vec3) -> (Vec3, Vec3) {
+    let u = normal.any_orthonormal_vector();
+    (u, normal.cross(u))
+}
 
 /// Indices of the convex hull of `points`, counter-clockwise, without collinear points
 /// (Andrew's monotone chain). Fewer than three distinct points give what there is.

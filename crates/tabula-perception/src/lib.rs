@@ -8,6 +8,7 @@ pub mod eval;
 pub mod filters;
 pub mod freespace;
 mod kd;
+pub mod params;
 pub mod plane;
 pub mod segment;
 pub mod selffilter;

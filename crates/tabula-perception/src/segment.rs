@@ -11,9 +11,9 @@
 //! merging and one-object-per-top splitting handle what creases cannot see.
 
 use crate::kd::KdTree;
+use crate::params::TabletopParams;
 use crate::plane::Plane;
 use crate::surfaces::plane_basis;
-use crate::tabletop::TabletopParams;
 use std::collections::VecDeque;
 use tabula_geom::polygon::{convex_hull_2d, distance_to_boundary, inside_convex};
 use tabula_geom::{PointCloud, Vec2, Vec3};

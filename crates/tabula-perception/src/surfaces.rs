@@ -132,11 +132,7 @@ pub struct SurfaceSearch {
     pub trials: Vec<PlaneTrial>,
 }
 
-/// A basis of the plane: `u`, `v` and the normal form a right-handed frame.
-pub fn plane_basis(normal: Vec3) -> (Vec3, Vec3) {
-    let u = normal.any_orthonormal_vector();
-    (u, normal.cross(u))
-}
+pub use tabula_geom::polygon::plane_basis;
 
 /// Searches a cloud in the world frame (z up; NaN = none), restricted to `keep` if
 /// given while fitting. Each accepted surface's `inliers` are then every finite point
@@ -621,7 +617,7 @@ pub(crate) fn split(
     // How far each cell is from the nearest empty one: thin pieces (the slice of a
     // drum's side within the threshold of a table's plane) have no room inside.
     let empty: Vec<bool> = filled.iter().map(|&c| c >= UNSET).collect();
-    let room = crate::freespace::distance_transform(&empty, nx, ny);
+    let room = tabula_geom::raster::distance_transform(&empty, nx, ny);
     let mut cells_of: Vec<Vec<usize>> = vec![Vec::new(); n_comp as usize];
     for (c, &k) in filled.iter().enumerate() {
         if k < UNSET {

@@ -99,7 +99,7 @@ impl Srdf {
     /// Parses SRDF text and checks it against `model`.
     pub fn parse(text: &str, model: &RobotModel) -> Result<Self, RobotError> {
         let bad = |m: String| RobotError::Description(format!("SRDF: {m}"));
-        let depth = crate::model::xml_depth(text, 64);
+        let depth = tabula_geom::input::xml_depth(text, 64);
         if depth > 64 {
             return Err(RobotError::TooDeep(depth));
         }

@@ -532,6 +532,19 @@ pub fn snapshot(
         .unwrap_or_else(|| image::RgbImage::new(width as u32, height as u32))
 }
 
+impl SimWorld {
+    /// The scene camera called `name`, placed where it is now (a camera on a robot link
+    /// follows the link).
+    pub fn camera(&self, name: &str) -> Result<Camera, SimError> {
+        let spec = self
+            .cameras
+            .iter()
+            .find(|c| c.name.get_ref() == name)
+            .ok_or_else(|| SimError::UnknownEntity(format!("camera `{name}`")))?;
+        Camera::from_spec(spec, self)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

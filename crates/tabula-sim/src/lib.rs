@@ -9,7 +9,6 @@ pub mod generate;
 pub mod judge;
 pub mod objects;
 pub mod replay;
-pub mod robot;
 pub mod scene;
 pub mod world;
 

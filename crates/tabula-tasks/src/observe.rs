@@ -2,15 +2,14 @@
 //! object near a given position and the surface it stands on, and the occupancy that
 //! becomes the collision world.
 
+pub use crate::scene::robot_solids;
 use rustc_hash::{FxHashMap, FxHashSet};
 use tabula_geom::input::{Validate, check_count, check_non_negative, check_positive, nested};
 use tabula_geom::parry::shape::SharedShape;
 use tabula_geom::polygon::{Rectangle, min_area_rectangle};
 use tabula_geom::{Pose, Vec2, Vec3};
-use tabula_perception::selffilter::{PlacedSolid, SelfFilterParams, Solid, self_filter};
-use tabula_robot::RobotModel;
+use tabula_perception::selffilter::{PlacedSolid, SelfFilterParams, self_filter};
 use tabula_robot::driver::CameraFrame;
-use tabula_robot::model::Geometry;
 
 /// Parameters of looking at an object or a surface near a given position.
 #[derive(Debug, Clone, serde::Deserialize)]
@@ -81,46 +80,6 @@ pub enum ObserveError {
     NoSurface(f64, f64, f64),
     #[error("no object near ({0:.3}, {1:.3}, {2:.3})")]
     NoObject(f64, f64, f64),
-}
-
-/// The robot's collision shapes placed at joint values `values` (model order): the
-/// solids the self-filter removes.
-pub fn robot_solids(model: &RobotModel, values: &[f64], world_from_root: Pose) -> Vec<PlacedSolid> {
-    let Ok(root_from_link) = model.forward_kinematics(values) else {
-        return Vec::new();
-    };
-    let mut out = Vec::new();
-    for (l, link) in model.links.iter().enumerate() {
-        for shape in &link.collision {
-            let solid = match &shape.geometry {
-                Geometry::Box { half_extents } => Solid::Box {
-                    half_extents: *half_extents,
-                },
-                Geometry::Sphere { radius } => Solid::Sphere { radius: *radius },
-                Geometry::Cylinder { radius, length } => Solid::Cylinder {
-                    radius: *radius,
-                    half_length: length / 2.0,
-                },
-                Geometry::Capsule { radius, length } => Solid::Capsule {
-                    radius: *radius,
-                    half_length: length / 2.0,
-                },
-                Geometry::Mesh { .. } => match shape
-                    .geometry
-                    .hull_points()
-                    .and_then(|p| Solid::convex_hull(&p))
-                {
-                    Some(s) => s,
-                    None => continue,
-                },
-            };
-            out.push(PlacedSolid {
-                world_from_solid: world_from_root * root_from_link[l] * shape.link_from_shape,
-                solid,
-            });
-        }
-    }
-    out
 }
 
 /// The finite points of a frame in the world, downsampled to `leaf`, minus those on the
@@ -279,8 +238,8 @@ impl SeenObject {
 
     /// What a grasp planner sees of it, reached by an arm whose base is at `arm_base`
     /// (world).
-    pub fn grasp_target(&self, arm_base: Option<Vec3>) -> crate::skills::GraspTarget<'_> {
-        crate::skills::GraspTarget {
+    pub fn grasp_target(&self, arm_base: Option<Vec3>) -> crate::scene::GraspTarget<'_> {
+        crate::scene::GraspTarget {
             points: &self.points,
             outline: &self.outline,
             rect: self.footprint,

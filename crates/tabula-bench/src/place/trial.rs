@@ -3,7 +3,7 @@
 
 use super::place_in;
 use super::truth::resting_faces;
-use crate::trials::TrialSpec;
+use crate::spec::TrialSpec;
 use anyhow::Result;
 use serde::Serialize;
 use tabula_sim::SimWorld;

@@ -6,8 +6,9 @@ mod request;
 mod scene;
 mod yaml;
 
+pub use crate::world::AllowedCollisions;
 pub use request::{Goal, MotionRequest};
-pub use scene::{AllowedCollisions, AttachedObject, PlanningScene, SceneObject};
+pub use scene::{AttachedObject, PlanningScene, SceneObject};
 
 use crate::world::CollisionWorld;
 use tabula_geom::Pose;

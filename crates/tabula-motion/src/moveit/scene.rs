@@ -5,7 +5,7 @@
 
 use super::yaml::Node;
 use super::{Limits, MoveItError, parse_yaml};
-use crate::world::CollisionWorld;
+use crate::world::{AllowedCollisions, CollisionWorld};
 use tabula_geom::parry::shape::SharedShape;
 use tabula_geom::{Pose, Quat, Vec3};
 use tabula_robot::model::Geometry;
@@ -44,15 +44,6 @@ pub struct AttachedObject {
     pub link: String,
     pub object: SceneObject,
     pub touch_links: Vec<String>,
-}
-
-/// `moveit_msgs/AllowedCollisionMatrix`: `allowed[i][j]` for `names[i]`, `names[j]`,
-/// and per-name defaults for pairs the matrix does not list.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct AllowedCollisions {
-    pub names: Vec<String>,
-    pub allowed: Vec<Vec<bool>>,
-    pub defaults: Vec<(String, bool)>,
 }
 
 /// A planning scene read from YAML.

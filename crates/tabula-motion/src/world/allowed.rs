@@ -4,11 +4,19 @@
 //! own matrix over that.
 
 use super::{CollisionWorld, WorldError};
-use crate::moveit::AllowedCollisions;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use tabula_geom::Pose;
 use tabula_geom::parry::query;
+
+/// `moveit_msgs/AllowedCollisionMatrix`: `allowed[i][j]` for `names[i]`, `names[j]`,
+/// and per-name defaults for pairs the matrix does not list.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct AllowedCollisions {
+    pub names: Vec<String>,
+    pub allowed: Vec<Vec<bool>>,
+    pub defaults: Vec<(String, bool)>,
+}
 
 impl CollisionWorld {
     /// MoveIt-style allowed collision matrix: adjacent links (through fixed joints too),

@@ -10,6 +10,7 @@ mod edit;
 mod gjk;
 mod placed;
 
+pub use allowed::AllowedCollisions;
 pub use edit::IgnoredJoints;
 
 use cover::Cover;

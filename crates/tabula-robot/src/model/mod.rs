@@ -155,7 +155,7 @@ impl RobotModel {
             path: file.map(Path::to_path_buf),
             message,
         };
-        let depth = xml_depth(text, 256);
+        let depth = tabula_geom::input::xml_depth(text, 256);
         if depth > 256 {
             return Err(RobotError::TooDeep(depth));
         }
@@ -518,43 +518,6 @@ fn checked_value(owner: &str, field: &'static str, value: f64) -> Result<f64, Ro
     Ok(value)
 }
 
-/// The deepest element nesting of XML text, counted before the XML reader (which
-/// recurses) sees it: tags opened minus closed, skipping comments, declarations,
-/// processing instructions and self-closing tags. Stops counting past `limit`.
-pub(crate) fn xml_depth(text: &str, limit: usize) -> usize {
-    let bytes = text.as_bytes();
-    let (mut depth, mut deepest, mut i) = (0usize, 0usize, 0usize);
-    while let Some(off) = bytes[i..].iter().position(|&b| b == b'<') {
-        let start = i + off;
-        let rest = &text[start..];
-        let skip_to = |end: &str| {
-            rest.find(end)
-                .map_or(bytes.len(), |e| start + e + end.len())
-        };
-        if rest.starts_with("<!--") {
-            i = skip_to("-->");
-            continue;
-        }
-        if rest.starts_with("<![CDATA[") {
-            i = skip_to("]]>");
-            continue;
-        }
-        let close = rest.find('>').map_or(bytes.len(), |e| start + e);
-        let tag = &text[start..close.min(bytes.len())];
-        if tag.starts_with("</") {
-            depth = depth.saturating_sub(1);
-        } else if !(tag.starts_with("<?") || tag.starts_with("<!") || tag.ends_with('/')) {
-            depth += 1;
-            deepest = deepest.max(depth);
-            if deepest > limit {
-                return deepest;
-            }
-        }
-        i = (close + 1).min(bytes.len());
-    }
-    deepest
-}
-
 fn checked_pose(owner: &str, p: &urdf_rs::Pose) -> Result<Pose, RobotError> {
     for (field, v) in [("origin xyz", &p.xyz.0), ("origin rpy", &p.rpy.0)] {
         for x in v {
@@ -570,13 +533,16 @@ mod depth_tests {
 
     #[test]
     fn nesting_is_counted_without_recursion() {
-        assert_eq!(xml_depth("<a><b/><c><d></d></c><!-- <e><f> --></a>", 10), 3);
         assert_eq!(
-            xml_depth("<?xml version=\"1.0\"?><r><![CDATA[<x><y>]]></r>", 10),
+            tabula_geom::input::xml_depth("<a><b/><c><d></d></c><!-- <e><f> --></a>", 10),
+            3
+        );
+        assert_eq!(
+            tabula_geom::input::xml_depth("<?xml version=\"1.0\"?><r><![CDATA[<x><y>]]></r>", 10),
             1
         );
         let deep = format!("{}{}", "<l>".repeat(100_000), "</l>".repeat(100_000));
-        assert!(xml_depth(&deep, 256) > 256);
+        assert!(tabula_geom::input::xml_depth(&deep, 256) > 256);
         assert!(matches!(
             RobotModel::from_urdf_str(&format!("<robot name=\"r\">{deep}</robot>"), None),
             Err(RobotError::TooDeep(_))

@@ -43,7 +43,7 @@ pub fn expand(
     // The input policy for the top file: a regular file within the robot size limit,
     // nested no deeper than a URDF may be.
     let text = read_text(path, Format::Robot)?;
-    let depth = crate::model::xml_depth(&text, 256);
+    let depth = tabula_geom::input::xml_depth(&text, 256);
     if depth > 256 {
         return Err(RobotError::TooDeep(depth));
     }

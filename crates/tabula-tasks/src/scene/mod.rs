@@ -4,11 +4,15 @@
 //! (hull against hull, hand against hull).
 
 pub mod attempts;
+pub mod body;
 pub mod observer;
 pub mod tabletop;
+pub mod target;
 
 pub use attempts::Attempts;
+pub use body::robot_solids;
 pub use observer::{Observation, Observer};
+pub use target::GraspTarget;
 
 /// Why a frame gave no scene.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -21,7 +25,6 @@ pub enum SceneError {
     Driver(String),
 }
 
-use crate::skills::GraspTarget;
 use tabula_geom::parry::bounding_volume::{Aabb, BoundingVolume};
 use tabula_geom::parry::query;
 use tabula_geom::parry::shape::SharedShape;

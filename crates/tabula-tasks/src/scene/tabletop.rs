@@ -1,8 +1,8 @@
 //! One frame in, the table and its objects out: the robot's own body filtered from the
 //! cloud, the tabletop pipeline, and for each object what it stands on and its hull.
 
+use super::robot_solids;
 use super::{SceneError, SeenObject, Table};
-use crate::observe::robot_solids;
 use tabula_geom::parry::shape::SharedShape;
 use tabula_geom::polygon::{
     Rectangle, convex_hull_2d, distance_to_boundary, inside_convex, min_area_rectangle,

@@ -10,41 +10,9 @@
 //! * [`Fallback`]: one planner's grasps, or another's when it has none.
 
 use super::hand::{Hand, extent_along, tool_rotation};
-use tabula_geom::polygon::Rectangle;
 use tabula_geom::{Pose, Vec2, Vec3};
 
-/// What a grasp planner sees of an object (world frame): its points, its footprint's
-/// convex outline and minimal rectangle on what it stands on, the height of that and of
-/// its top — and where the arm reaches from.
-#[derive(Debug, Clone, Copy)]
-pub struct GraspTarget<'a> {
-    pub points: &'a [Vec3],
-    pub outline: &'a [Vec2],
-    pub rect: Rectangle,
-    pub bottom: f64,
-    pub top: f64,
-    /// The arm's base (world), for planners that turn grasps toward it.
-    pub arm_base: Option<Vec3>,
-}
-
-impl GraspTarget<'_> {
-    /// Width of the outline across unit direction `d` (what the fingers must span);
-    /// the rectangle's without an outline.
-    pub fn width_along(&self, d: Vec2) -> f64 {
-        let (lo, hi) = self
-            .outline
-            .iter()
-            .map(|p| p.dot(d))
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
-                (a.min(x), b.max(x))
-            });
-        if hi >= lo {
-            hi - lo
-        } else {
-            self.rect.extent_along(d)
-        }
-    }
-}
+pub use crate::scene::GraspTarget;
 
 /// How a grasp approaches.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]

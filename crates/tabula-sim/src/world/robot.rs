@@ -3,7 +3,7 @@
 //! of the seeds' Gazebo grasp plugin), a base that drives in the world frame and a head
 //! that turns under its limits.
 
-use crate::world::{EntityKind, SimError, SimWorld};
+use super::{EntityKind, SimError, SimWorld};
 use rapier3d_f64::prelude::*;
 use tabula_geom::{Pose, Vec3};
 use tabula_robot::RobotDescription;

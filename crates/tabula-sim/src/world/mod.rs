@@ -1,6 +1,8 @@
 //! The simulated world: rapier3d-f64 rigid bodies built from a scene, settling, pose
 //! queries, and the seed's scene commands (SPEC §1.6).
 
+pub mod robot;
+
 use crate::scene::{FurnitureKind, FurnitureSpec, ObjectSpec, PoseSpec, Scene, ShapeSpec};
 use rapier3d_f64::prelude::*;
 use std::f64::consts::FRAC_PI_2;
@@ -151,9 +153,9 @@ pub struct SimWorld {
     pub physics: PhysicsWorld,
     pub entities: Vec<Entity>,
     pub params: PhysicsParams,
-    pub robots: Vec<crate::robot::PlacedRobot>,
+    pub robots: Vec<robot::PlacedRobot>,
     /// Objects held by grippers.
-    pub attachments: Vec<crate::robot::Attachment>,
+    pub attachments: Vec<robot::Attachment>,
     /// The scene's cameras; a camera on a robot link is placed where the link is when
     /// it captures (see [`Self::camera`]).
     pub cameras: Vec<crate::scene::CameraSpec>,
@@ -681,7 +683,7 @@ impl SimWorld {
             }
             self.push_entity(&name, EntityKind::RobotLink, body, [0.75, 0.75, 0.78]);
         }
-        self.robots.push(crate::robot::PlacedRobot {
+        self.robots.push(robot::PlacedRobot {
             name: r.name.get_ref().clone(),
             model: robot.model,
             description: robot.description,
@@ -811,17 +813,6 @@ impl SimWorld {
     /// Entities that have not been deleted.
     pub fn live_entities(&self) -> impl Iterator<Item = &Entity> {
         self.entities.iter().filter(|e| !e.deleted)
-    }
-
-    /// The scene camera called `name`, placed where it is now (a camera on a robot link
-    /// follows the link).
-    pub fn camera(&self, name: &str) -> Result<crate::Camera, SimError> {
-        let spec = self
-            .cameras
-            .iter()
-            .find(|c| c.name.get_ref() == name)
-            .ok_or_else(|| SimError::UnknownEntity(format!("camera `{name}`")))?;
-        crate::Camera::from_spec(spec, self)
     }
 
     /// Steps until every dynamic body sleeps or the time limit passes.
