@@ -5,10 +5,12 @@
 //! The CLI parses arguments and prints; everything measured is here.
 
 pub mod clear;
+pub mod ik;
 pub mod judged;
 pub mod perception;
 pub mod pick_place;
 pub mod place;
+pub mod plan;
 pub mod registry;
 pub mod spec;
 pub mod stats;

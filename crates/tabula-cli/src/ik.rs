@@ -6,6 +6,7 @@ use std::path::PathBuf;
 use tabula_geom::input::Validate;
 use tabula_geom::{Pose, Vec3, pose_from_xyz_rpy, rpy_from_quat};
 use tabula_robot::Chain;
+use tabula_robot::ik::bench::IkBenchReport;
 use tabula_robot::ik::{
     ArmSide, Golem3Ik, Golem3Params, IkError, IkMode, IkSolver, NumericIk, NumericIkParams, bench,
 };
@@ -292,21 +293,8 @@ pub fn print_solutions(chain: &Chain, sols: &[tabula_robot::ik::IkSolution]) {
     println!("  {} solution(s), nearest to the seed first", sols.len());
 }
 
-/// One measure of a comparison: its samples for A and B and the test between them.
-#[derive(serde::Serialize)]
-struct Compared {
-    measure: &'static str,
-    unit: &'static str,
-    median_a: f64,
-    median_b: f64,
-    test: Option<tabula_robot::ik::bench::MannWhitney>,
-    /// p < 0.05.
-    different: bool,
-}
-
 /// `ik bench --compare A B`: both solvers on the same targets, 7 measures tested.
 fn compare(a: &BenchArgs, kind_a: SolverKind, kind_b: SolverKind) -> Result<()> {
-    use tabula_robot::ik::bench::{Spread, mann_whitney};
     let mode = if a.position_only {
         IkMode::PositionOnly
     } else {
@@ -327,110 +315,14 @@ fn compare(a: &BenchArgs, kind_a: SolverKind, kind_b: SolverKind) -> Result<()> 
         progress.finish_and_clear();
     }
     let (ra, rb) = (&runs[0], &runs[1]);
-    let axes = [
-        ("x error", "m"),
-        ("y error", "m"),
-        ("z error", "m"),
-        ("roll error", "rad"),
-        ("pitch error", "rad"),
-        ("yaw error", "rad"),
-    ];
-    let mut rows = vec![(
-        "solve time",
-        "µs",
-        &ra.solve_us_samples,
-        &rb.solve_us_samples,
-    )];
-    for (k, (name, unit)) in axes.iter().enumerate() {
-        rows.push((
-            name,
-            unit,
-            &ra.axis_error_samples[k],
-            &rb.axis_error_samples[k],
-        ));
-    }
-    let compared: Vec<Compared> = rows
-        .iter()
-        .map(|(measure, unit, x, y)| {
-            let test = mann_whitney(x, y);
-            Compared {
-                measure,
-                unit,
-                median_a: Spread::of(x).median,
-                median_b: Spread::of(y).median,
-                different: test.is_some_and(|t| t.p < 0.05),
-                test,
-            }
-        })
-        .collect();
+    let compared = tabula_bench::ik::compare(ra, rb);
     let out = serde_json::json!({
         "a": ra.solver, "b": rb.solver, "poses": a.poses, "seed": a.seed, "mode": ra.mode,
         "success_rate_a": ra.success_rate, "success_rate_b": rb.success_rate,
         "alpha": 0.05, "measures": compared,
     });
     if let Some(dir) = &a.report {
-        let mut report = crate::report::Report::create(dir, "IK solvers compared")?;
-        let mut section = crate::report::Section::new(format!(
-            "{} (A) against {} (B), {} targets, seed {}",
-            ra.solver, rb.solver, a.poses, a.seed
-        ));
-        section.text(
-            "Mann–Whitney U on every measure (two-sided, normal approximation with tie and \
-             continuity corrections, α = 0.05), as seed 001 §5.1 compares its solvers.",
-        );
-        for c in &compared {
-            section.number(
-                format!("{} ({})", c.measure, c.unit),
-                format!(
-                    "median A {:.3e}, B {:.3e}; p = {}{}",
-                    c.median_a,
-                    c.median_b,
-                    c.test.map_or("-".into(), |t| format!("{:.3e}", t.p)),
-                    if c.different { " — different" } else { "" }
-                ),
-            );
-        }
-        let per_axis = |r: &tabula_robot::ik::bench::IkBenchReport,
-                        range: std::ops::Range<usize>| {
-            r.axis_error_samples[range].to_vec()
-        };
-        for (title, unit, range, names) in [
-            ("Position error per axis", "m", 0..3, vec!["x", "y", "z"]),
-            (
-                "Orientation error per axis",
-                "rad",
-                3..6,
-                vec!["roll", "pitch", "yaw"],
-            ),
-        ] {
-            let svg = crate::plots::boxes(
-                title,
-                unit,
-                &names,
-                &[
-                    (ra.solver.as_str(), per_axis(ra, range.clone())),
-                    (rb.solver.as_str(), per_axis(rb, range)),
-                ],
-                true,
-            )?;
-            let fig = report.svg(title, title, &svg)?;
-            section.figures.push(fig);
-        }
-        let svg = crate::plots::boxes(
-            "Solve time",
-            "µs",
-            &["solve time"],
-            &[
-                (ra.solver.as_str(), vec![ra.solve_us_samples.clone()]),
-                (rb.solver.as_str(), vec![rb.solve_us_samples.clone()]),
-            ],
-            true,
-        )?;
-        let fig = report.svg("solve time", "Solve time per target", &svg)?;
-        section.figures.push(fig);
-        report.sections.push(section);
-        let page = report.finish(&out)?;
-        eprintln!("report: {}", page.display());
+        compare_report(dir, (a, ra, rb), &compared, &out)?;
     }
     if a.json {
         println!("{}", serde_json::to_string_pretty(&out)?);
@@ -697,5 +589,76 @@ fn info(a: RobotArgs) -> Result<()> {
             l.velocity
         );
     }
+    Ok(())
+}
+
+/// The report page of `ik bench --compare`: every measure's test and the errors' and
+/// times' distributions.
+fn compare_report(
+    dir: &std::path::Path,
+    (a, ra, rb): (&BenchArgs, &IkBenchReport, &IkBenchReport),
+    compared: &[tabula_bench::ik::Compared],
+    out: &serde_json::Value,
+) -> Result<()> {
+    let mut report = crate::report::Report::create(dir, "IK solvers compared")?;
+    let mut section = crate::report::Section::new(format!(
+        "{} (A) against {} (B), {} targets, seed {}",
+        ra.solver, rb.solver, a.poses, a.seed
+    ));
+    section.text(
+        "Mann–Whitney U on every measure (two-sided, normal approximation with tie and \
+         continuity corrections, α = 0.05), as seed 001 §5.1 compares its solvers.",
+    );
+    for c in compared {
+        section.number(
+            format!("{} ({})", c.measure, c.unit),
+            format!(
+                "median A {:.3e}, B {:.3e}; p = {}{}",
+                c.median_a,
+                c.median_b,
+                c.test.map_or("-".into(), |t| format!("{:.3e}", t.p)),
+                if c.different { " — different" } else { "" }
+            ),
+        );
+    }
+    let per_axis =
+        |r: &IkBenchReport, range: std::ops::Range<usize>| r.axis_error_samples[range].to_vec();
+    for (title, unit, range, names) in [
+        ("Position error per axis", "m", 0..3, vec!["x", "y", "z"]),
+        (
+            "Orientation error per axis",
+            "rad",
+            3..6,
+            vec!["roll", "pitch", "yaw"],
+        ),
+    ] {
+        let svg = crate::plots::boxes(
+            title,
+            unit,
+            &names,
+            &[
+                (ra.solver.as_str(), per_axis(ra, range.clone())),
+                (rb.solver.as_str(), per_axis(rb, range)),
+            ],
+            true,
+        )?;
+        let fig = report.svg(title, title, &svg)?;
+        section.figures.push(fig);
+    }
+    let svg = crate::plots::boxes(
+        "Solve time",
+        "µs",
+        &["solve time"],
+        &[
+            (ra.solver.as_str(), vec![ra.solve_us_samples.clone()]),
+            (rb.solver.as_str(), vec![rb.solve_us_samples.clone()]),
+        ],
+        true,
+    )?;
+    let fig = report.svg("solve time", "Solve time per target", &svg)?;
+    section.figures.push(fig);
+    report.sections.push(section);
+    let page = report.finish(out)?;
+    eprintln!("report: {}", page.display());
     Ok(())
 }

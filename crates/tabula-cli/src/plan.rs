@@ -7,8 +7,8 @@ use std::time::{Duration, Instant};
 use tabula_geom::input::{Format, read_text};
 use tabula_pddl::generator::table_clearing_problem;
 use tabula_pddl::{
-    Domain, GroundAtom, GroundError, GroundOptions, NoPlan, Planner, Problem, SearchMode,
-    parse_domain, parse_plan, parse_problem, validate,
+    Domain, GroundError, GroundOptions, NoPlan, Planner, Problem, SearchMode, parse_domain,
+    parse_plan, parse_problem, validate,
 };
 
 #[derive(Args)]
@@ -185,11 +185,6 @@ pub fn run(a: PlanArgs) -> Result<()> {
     }
 }
 
-fn median(v: &mut [f64]) -> f64 {
-    v.sort_by(f64::total_cmp);
-    if v.is_empty() { 0.0 } else { v[v.len() / 2] }
-}
-
 fn bench(b: BenchArgs) -> Result<()> {
     let domain = parse_domain(include_str!("../../../pddl/tablewclear-domain.pddl"))?;
     let mut rows = Vec::new();
@@ -206,94 +201,29 @@ fn bench(b: BenchArgs) -> Result<()> {
     for &n in &b.objects {
         let _tick = crate::progress::Tick(&progress);
         progress.set_message(format!("{n} objects"));
-        let (mut ground, mut opt, mut replan, mut fast, mut check) =
-            (vec![], vec![], vec![], vec![], vec![]);
-        let (mut total, mut loop10) = (vec![], vec![]);
-        let (mut len_opt, mut len_fast, mut expanded) = (0usize, 0usize, 0usize);
-        let mut solved = 0u64;
-        for seed in 1..=b.problems {
-            let problem = parse_problem(&table_clearing_problem(n, seed), &domain)?;
-            let t = Instant::now();
-            let mut planner = Planner::new(
-                domain.clone(),
-                problem,
-                GroundOptions::switchable(&domain, "ik_unfeasible"),
-            )?;
-            ground.push(t.elapsed().as_secs_f64() * 1e3);
-            let t = Instant::now();
-            planner.drop_unreachable_goals(None)?;
-            check.push(t.elapsed().as_secs_f64() * 1e3);
-            let t = Instant::now();
-            let Ok(plan) = planner.plan(SearchMode::Optimal, Some(Duration::from_secs(60))) else {
-                continue;
-            };
-            opt.push(t.elapsed().as_secs_f64() * 1e3);
-            total.push(ground.last().copied().unwrap_or(0.0) + opt.last().copied().unwrap_or(0.0));
-            solved += 1;
-            len_opt += plan.steps.len();
-            expanded += plan.expanded;
-            // The seed's loop: the first action turns out IK-infeasible; mark it, replan.
-            let first = &plan.steps[0];
-            let fact = GroundAtom {
-                predicate: if first.action == "grasp" {
-                    "ik_unfeasible_grasp".into()
-                } else {
-                    format!("ik_unfeasible_{}", first.action.trim_start_matches("push_"))
-                },
-                args: first.args.clone(),
-            };
-            let t = Instant::now();
-            planner.set_fact(&fact, true)?;
-            let _ = planner.plan(SearchMode::Optimal, Some(Duration::from_secs(60)));
-            replan.push(t.elapsed().as_secs_f64() * 1e3);
-            planner.set_fact(&fact, false)?;
-            let t = Instant::now();
-            if let Ok(p) = planner.plan(SearchMode::Fast, Some(Duration::from_secs(60))) {
-                fast.push(t.elapsed().as_secs_f64() * 1e3);
-                len_fast += p.steps.len();
-            }
-            // The seed's loop, ten decisions: plan optimally, execute the first action.
-            let mut looping = planner.clone();
-            let t = Instant::now();
-            for _ in 0..10 {
-                match looping.plan(SearchMode::Optimal, Some(Duration::from_secs(60))) {
-                    Ok(p) if !p.steps.is_empty() => looping.execute(&p.steps[0])?,
-                    _ => break,
-                }
-            }
-            loop10.push(t.elapsed().as_secs_f64() * 1e3);
-        }
-        let k = solved.max(1) as f64;
-        let row = serde_json::json!({
-            "objects": n, "problems": b.problems, "solved": solved,
-            "ground_ms": median(&mut ground), "optimal_ms": median(&mut opt), "replan_ms": median(&mut replan),
-            "ground_plus_optimal_ms": median(&mut total), "loop10_ms": median(&mut loop10),
-            "fast_ms": median(&mut fast), "goal_check_ms": median(&mut check),
-            "mean_optimal_length": len_opt as f64 / k, "mean_fast_length": len_fast as f64 / k, "mean_expanded": expanded as f64 / k,
-        });
+        let r = tabula_bench::plan::size_row(&domain, n, b.problems)?;
         if !b.json {
-            let f = |k: &str| row[k].as_f64().unwrap_or(0.0);
             println!(
                 "{:>3}  {:>6.2}  {:>7.2} ({:>5.1}, {:>5.0})  {:>14.2}  {:>15.2}  {:>4.2} ({:>5.1})  {:>12.2}  {:>10.2}{}",
                 n,
-                f("ground_ms"),
-                f("optimal_ms"),
-                f("mean_optimal_length"),
-                f("mean_expanded"),
-                f("ground_plus_optimal_ms"),
-                f("replan_ms"),
-                f("fast_ms"),
-                f("mean_fast_length"),
-                f("loop10_ms"),
-                f("goal_check_ms"),
-                if solved < b.problems {
-                    format!("   ({solved}/{} solved)", b.problems)
+                r.ground_ms,
+                r.optimal_ms,
+                r.mean_optimal_length,
+                r.mean_expanded,
+                r.ground_plus_optimal_ms,
+                r.replan_ms,
+                r.fast_ms,
+                r.mean_fast_length,
+                r.loop10_ms,
+                r.goal_check_ms,
+                if r.solved < b.problems {
+                    format!("   ({}/{} solved)", r.solved, b.problems)
                 } else {
                     String::new()
                 }
             );
         }
-        rows.push(row);
+        rows.push(serde_json::to_value(&r)?);
     }
     progress.finish_and_clear();
     if let Some(dir) = &b.report {
