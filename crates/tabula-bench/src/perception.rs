@@ -9,7 +9,7 @@ use serde::Serialize;
 use std::time::Instant;
 use tabula_geom::polygon::{inside_convex, polygon_area};
 use tabula_geom::{CloudFile, PointCloud, Vec2, Vec3};
-use tabula_perception::eval::{Score, score, table_top_truth};
+use tabula_perception::eval::{Score, Truth, score, table_top_truth};
 use tabula_perception::filters::{
     NormalParams, OutlierParams, local_planes_at, statistical_outliers, voxel_grid,
 };
@@ -105,11 +105,13 @@ pub fn quality(f: &Frame, params: &TabletopParams) -> Result<Score> {
     let top = table_top_truth(&f.cloud.points, TABLE_TOP);
     Ok(score(
         &t,
-        &finite,
-        &f.labels,
-        f.table_label,
-        &top,
-        &f.object_labels,
+        &Truth {
+            finite: &finite,
+            labels: &f.labels,
+            table_label: f.table_label,
+            table_top: &top,
+            object_labels: &f.object_labels,
+        },
         0.8,
         200,
     ))

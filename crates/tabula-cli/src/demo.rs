@@ -340,7 +340,7 @@ fn perception(
     report: &mut Report,
 ) -> Result<Section> {
     use tabula_geom::Vec2;
-    use tabula_perception::eval::{score, table_top_truth};
+    use tabula_perception::eval::{Truth, score, table_top_truth};
     use tabula_perception::freespace::{FreeSpaceMap, FreeSpaceParams};
     use tabula_perception::{TabletopParams, extract, to_world};
     use tabula_sim::generate::{TABLE_TOP, TabletopLayout, tabletop_frame};
@@ -433,11 +433,13 @@ fn perception(
     let labels: Vec<u32> = g.object_labels.iter().map(|o| o.1).collect();
     let s = score(
         &t,
-        &finite,
-        &g.frame.labels,
-        g.table_label,
-        &table_top_truth(&cloud.points, TABLE_TOP),
-        &labels,
+        &Truth {
+            finite: &finite,
+            labels: &g.frame.labels,
+            table_label: g.table_label,
+            table_top: &table_top_truth(&cloud.points, TABLE_TOP),
+            object_labels: &labels,
+        },
         0.8,
         200,
     );

@@ -17,22 +17,30 @@ pub struct Score {
     pub segments: usize,
 }
 
-/// Scores `result` against `labels` (per point; `table_label` for the table, the
-/// objects' labels in `object_labels`). `table_top[i]` says which table points are on
-/// its top surface (the plane to find; the table's edges and legs are not). Objects
-/// with fewer than `min_points` finite points in the frame are not counted (nobody can
-/// find what the camera does not see).
-#[allow(clippy::too_many_arguments)]
-pub fn score(
-    result: &Tabletop,
-    finite: &[bool],
-    labels: &[u32],
-    table_label: u32,
-    table_top: &[bool],
-    object_labels: &[u32],
-    iou_threshold: f64,
-    min_points: usize,
-) -> Score {
+/// A frame's ground truth: which points are finite, every point's label
+/// (`table_label` for the table, the objects' labels in `object_labels`), and which
+/// table points are on its top surface (the plane to find; the table's edges and legs
+/// are not).
+#[derive(Debug, Clone, Copy)]
+pub struct Truth<'a> {
+    pub finite: &'a [bool],
+    pub labels: &'a [u32],
+    pub table_label: u32,
+    pub table_top: &'a [bool],
+    pub object_labels: &'a [u32],
+}
+
+/// Scores `result` against the ground truth; an object counts as found at IoU ≥
+/// `iou_threshold`. Objects with fewer than `min_points` finite points in the frame are
+/// not counted (nobody can find what the camera does not see).
+pub fn score(result: &Tabletop, truth: &Truth<'_>, iou_threshold: f64, min_points: usize) -> Score {
+    let Truth {
+        finite,
+        labels,
+        table_label,
+        table_top,
+        object_labels,
+    } = *truth;
     let label = |i: usize| labels.get(i).copied().unwrap_or(0);
     let on_top = |i: usize| table_top.get(i) == Some(&true) && label(i) == table_label;
     let table_hits = result

@@ -3,7 +3,7 @@
 //! scenes with 3–12 objects (touching and stacked pairs, floor often the biggest plane).
 
 use tabula_geom::{PcdEncoding, Vec3};
-use tabula_perception::eval::{score, table_top_truth as table_top};
+use tabula_perception::eval::{Truth, score, table_top_truth as table_top};
 use tabula_perception::{TabletopParams, extract, read_pcd, to_world};
 use tabula_sim::generate::{TABLE_TOP, TabletopLayout, tabletop_frame};
 
@@ -33,11 +33,13 @@ fn run(seed: u64, layout: &TabletopLayout) -> (tabula_perception::eval::Score, b
     (
         score(
             &t,
-            &finite,
-            &g.frame.labels,
-            g.table_label,
-            &top,
-            &labels,
+            &Truth {
+                finite: &finite,
+                labels: &g.frame.labels,
+                table_label: g.table_label,
+                table_top: &top,
+                object_labels: &labels,
+            },
             0.8,
             200,
         ),
@@ -87,11 +89,13 @@ fn unorganized_frames_take_the_kd_tree_path() {
     let top = table_top(&cloud.points, TABLE_TOP);
     let s = score(
         &t,
-        &finite,
-        &labels,
-        g.table_label,
-        &top,
-        &objects,
+        &Truth {
+            finite: &finite,
+            labels: &labels,
+            table_label: g.table_label,
+            table_top: &top,
+            object_labels: &objects,
+        },
         0.8,
         200,
     );
@@ -172,7 +176,18 @@ fn clutter_scene_through_the_pcd_format() {
         );
         let finite: Vec<bool> = cloud.points.iter().map(|p| p.is_finite()).collect();
         let top = table_top(&cloud.points, 0.72);
-        let s = score(&t, &finite, &frame.labels, table, &top, &labels, 0.8, 200);
+        let s = score(
+            &t,
+            &Truth {
+                finite: &finite,
+                labels: &frame.labels,
+                table_label: table,
+                table_top: &top,
+                object_labels: &labels,
+            },
+            0.8,
+            200,
+        );
         assert!(
             s.table_precision > 0.99 && s.table_recall > 0.99,
             "noise {noise}: {s:?}"

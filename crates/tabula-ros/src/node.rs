@@ -186,11 +186,8 @@ impl Node {
         let dds_type = ros_type.to_string();
         let key = topic_key(self.config.domain, topic, &dds_type, &hash)?;
         let token = endpoint_token(
-            self.config.domain,
-            &self.zid,
-            NODE_ID,
-            id,
-            kind,
+            (self.config.domain, &self.zid, NODE_ID),
+            (id, kind),
             (&self.config.namespace, &self.config.name),
             (topic, &dds_type, &hash),
             qos,

@@ -190,14 +190,11 @@ pub fn node_token(domain: u32, zid: &str, node_id: u32, namespace: &str, node: &
     )
 }
 
-/// An endpoint's (publisher, subscription, service) liveliness token.
-#[allow(clippy::too_many_arguments)]
+/// An endpoint's (publisher, subscription, service) liveliness token: the node's
+/// domain, session id and id, the entity's id and kind.
 pub fn endpoint_token(
-    domain: u32,
-    zid: &str,
-    node_id: u32,
-    entity_id: u32,
-    kind: EntityKind,
+    (domain, zid, node_id): (u32, &str, u32),
+    (entity_id, kind): (u32, EntityKind),
     (namespace, node): (&str, &str),
     (topic, ros_type, type_hash): (&str, &str, &str),
     qos: Qos,
@@ -363,11 +360,8 @@ mod tests {
     fn tokens_match_the_reference_example() {
         // The token zenoh-cpp's rmw_zenoh example declares for a point-cloud subscriber.
         let t = endpoint_token(
-            0,
-            "zid",
-            0,
-            3,
-            EntityKind::Subscription,
+            (0, "zid", 0),
+            (3, EntityKind::Subscription),
             ("", "zenoh_sub"),
             (
                 "/point_cloud",
@@ -400,11 +394,8 @@ mod tests {
     #[test]
     fn tokens_read_back() {
         let t = endpoint_token(
-            3,
-            "abc",
-            0,
-            4,
-            EntityKind::ServiceServer,
+            (3, "abc", 0),
+            (4, EntityKind::ServiceServer),
             ("", "tabula_worker"),
             (
                 "/tabula/workers/w1/trial",

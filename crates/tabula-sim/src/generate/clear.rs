@@ -59,15 +59,14 @@ pub fn clearing_scene(suite: ClearSuite, seed: u64) -> String {
                 stacked_pairs: usize::from(objects >= 4 && rng.random_bool(0.6)),
                 ..TabletopLayout::nine()
             };
-            place_groups(
-                &mut rng,
-                &layout,
-                CLEAR_REGION_CENTER,
-                CLEAR_REGION_HALF,
-                TABLE_TOP,
-                0.03,
-                Some(CLEAR_GRIP),
-            )
+            let region = Region {
+                center: CLEAR_REGION_CENTER,
+                half: CLEAR_REGION_HALF,
+                top: TABLE_TOP,
+                gap: 0.03,
+                grip: Some(CLEAR_GRIP),
+            };
+            place_groups(&mut rng, &layout, &region)
         }
         ClearSuite::Packed => packed_grid(&mut rng),
         _ => pile(&mut rng),

@@ -162,15 +162,14 @@ impl Placed {
 /// A scene file (TOML) for `layout`, placed by `seed`; same inputs, same text.
 pub fn tabletop_scene(seed: u64, layout: &TabletopLayout) -> String {
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    let placed = place_groups(
-        &mut rng,
-        layout,
-        TABLE_CENTER,
-        [TABLE_SIZE[0] / 2.0 - 0.1, TABLE_SIZE[1] / 2.0 - 0.1],
-        TABLE_TOP,
-        0.03,
-        None,
-    );
+    let region = Region {
+        center: TABLE_CENTER,
+        half: [TABLE_SIZE[0] / 2.0 - 0.1, TABLE_SIZE[1] / 2.0 - 0.1],
+        top: TABLE_TOP,
+        gap: 0.03,
+        grip: None,
+    };
+    let placed = place_groups(&mut rng, layout, &region);
     let mut s = String::new();
     let _ = writeln!(
         s,
@@ -227,19 +226,31 @@ pub(super) fn write_objects(s: &mut String, rng: &mut ChaCha8Rng, placed: &[Plac
     }
 }
 
+/// Where a layout's groups go: inside the rectangle `center ± half` on a surface at
+/// height `top`, groups at least `gap` apart, every object fitting `grip` if given.
+#[derive(Clone, Copy)]
+pub(super) struct Region {
+    pub(super) center: [f64; 2],
+    pub(super) half: [f64; 2],
+    pub(super) top: f64,
+    pub(super) gap: f64,
+    pub(super) grip: Option<f64>,
+}
+
 /// Singles, touching pairs (1 mm apart) and stacked pairs of `layout`, by rejection
-/// sampling inside the rectangle `center ± half` on a surface at height `top`, groups at
-/// least `gap` apart.
-#[allow(clippy::too_many_arguments)]
+/// sampling inside `region`.
 pub(super) fn place_groups(
     rng: &mut ChaCha8Rng,
     layout: &TabletopLayout,
-    center: [f64; 2],
-    half: [f64; 2],
-    top: f64,
-    gap: f64,
-    grip: Option<f64>,
+    region: &Region,
 ) -> Vec<Placed> {
+    let Region {
+        center,
+        half,
+        top,
+        gap,
+        grip,
+    } = *region;
     let mut placed: Vec<Placed> = Vec::new();
     // Footprints (centre, radius) already taken.
     let mut taken: Vec<([f64; 2], f64)> = Vec::new();
