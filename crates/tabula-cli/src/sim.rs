@@ -231,105 +231,8 @@ fn run_command(world: &mut SimWorld, line: &str) -> Result<()> {
 
 pub fn run(cmd: SimCommand) -> Result<()> {
     match cmd {
-        SimCommand::Settle { scene, json } => {
-            let (_, mut world) = load(&scene)?;
-            let t0 = Instant::now();
-            let report = world.settle();
-            let ms = t0.elapsed().as_secs_f64() * 1e3;
-            if json {
-                let poses: Vec<_> = world
-                    .object_poses()
-                    .into_iter()
-                    .map(|(n, p)| serde_json::json!({"name": n, "xyz": p.translation.to_array(), "quat_xyzw": p.rotation.to_array()}))
-                    .collect();
-                println!(
-                    "{}",
-                    serde_json::json!({"report": report, "wall_ms": ms, "objects": poses})
-                );
-            } else {
-                println!(
-                    "settled in {} steps ({:.2} s simulated, {ms:.1} ms wall), all asleep: {}",
-                    report.steps, report.simulated_seconds, report.all_asleep
-                );
-                print_poses(&world);
-            }
-        }
-        SimCommand::Capture(a) => {
-            let (scene, mut world) = load(&a.scene)?;
-            if a.settle {
-                world.settle();
-            }
-            let camera = camera_of(&scene, &world, a.camera.as_deref())?;
-            let t0 = Instant::now();
-            let frame = capture(&world, &camera, a.seed);
-            let ms = t0.elapsed().as_secs_f64() * 1e3;
-            let cannot_write = || format!("cannot write {}", a.out.display());
-            let mut out =
-                std::io::BufWriter::new(std::fs::File::create(&a.out).with_context(cannot_write)?);
-            let ply = a
-                .out
-                .extension()
-                .is_some_and(|e| e.eq_ignore_ascii_case("ply"));
-            if ply && a.world {
-                bail!("--world needs a PCD (PLY has no VIEWPOINT for the camera's pose)");
-            }
-            if ply {
-                let encoding = if a.binary {
-                    tabula_geom::PlyEncoding::BinaryLittleEndian
-                } else {
-                    tabula_geom::PlyEncoding::Ascii
-                };
-                tabula_geom::write_ply(&frame.cloud, &mut out, encoding)
-                    .with_context(cannot_write)?;
-            } else {
-                let encoding = if a.binary {
-                    PcdEncoding::Binary
-                } else {
-                    PcdEncoding::Ascii
-                };
-                if a.world {
-                    frame
-                        .cloud
-                        .transformed(&frame.world_from_camera)
-                        .write_pcd_with(&mut out, encoding, &frame.world_from_camera, None)
-                        .with_context(cannot_write)?;
-                } else {
-                    frame
-                        .cloud
-                        .write_pcd(&mut out, encoding)
-                        .with_context(cannot_write)?;
-                }
-            }
-            // Dropping a BufWriter swallows the last write's error (a full disk).
-            std::io::Write::flush(&mut out).with_context(cannot_write)?;
-            if let Some(path) = &a.labels {
-                let v = serde_json::json!({"width": frame.width, "height": frame.height, "names": frame.label_names, "labels": frame.labels});
-                std::fs::write(path, v.to_string())
-                    .with_context(|| format!("cannot write {}", path.display()))?;
-            }
-            let p = frame.world_from_camera;
-            let [r, pi, y] = rpy_from_quat(p.rotation);
-            println!(
-                "{}×{} frame, {} valid points, {ms:.1} ms; world_from_camera (optical) xyz {:.4} {:.4} {:.4} rpy {:.4} {:.4} {:.4} (--world-from-camera {} {} {} {} {} {} {}); wrote {}",
-                frame.width,
-                frame.height,
-                frame.cloud.finite_count(),
-                p.translation.x,
-                p.translation.y,
-                p.translation.z,
-                r,
-                pi,
-                y,
-                p.translation.x,
-                p.translation.y,
-                p.translation.z,
-                p.rotation.x,
-                p.rotation.y,
-                p.rotation.z,
-                p.rotation.w,
-                a.out.display()
-            );
-        }
+        SimCommand::Settle { scene, json } => settle(&scene, json)?,
+        SimCommand::Capture(a) => capture_to_file(&a)?,
         SimCommand::Snapshot(a) => {
             let (_, world) = load(&a.scene)?;
             if a.width == 0 || a.height == 0 || a.width * a.height > 16_000_000 {
@@ -391,43 +294,151 @@ pub fn run(cmd: SimCommand) -> Result<()> {
             scene,
             frames,
             json,
-        } => {
-            let (s, world) = load(&scene)?;
-            let camera = camera_of(&s, &world, None)?;
-            let mut capture_ms = Vec::new();
-            for seed in 0..frames.max(1) as u64 {
-                let t0 = Instant::now();
-                std::hint::black_box(capture(&world, &camera, seed));
-                capture_ms.push(t0.elapsed().as_secs_f64() * 1e3);
-            }
-            let mut settle_ms = Vec::new();
-            let mut steps = 0;
-            for _ in 0..frames.max(1) {
-                let (_, mut w) = load(&scene)?;
-                let t0 = Instant::now();
-                steps = w.settle().steps;
-                settle_ms.push(t0.elapsed().as_secs_f64() * 1e3);
-            }
-            let median = |v: &mut Vec<f64>| {
-                v.sort_by(f64::total_cmp);
-                v[v.len() / 2]
-            };
-            let (c, st) = (median(&mut capture_ms), median(&mut settle_ms));
-            if json {
-                println!(
-                    "{}",
-                    serde_json::json!({"capture_ms_median": c, "settle_ms_median": st, "settle_steps": steps, "width": camera.width, "height": camera.height, "threads": rayon::current_num_threads()})
-                );
-            } else {
-                println!(
-                    "{}: {}×{} capture median {c:.1} ms wall ({} threads); settle median {st:.1} ms wall ({steps} steps)",
-                    scene.display(),
-                    camera.width,
-                    camera.height,
-                    rayon::current_num_threads()
-                );
-            }
+        } => bench(&scene, frames, json)?,
+    }
+    Ok(())
+}
+
+/// `sim settle`: the scene settled, its objects' poses.
+fn settle(scene: &std::path::Path, json: bool) -> Result<()> {
+    let (_, mut world) = load(scene)?;
+    let t0 = Instant::now();
+    let report = world.settle();
+    let ms = t0.elapsed().as_secs_f64() * 1e3;
+    if json {
+        let poses: Vec<_> = world
+            .object_poses()
+            .into_iter()
+            .map(|(n, p)| serde_json::json!({"name": n, "xyz": p.translation.to_array(), "quat_xyzw": p.rotation.to_array()}))
+            .collect();
+        println!(
+            "{}",
+            serde_json::json!({"report": report, "wall_ms": ms, "objects": poses})
+        );
+    } else {
+        println!(
+            "settled in {} steps ({:.2} s simulated, {ms:.1} ms wall), all asleep: {}",
+            report.steps, report.simulated_seconds, report.all_asleep
+        );
+        print_poses(&world);
+    }
+    Ok(())
+}
+
+/// `sim capture`: one frame of a scene camera written as PCD or PLY (and its labels).
+fn capture_to_file(a: &CaptureArgs) -> Result<()> {
+    let (scene, mut world) = load(&a.scene)?;
+    if a.settle {
+        world.settle();
+    }
+    let camera = camera_of(&scene, &world, a.camera.as_deref())?;
+    let t0 = Instant::now();
+    let frame = capture(&world, &camera, a.seed);
+    let ms = t0.elapsed().as_secs_f64() * 1e3;
+    let cannot_write = || format!("cannot write {}", a.out.display());
+    let mut out =
+        std::io::BufWriter::new(std::fs::File::create(&a.out).with_context(cannot_write)?);
+    let ply = a
+        .out
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("ply"));
+    if ply && a.world {
+        bail!("--world needs a PCD (PLY has no VIEWPOINT for the camera's pose)");
+    }
+    if ply {
+        let encoding = if a.binary {
+            tabula_geom::PlyEncoding::BinaryLittleEndian
+        } else {
+            tabula_geom::PlyEncoding::Ascii
+        };
+        tabula_geom::write_ply(&frame.cloud, &mut out, encoding).with_context(cannot_write)?;
+    } else {
+        let encoding = if a.binary {
+            PcdEncoding::Binary
+        } else {
+            PcdEncoding::Ascii
+        };
+        if a.world {
+            frame
+                .cloud
+                .transformed(&frame.world_from_camera)
+                .write_pcd_with(&mut out, encoding, &frame.world_from_camera, None)
+                .with_context(cannot_write)?;
+        } else {
+            frame
+                .cloud
+                .write_pcd(&mut out, encoding)
+                .with_context(cannot_write)?;
         }
+    }
+    // Dropping a BufWriter swallows the last write's error (a full disk).
+    std::io::Write::flush(&mut out).with_context(cannot_write)?;
+    if let Some(path) = &a.labels {
+        let v = serde_json::json!({"width": frame.width, "height": frame.height, "names": frame.label_names, "labels": frame.labels});
+        std::fs::write(path, v.to_string())
+            .with_context(|| format!("cannot write {}", path.display()))?;
+    }
+    let p = frame.world_from_camera;
+    let [r, pi, y] = rpy_from_quat(p.rotation);
+    println!(
+        "{}×{} frame, {} valid points, {ms:.1} ms; world_from_camera (optical) xyz {:.4} {:.4} {:.4} rpy {:.4} {:.4} {:.4} (--world-from-camera {} {} {} {} {} {} {}); wrote {}",
+        frame.width,
+        frame.height,
+        frame.cloud.finite_count(),
+        p.translation.x,
+        p.translation.y,
+        p.translation.z,
+        r,
+        pi,
+        y,
+        p.translation.x,
+        p.translation.y,
+        p.translation.z,
+        p.rotation.x,
+        p.rotation.y,
+        p.rotation.z,
+        p.rotation.w,
+        a.out.display()
+    );
+    Ok(())
+}
+
+/// `sim bench`: capture and settle times of a scene, medians.
+fn bench(scene: &std::path::Path, frames: usize, json: bool) -> Result<()> {
+    let (s, world) = load(scene)?;
+    let camera = camera_of(&s, &world, None)?;
+    let mut capture_ms = Vec::new();
+    for seed in 0..frames.max(1) as u64 {
+        let t0 = Instant::now();
+        std::hint::black_box(capture(&world, &camera, seed));
+        capture_ms.push(t0.elapsed().as_secs_f64() * 1e3);
+    }
+    let mut settle_ms = Vec::new();
+    let mut steps = 0;
+    for _ in 0..frames.max(1) {
+        let (_, mut w) = load(scene)?;
+        let t0 = Instant::now();
+        steps = w.settle().steps;
+        settle_ms.push(t0.elapsed().as_secs_f64() * 1e3);
+    }
+    let median = |v: &mut Vec<f64>| {
+        v.sort_by(f64::total_cmp);
+        v[v.len() / 2]
+    };
+    let (c, st) = (median(&mut capture_ms), median(&mut settle_ms));
+    if json {
+        println!(
+            "{}",
+            serde_json::json!({"capture_ms_median": c, "settle_ms_median": st, "settle_steps": steps, "width": camera.width, "height": camera.height, "threads": rayon::current_num_threads()})
+        );
+    } else {
+        println!(
+            "{}: {}×{} capture median {c:.1} ms wall ({} threads); settle median {st:.1} ms wall ({steps} steps)",
+            scene.display(),
+            camera.width,
+            camera.height,
+            rayon::current_num_threads()
+        );
     }
     Ok(())
 }
