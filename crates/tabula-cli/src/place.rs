@@ -329,7 +329,7 @@ fn held_by(world: &SimWorld, robot: &str) -> Option<String> {
 /// `tabula bench place`: the generated suite, each task placed in the simulator (both
 /// cores, one task each, or spread over workers) and judged by physics.
 pub fn bench(b: &crate::trials::SuiteRun<'_>) -> Result<()> {
-    let (suite, trials, seed, save_failures) = (b.suite, b.count, b.seed, b.save_failures);
+    let (suite, save_failures) = (b.suite, b.save_failures);
     let kind = suite_of(suite)?;
     let params: PlaceParams = load_params(b.params)?;
     // Saved failures keep their meshes beside them.
@@ -365,47 +365,7 @@ pub fn bench(b: &crate::trials::SuiteRun<'_>) -> Result<()> {
         }
     }
     if let Some(dir) = b.report {
-        let n = rows.len();
-        let k = rows.iter().filter(|r| r.success).count();
-        let (lo, hi) = wilson(k, n);
-        let mut numbers = vec![
-            ("trials".to_string(), n.to_string()),
-            (
-                "placed (95 % interval)".to_string(),
-                format!(
-                    "{k} = {:.1} % ({:.1}–{:.1} %)",
-                    100.0 * k as f64 / n.max(1) as f64,
-                    100.0 * lo,
-                    100.0 * hi
-                ),
-            ),
-        ];
-        numbers.extend(
-            causes
-                .iter()
-                .map(|(c, count)| (format!("failed: {c}"), count.to_string())),
-        );
-        crate::report::bench_report(
-            dir,
-            crate::report::BenchSummary {
-                title: "Placing an unknown object (seed 000)",
-                command: format!(
-                    "tabula bench place --suite {suite} --trials {trials} --seed {seed}"
-                ),
-                numbers,
-                classes: (
-                    "object class",
-                    crate::report::per_class(rows.iter().map(|r| (r.object.as_str(), r.success))),
-                ),
-                distributions: vec![(
-                    "Decision CPU per task",
-                    "ms",
-                    rows.iter().map(|r| r.decision_ms).collect(),
-                )],
-                bars: Vec::new(),
-            },
-            &rows,
-        )?;
+        bench_report(dir, b, &rows, &causes)?;
     }
     if b.json {
         println!("{}", serde_json::to_string_pretty(&rows)?);
@@ -475,5 +435,56 @@ pub fn bench(b: &crate::trials::SuiteRun<'_>) -> Result<()> {
                 .join(", ")
         );
     }
+    Ok(())
+}
+
+/// The report page of `bench place`: the success rate with its interval, failures by
+/// cause, success per object class, decision times.
+fn bench_report(
+    dir: &std::path::Path,
+    b: &crate::trials::SuiteRun<'_>,
+    rows: &[BenchRow],
+    causes: &std::collections::BTreeMap<&str, usize>,
+) -> Result<()> {
+    let (suite, trials, seed) = (b.suite, b.count, b.seed);
+    let n = rows.len();
+    let k = rows.iter().filter(|r| r.success).count();
+    let (lo, hi) = wilson(k, n);
+    let mut numbers = vec![
+        ("trials".to_string(), n.to_string()),
+        (
+            "placed (95 % interval)".to_string(),
+            format!(
+                "{k} = {:.1} % ({:.1}–{:.1} %)",
+                100.0 * k as f64 / n.max(1) as f64,
+                100.0 * lo,
+                100.0 * hi
+            ),
+        ),
+    ];
+    numbers.extend(
+        causes
+            .iter()
+            .map(|(c, count)| (format!("failed: {c}"), count.to_string())),
+    );
+    crate::report::bench_report(
+        dir,
+        crate::report::BenchSummary {
+            title: "Placing an unknown object (seed 000)",
+            command: format!("tabula bench place --suite {suite} --trials {trials} --seed {seed}"),
+            numbers,
+            classes: (
+                "object class",
+                crate::report::per_class(rows.iter().map(|r| (r.object.as_str(), r.success))),
+            ),
+            distributions: vec![(
+                "Decision CPU per task",
+                "ms",
+                rows.iter().map(|r| r.decision_ms).collect(),
+            )],
+            bars: Vec::new(),
+        },
+        &rows,
+    )?;
     Ok(())
 }
