@@ -148,43 +148,9 @@ pub fn run(a: PerceiveArgs) -> Result<()> {
     };
     let perceived = perceive(&file, world_from_camera, up, &solids, &params)?;
     let Perceived {
-        framing,
-        cloud,
-        result,
-        surfaces,
-        map,
-        removed,
-        ms,
+        cloud, result, map, ..
     } = &perceived;
-    let placement = match &a.place {
-        Some(size) => {
-            if !(size.iter().all(|s| s.is_finite() && *s > 0.0)) {
-                bail!("--place sizes must be positive");
-            }
-            if !(a.margin.is_finite() && a.margin >= 0.0) {
-                bail!("--margin must be a finite distance ≥ 0");
-            }
-            if a.near
-                .as_ref()
-                .is_some_and(|n| !n.iter().all(|v| v.is_finite()))
-            {
-                bail!("--near must be a finite point");
-            }
-            let (x, y) = (size[0] / 2.0, size[1] / 2.0);
-            let footprint = [
-                Vec2::new(-x, -y),
-                Vec2::new(x, -y),
-                Vec2::new(x, y),
-                Vec2::new(-x, y),
-            ];
-            let near = a
-                .near
-                .as_ref()
-                .map_or(result.table.centroid, |n| Vec3::new(n[0], n[1], n[2]));
-            Some(map.find_place(&footprint, a.margin, near))
-        }
-        None => None,
-    };
+    let placement = placement_of(&a, result, map)?;
     // A footprint that fits nowhere is "no solution": exit status 2 after the report.
     let no_place = matches!(placement, Some(None));
     let colors = file.colors.as_deref();
@@ -202,6 +168,64 @@ pub fn run(a: PerceiveArgs) -> Result<()> {
         }
         return Ok(());
     }
+    print_perceived(&perceived, placement, colors);
+    if no_place {
+        std::process::exit(crate::exit::NO_SOLUTION);
+    }
+    Ok(())
+}
+
+/// Where `--place` (a footprint's size) fits on the table, near `--near` or the
+/// table's centre: `None` without `--place`, `Some(None)` when it fits nowhere.
+fn placement_of(
+    a: &PerceiveArgs,
+    result: &Tabletop,
+    map: &FreeSpaceMap,
+) -> Result<Option<Option<Placement>>> {
+    let Some(size) = &a.place else {
+        return Ok(None);
+    };
+    if !(size.iter().all(|s| s.is_finite() && *s > 0.0)) {
+        bail!("--place sizes must be positive");
+    }
+    if !(a.margin.is_finite() && a.margin >= 0.0) {
+        bail!("--margin must be a finite distance ≥ 0");
+    }
+    if a.near
+        .as_ref()
+        .is_some_and(|n| !n.iter().all(|v| v.is_finite()))
+    {
+        bail!("--near must be a finite point");
+    }
+    let (x, y) = (size[0] / 2.0, size[1] / 2.0);
+    let footprint = [
+        Vec2::new(-x, -y),
+        Vec2::new(x, -y),
+        Vec2::new(x, y),
+        Vec2::new(-x, y),
+    ];
+    let near = a
+        .near
+        .as_ref()
+        .map_or(result.table.centroid, |n| Vec3::new(n[0], n[1], n[2]));
+    Ok(Some(map.find_place(&footprint, a.margin, near)))
+}
+
+/// What `tabula perceive` prints without `--json`.
+fn print_perceived(
+    perceived: &Perceived,
+    placement: Option<Option<Placement>>,
+    colors: Option<&[[u8; 3]]>,
+) {
+    let Perceived {
+        framing,
+        result,
+        surfaces,
+        map,
+        removed,
+        ms,
+        ..
+    } = perceived;
     let t = &framing.world_from_cloud;
     match framing.source {
         FrameSource::GivenPose => println!("frame: the world, from the sensor pose given"),
@@ -303,10 +327,6 @@ pub fn run(a: PerceiveArgs) -> Result<()> {
         result.times.segmentation,
         result.times.objects
     );
-    if no_place {
-        std::process::exit(crate::exit::NO_SOLUTION);
-    }
-    Ok(())
 }
 
 /// Yaw (rad) of a box's long side from the world x axis, in [-90°, 90°): a box turned
