@@ -1,7 +1,7 @@
 //! Clearing (seed 002) judged in the simulator: one run's outcome and verdict together
 //! (what `tabula clear --json` prints), and the suites' trials (`bench clear`).
 
-use crate::judged::run_judged;
+use crate::judged::run_in;
 use crate::spec::TrialSpec;
 use crate::stats::wilson;
 use anyhow::{Result, anyhow};
@@ -68,16 +68,10 @@ pub fn clear_in(
     seed: u64,
     on_start: impl FnOnce(&mut SimDriver),
 ) -> Result<(ClearRun, SimWorld)> {
-    let (name, named) = crate::scene_robot_named(&world, robot)?;
     let request = request(&ClearSetup::of(&world, BIN)?, max_actions);
     let ground = (TABLE.to_string(), BIN.to_string());
-    let (outcome, verdict, world) = run_judged::<Clear>(
-        world,
-        (&name, &named),
-        (&request, params, &ground),
-        seed,
-        on_start,
-    )?;
+    let (outcome, verdict, world) =
+        run_in::<Clear>(world, robot, (&request, params, &ground), seed, on_start)?;
     Ok((ClearRun::of(outcome, verdict), world))
 }
 

@@ -58,6 +58,24 @@ pub fn run_judged<T: Judged>(
     )
 }
 
+/// [`run_judged`] with the world's robot called `robot` (its first without a name).
+pub fn run_in<T: Judged>(
+    world: SimWorld,
+    robot: Option<&str>,
+    asked: (&T::Request, &T::Params, &T::Ground),
+    seed: u64,
+    on_start: impl FnOnce(&mut SimDriver),
+) -> anyhow::Result<(T::Outcome, Verdict<T>, SimWorld)> {
+    let (name, named) = crate::scene_robot_named(&world, robot)?;
+    Ok(run_judged::<T>(
+        world,
+        (&name, &named),
+        asked,
+        seed,
+        on_start,
+    )?)
+}
+
 impl Judged for Clear {
     type Judge = ClearJudge;
     /// The table to clear and the bin to clear it into (furniture names).

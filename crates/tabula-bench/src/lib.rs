@@ -19,7 +19,7 @@ pub mod trials;
 #[cfg(feature = "ros")]
 pub mod worker;
 
-pub use judged::{Judged, Verdict, run_judged};
+pub use judged::{Judged, Verdict, run_in, run_judged};
 
 use anyhow::{Result, bail};
 use tabula_robot::robots::NamedRobot;

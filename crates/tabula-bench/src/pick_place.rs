@@ -2,7 +2,7 @@
 //! and verdict together (what `tabula pick-place --json` prints), and the generated
 //! shelf tasks' trials (`bench pick-place`).
 
-use crate::judged::run_judged;
+use crate::judged::run_in;
 use anyhow::Result;
 use serde::Serialize;
 use tabula_geom::Vec3;
@@ -50,15 +50,9 @@ pub fn pick_place_in(
     seed: u64,
     on_start: impl FnOnce(&mut SimDriver),
 ) -> Result<(PickPlaceRun, SimWorld)> {
-    let (name, named) = crate::scene_robot_named(&world, robot)?;
     let dry_run = world.kinematic_only;
-    let (outcome, verdict, world) = run_judged::<PickPlace>(
-        world,
-        (&name, &named),
-        (request, params, &()),
-        seed,
-        on_start,
-    )?;
+    let (outcome, verdict, world) =
+        run_in::<PickPlace>(world, robot, (request, params, &()), seed, on_start)?;
     Ok((PickPlaceRun::of(outcome, verdict, dry_run), world))
 }
 

@@ -1,7 +1,7 @@
 //! Tidying judged in the simulator: one run's outcome and verdict together (what
 //! `tabula tidy --json` prints), and the tidying family's trials (`bench tidy`).
 
-use crate::judged::run_judged;
+use crate::judged::run_in;
 use anyhow::Result;
 use serde::Serialize;
 use tabula_sim::judge::TidyVerdict;
@@ -60,15 +60,9 @@ pub fn tidy_in(
     seed: u64,
     on_start: impl FnOnce(&mut SimDriver),
 ) -> Result<(TidyRun, SimWorld)> {
-    let (name, named) = crate::scene_robot_named(&world, robot)?;
     let source = source.to_string();
-    let (outcome, verdict, world) = run_judged::<Tidy>(
-        world,
-        (&name, &named),
-        (request, params, &source),
-        seed,
-        on_start,
-    )?;
+    let (outcome, verdict, world) =
+        run_in::<Tidy>(world, robot, (request, params, &source), seed, on_start)?;
     Ok((TidyRun::of(outcome, verdict), world))
 }
 

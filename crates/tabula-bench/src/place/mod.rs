@@ -6,7 +6,7 @@ mod truth;
 
 pub use trial::{BenchRow, Suite, suite_of, task_of, trial, trial_of, worker_mesh_dir};
 
-use crate::judged::run_judged;
+use crate::judged::run_in;
 use serde::Serialize;
 use tabula_sim::judge::StablePlaceVerdict;
 use tabula_sim::{SimDriver, SimWorld};
@@ -75,14 +75,8 @@ pub fn place_in(
     seed: u64,
     on_start: impl FnOnce(&mut SimDriver),
 ) -> anyhow::Result<(PlaceRun, SimWorld)> {
-    let (name, named) = crate::scene_robot_named(&world, robot)?;
     let dry_run = world.kinematic_only;
-    let (outcome, verdict, world) = run_judged::<Place>(
-        world,
-        (&name, &named),
-        (request, params, &()),
-        seed,
-        on_start,
-    )?;
+    let (outcome, verdict, world) =
+        run_in::<Place>(world, robot, (request, params, &()), seed, on_start)?;
     Ok((PlaceRun::of(outcome, verdict, dry_run), world))
 }
