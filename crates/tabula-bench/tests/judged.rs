@@ -1,0 +1,70 @@
+//! The one judged run, through each task's entry: a placing run judged by physics as
+//! the CLI runs it, and workcells the judges cannot judge refused by name.
+
+use tabula_bench::clear::clear_in;
+use tabula_bench::place::place_in;
+use tabula_sim::{Scene, SimWorld};
+use tabula_tasks::clear::ClearParams;
+use tabula_tasks::place::{PlaceParams, PlaceRequest};
+
+fn world(file: &str) -> SimWorld {
+    let path = format!("{}/../../scenes/{file}", env!("CARGO_MANIFEST_DIR"));
+    let scene = Scene::load(std::path::Path::new(&path)).unwrap();
+    SimWorld::from_scene(&scene, Default::default()).unwrap()
+}
+
+#[test]
+fn the_seed_placement_is_judged_resting_on_the_table() {
+    let request = PlaceRequest {
+        arm: Some("right".into()),
+        not_on: Vec::new(),
+        near: None,
+    };
+    let params = PlaceParams::default();
+    let mut started = false;
+    let (run, world) = place_in(
+        world("pr2_holding.toml"),
+        None,
+        (&request, &params),
+        0,
+        |_| started = true,
+    )
+    .unwrap();
+    assert!(started, "on_start sees the driver before the task");
+    assert!(run.success, "{:?}", run.verdict);
+    assert_eq!(run.verdict.surface.as_deref(), Some("table"));
+    assert!(run.verdict.released && run.verdict.orientation_error_deg < 5.0);
+    assert!(world.held_objects("pr2").is_empty());
+}
+
+#[test]
+fn judges_refuse_what_they_cannot_judge() {
+    // Clearing's judge needs the bin; placing's needs something held.
+    let params = ClearParams::default();
+    let e = clear_in(world("pr2_holding.toml"), None, (&params, None), 0, |_| {})
+        .err()
+        .unwrap();
+    assert!(e.to_string().contains("bin"), "{e}");
+    let request = PlaceRequest::default();
+    let e = place_in(
+        world("clutter.toml"),
+        None,
+        (&request, &PlaceParams::default()),
+        0,
+        |_| {},
+    )
+    .err()
+    .unwrap();
+    assert!(e.to_string().contains("holds nothing"), "{e}");
+    // A robot the scene does not have.
+    let e = clear_in(
+        world("clutter.toml"),
+        Some("r2d2"),
+        (&params, None),
+        0,
+        |_| {},
+    )
+    .err()
+    .unwrap();
+    assert!(e.to_string().contains("r2d2"), "{e}");
+}
