@@ -242,7 +242,7 @@ fn summary_lines(out: &ClearJson) -> Vec<String> {
 /// `tabula bench clear`: every scene of a suite cleared in the simulator (both cores,
 /// one scene each, or spread over workers), judged by physics.
 pub fn bench(b: &crate::trials::SuiteRun<'_>) -> Result<()> {
-    let (suite, scenes, seed) = (b.suite, b.count, b.seed);
+    let suite = b.suite;
     let which: ClearSuite = suite.parse().map_err(|e: String| anyhow!(e))?;
     let params: ClearParams = load_params(b.params)?;
     let runs = b.run("clear", |s| tabula_bench::clear::trial(which, s, &params))?;
@@ -266,66 +266,7 @@ pub fn bench(b: &crate::trials::SuiteRun<'_>) -> Result<()> {
     let s = Summary::of(suite, &rows, &frames);
     let summary = serde_json::to_value(&s)?;
     if let Some(dir) = b.report {
-        let numbers = [
-            "scenes",
-            "objects",
-            "removed",
-            "completion",
-            "scenes_cleared",
-            "actions",
-            "objects_per_action",
-            "grasp_success",
-            "pushes",
-            "push_loops",
-            "collisions",
-            "disturbed",
-            "no_plan_frames",
-            "ik_backtracks",
-        ]
-        .iter()
-        .map(|k| (k.replace('_', " "), summary[*k].to_string()))
-        .collect();
-        // Completion per scene size: how many objects the table had.
-        let mut sizes: Vec<(String, usize, usize)> = Vec::new();
-        let mut by_size: std::collections::BTreeMap<usize, (usize, usize)> = Default::default();
-        for r in &rows {
-            let e = by_size.entry(r.objects).or_default();
-            e.0 += r.in_bin;
-            e.1 += r.objects;
-        }
-        for (objects, (k, n)) in by_size {
-            sizes.push((format!("{objects} objects"), k, n));
-        }
-        crate::report::bench_report(
-            dir,
-            crate::report::BenchSummary {
-                title: "Clearing a cluttered table (seed 002)",
-                command: format!(
-                    "tabula bench clear --suite {suite} --scenes {scenes} --seed {seed}"
-                ),
-                numbers,
-                classes: ("table size (objects in the bin)", sizes),
-                distributions: vec![
-                    (
-                        "Decision CPU per frame",
-                        "ms",
-                        frames.iter().map(|f| f[0]).collect(),
-                    ),
-                    (
-                        "Perception CPU per frame",
-                        "ms",
-                        frames.iter().map(|f| f[1]).collect(),
-                    ),
-                    (
-                        "Planning CPU per frame",
-                        "ms",
-                        frames.iter().map(|f| f[3]).collect(),
-                    ),
-                ],
-                bars: Vec::new(),
-            },
-            &summary,
-        )?;
+        bench_report(dir, b, (&rows, &frames), &summary)?;
     }
     if b.json {
         println!("{}", serde_json::to_string_pretty(&summary)?);
@@ -382,5 +323,75 @@ pub fn bench(b: &crate::trials::SuiteRun<'_>) -> Result<()> {
         s.planning_ms,
         s.ik_ms
     );
+    Ok(())
+}
+
+/// The report page of `bench clear`: the suite's numbers, completion per table size,
+/// decision, perception and planning times per frame.
+fn bench_report(
+    dir: &std::path::Path,
+    b: &crate::trials::SuiteRun<'_>,
+    (rows, frames): (&[tabula_bench::clear::BenchRow], &[[f64; 5]]),
+    summary: &serde_json::Value,
+) -> Result<()> {
+    let (suite, scenes, seed) = (b.suite, b.count, b.seed);
+    let numbers = [
+        "scenes",
+        "objects",
+        "removed",
+        "completion",
+        "scenes_cleared",
+        "actions",
+        "objects_per_action",
+        "grasp_success",
+        "pushes",
+        "push_loops",
+        "collisions",
+        "disturbed",
+        "no_plan_frames",
+        "ik_backtracks",
+    ]
+    .iter()
+    .map(|k| (k.replace('_', " "), summary[*k].to_string()))
+    .collect();
+    // Completion per scene size: how many objects the table had.
+    let mut sizes: Vec<(String, usize, usize)> = Vec::new();
+    let mut by_size: std::collections::BTreeMap<usize, (usize, usize)> = Default::default();
+    for r in rows {
+        let e = by_size.entry(r.objects).or_default();
+        e.0 += r.in_bin;
+        e.1 += r.objects;
+    }
+    for (objects, (k, n)) in by_size {
+        sizes.push((format!("{objects} objects"), k, n));
+    }
+    crate::report::bench_report(
+        dir,
+        crate::report::BenchSummary {
+            title: "Clearing a cluttered table (seed 002)",
+            command: format!("tabula bench clear --suite {suite} --scenes {scenes} --seed {seed}"),
+            numbers,
+            classes: ("table size (objects in the bin)", sizes),
+            distributions: vec![
+                (
+                    "Decision CPU per frame",
+                    "ms",
+                    frames.iter().map(|f| f[0]).collect(),
+                ),
+                (
+                    "Perception CPU per frame",
+                    "ms",
+                    frames.iter().map(|f| f[1]).collect(),
+                ),
+                (
+                    "Planning CPU per frame",
+                    "ms",
+                    frames.iter().map(|f| f[3]).collect(),
+                ),
+            ],
+            bars: Vec::new(),
+        },
+        &summary,
+    )?;
     Ok(())
 }

@@ -394,57 +394,7 @@ fn run_bench(a: BenchArgs) -> Result<()> {
     );
     progress.finish_and_clear();
     if let Some(dir) = &a.report {
-        let e = &report.axis_error_samples;
-        let p95 = |v: &[f64]| tabula_robot::ik::bench::Spread::of(v).p95;
-        crate::report::bench_report(
-            dir,
-            crate::report::BenchSummary {
-                title: "Inverse kinematics (seed 001's protocol)",
-                command: format!(
-                    "tabula ik bench --robot {} --solver {} --poses {} --seed {}",
-                    s.robot.label, report.solver, a.poses, a.seed
-                ),
-                numbers: vec![
-                    (
-                        "chain".into(),
-                        format!("{} → {} ({} DOF)", report.base, report.tip, report.dof),
-                    ),
-                    ("mode".into(), report.mode.clone()),
-                    ("success rate".into(), format!("{:.4}", report.success_rate)),
-                    (
-                        "solve µs median / p95 / max".into(),
-                        format!(
-                            "{:.2} / {:.2} / {:.2}",
-                            report.solve_us.median, report.solve_us.p95, report.solve_us.max
-                        ),
-                    ),
-                    (
-                        "CPU µs per solve".into(),
-                        format!("{:.2}", report.cpu_us_per_solve),
-                    ),
-                    (
-                        "unreachable targets rejected".into(),
-                        format!("{:.4}", report.unreachable_rejected_rate),
-                    ),
-                ],
-                classes: ("", Vec::new()),
-                distributions: vec![(
-                    "Wall time per solve (reachable targets)",
-                    "µs",
-                    report.solve_us_samples.clone(),
-                )],
-                bars: vec![(
-                    "Error per axis, 95th percentile (µm for x y z, µrad for roll pitch yaw)",
-                    "µm / µrad",
-                    ["x", "y", "z", "roll", "pitch", "yaw"]
-                        .iter()
-                        .zip(e.iter())
-                        .map(|(n, v)| (n.to_string(), p95(v) * 1e6))
-                        .collect(),
-                )],
-            },
-            &report,
-        )?;
+        bench_report(dir, &a, &s, &report)?;
     }
     if a.json {
         println!("{}", serde_json::to_string(&report)?);
@@ -660,5 +610,67 @@ fn compare_report(
     report.sections.push(section);
     let page = report.finish(out)?;
     eprintln!("report: {}", page.display());
+    Ok(())
+}
+
+/// The report page of `ik bench`: the solver, its success rate, solve times and the
+/// per-axis errors.
+fn bench_report(
+    dir: &std::path::Path,
+    a: &BenchArgs,
+    s: &Setup,
+    report: &IkBenchReport,
+) -> Result<()> {
+    let e = &report.axis_error_samples;
+    let p95 = |v: &[f64]| tabula_robot::ik::bench::Spread::of(v).p95;
+    crate::report::bench_report(
+        dir,
+        crate::report::BenchSummary {
+            title: "Inverse kinematics (seed 001's protocol)",
+            command: format!(
+                "tabula ik bench --robot {} --solver {} --poses {} --seed {}",
+                s.robot.label, report.solver, a.poses, a.seed
+            ),
+            numbers: vec![
+                (
+                    "chain".into(),
+                    format!("{} → {} ({} DOF)", report.base, report.tip, report.dof),
+                ),
+                ("mode".into(), report.mode.clone()),
+                ("success rate".into(), format!("{:.4}", report.success_rate)),
+                (
+                    "solve µs median / p95 / max".into(),
+                    format!(
+                        "{:.2} / {:.2} / {:.2}",
+                        report.solve_us.median, report.solve_us.p95, report.solve_us.max
+                    ),
+                ),
+                (
+                    "CPU µs per solve".into(),
+                    format!("{:.2}", report.cpu_us_per_solve),
+                ),
+                (
+                    "unreachable targets rejected".into(),
+                    format!("{:.4}", report.unreachable_rejected_rate),
+                ),
+            ],
+            classes: ("", Vec::new()),
+            distributions: vec![(
+                "Wall time per solve (reachable targets)",
+                "µs",
+                report.solve_us_samples.clone(),
+            )],
+            bars: vec![(
+                "Error per axis, 95th percentile (µm for x y z, µrad for roll pitch yaw)",
+                "µm / µrad",
+                ["x", "y", "z", "roll", "pitch", "yaw"]
+                    .iter()
+                    .zip(e.iter())
+                    .map(|(n, v)| (n.to_string(), p95(v) * 1e6))
+                    .collect(),
+            )],
+        },
+        &report,
+    )?;
     Ok(())
 }
