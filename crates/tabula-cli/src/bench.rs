@@ -447,39 +447,12 @@ fn perception(
         .map(|s| s["table_recall"].as_f64().unwrap_or(0.0))
         .fold(1.0, f64::min);
     if let Some(dir) = report {
-        crate::report::bench_report(
+        perception_report(
             dir,
-            crate::report::BenchSummary {
-                title: "Perception stages and the tabletop pipeline",
-                command: format!("tabula bench perception --scenes {scenes} --reps {reps}"),
-                numbers: vec![
-                    (
-                        "reference frame: objects with IoU > 0.8".into(),
-                        format!("{} of {}", reference.recovered, reference.objects),
-                    ),
-                    (
-                        "reference frame: table precision / recall".into(),
-                        format!(
-                            "{:.4} / {:.4}",
-                            reference.table_precision, reference.table_recall
-                        ),
-                    ),
-                    (
-                        "suite: objects recovered".into(),
-                        format!("{recovered} of {objects}"),
-                    ),
-                ],
-                classes: ("", Vec::new()),
-                distributions: vec![("Pipeline CPU per suite frame", "ms", cpu.clone())],
-                bars: vec![(
-                    "CPU per stage on the reference frame (1 thread, median)",
-                    "ms",
-                    rows.iter()
-                        .map(|r| (r.stage.clone(), r.cpu_ms_1_thread))
-                        .collect(),
-                )],
-            },
-            &serde_json::json!({"stages": rows, "suite": suite}),
+            (scenes, reps),
+            &reference,
+            (&rows, &suite),
+            (recovered, objects, &cpu),
         )?;
     }
     if json {
@@ -569,5 +542,51 @@ fn ros_latency(frames: usize, json: bool) -> Result<()> {
             at(&raw, 0.95)
         );
     }
+    Ok(())
+}
+
+/// The report page of `bench perception`: the reference frame's quality, the suite's
+/// objects found, the pipeline's CPU per suite frame, every stage's CPU.
+fn perception_report(
+    dir: &std::path::Path,
+    (scenes, reps): (u64, usize),
+    reference: &tabula_perception::eval::Score,
+    (rows, suite): (&[tabula_bench::perception::StageTime], &[serde_json::Value]),
+    (recovered, objects, cpu): (usize, usize, &[f64]),
+) -> Result<()> {
+    crate::report::bench_report(
+        dir,
+        crate::report::BenchSummary {
+            title: "Perception stages and the tabletop pipeline",
+            command: format!("tabula bench perception --scenes {scenes} --reps {reps}"),
+            numbers: vec![
+                (
+                    "reference frame: objects with IoU > 0.8".into(),
+                    format!("{} of {}", reference.recovered, reference.objects),
+                ),
+                (
+                    "reference frame: table precision / recall".into(),
+                    format!(
+                        "{:.4} / {:.4}",
+                        reference.table_precision, reference.table_recall
+                    ),
+                ),
+                (
+                    "suite: objects recovered".into(),
+                    format!("{recovered} of {objects}"),
+                ),
+            ],
+            classes: ("", Vec::new()),
+            distributions: vec![("Pipeline CPU per suite frame", "ms", cpu.to_vec())],
+            bars: vec![(
+                "CPU per stage on the reference frame (1 thread, median)",
+                "ms",
+                rows.iter()
+                    .map(|r| (r.stage.clone(), r.cpu_ms_1_thread))
+                    .collect(),
+            )],
+        },
+        &serde_json::json!({"stages": rows, "suite": suite}),
+    )?;
     Ok(())
 }
