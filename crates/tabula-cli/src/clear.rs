@@ -1,15 +1,13 @@
 //! `tabula clear`: seed 002's table clearing run in the simulator, judged by its physics.
 
 use crate::report::{Recorded, Recording, Report, Section};
-use crate::tasks::{TaskRunArgs, load_params, scene_robot_named};
+use crate::tasks::{TaskRunArgs, load_params};
 use anyhow::{Result, anyhow, bail};
 use clap::Args;
-use tabula_bench::clear::{BIN, TABLE};
 use tabula_bench::clear::{ClearRun as ClearJson, Summary};
 use tabula_sim::SimWorld;
 use tabula_sim::generate::{ClearSuite, clearing_scene};
-use tabula_sim::judge::ClearSetup;
-use tabula_tasks::clear::{ClearParams, clear};
+use tabula_tasks::clear::ClearParams;
 
 #[derive(Args)]
 pub struct ClearArgs {
@@ -43,6 +41,10 @@ pub fn clear_in(
 /// (bin, furniture) is read from the scene file here.
 #[cfg(feature = "ros")]
 fn clear_remote(a: &ClearArgs, params: &ClearParams) -> Result<(ClearJson, String)> {
+    use crate::tasks::scene_robot_named;
+    use tabula_bench::clear::{BIN, TABLE};
+    use tabula_sim::judge::ClearSetup;
+    use tabula_tasks::clear::clear;
     let world = a.run.world()?;
     let (robot_name, robot) = scene_robot_named(&world, a.run.robot.as_deref())?;
     let setup = ClearSetup::of(&world, BIN)?;

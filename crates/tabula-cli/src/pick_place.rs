@@ -2,14 +2,12 @@
 //! judged by its physics (or against a robot served at `--connect`).
 
 use crate::report::{Recorded, Recording, Report, Section};
-use crate::tasks::{
-    TaskRunArgs, check_arm, load_params, load_world, scene_robot, scene_robot_named,
-};
+use crate::tasks::{TaskRunArgs, check_arm, load_params, scene_robot};
 use anyhow::{Result, bail};
 use clap::Args;
 use tabula_geom::Vec3;
 use tabula_sim::SimWorld;
-use tabula_tasks::pick_place::{PickPlaceParams, PickPlaceRequest, pick_place};
+use tabula_tasks::pick_place::{PickPlaceParams, PickPlaceRequest};
 
 pub use tabula_bench::pick_place::PickPlaceRun as PickPlaceJson;
 
@@ -178,6 +176,8 @@ fn pick_place_remote(
     request: &PickPlaceRequest,
     params: &PickPlaceParams,
 ) -> Result<(PickPlaceJson, String)> {
+    use crate::tasks::{load_world, scene_robot_named};
+    use tabula_tasks::pick_place::pick_place;
     let world = load_world(&a.run.scene)?.1;
     let (robot_name, robot) = scene_robot_named(&world, a.run.robot.as_deref())?;
     check_arm(&world, &robot_name, &a.arm)?;

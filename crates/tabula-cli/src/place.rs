@@ -2,13 +2,12 @@
 //! (seed 000) in the simulator, judged by its physics.
 
 use crate::report::{Recorded, Recording, Report, Section};
-use crate::tasks::{TaskRunArgs, load_params, scene_robot, scene_robot_named};
+use crate::tasks::{TaskRunArgs, load_params, scene_robot};
 use anyhow::Result;
-use tabula_bench::judged::planned_rest;
 use tabula_bench::place::{BenchRow, PlaceRun as PlaceJson, suite_of, task_of, trial};
 use tabula_bench::stats::wilson;
 use tabula_sim::SimWorld;
-use tabula_tasks::place::{PlaceParams, PlaceRequest, place};
+use tabula_tasks::place::{PlaceParams, PlaceRequest};
 
 #[derive(clap::Args)]
 pub struct PlaceArgs {
@@ -45,6 +44,9 @@ fn place_remote(
     request: &PlaceRequest,
     params: &PlaceParams,
 ) -> Result<(PlaceJson, String)> {
+    use crate::tasks::scene_robot_named;
+    use tabula_bench::judged::planned_rest;
+    use tabula_tasks::place::place;
     let (robot_name, robot) = scene_robot_named(world, a.run.robot.as_deref())?;
     let mut driver = crate::remote::connect(&a.run, &robot_name)?;
     let session = crate::remote::begin(
