@@ -7,7 +7,9 @@ use anyhow::Result;
 use serde::Serialize;
 use std::time::{Duration, Instant};
 use tabula_pddl::generator::table_clearing_problem;
-use tabula_pddl::{Domain, GroundAtom, GroundOptions, Planner, SearchMode, parse_problem};
+use tabula_pddl::{
+    Domain, GroundAtom, GroundOptions, PlanStep, Planner, SearchMode, parse_problem,
+};
 
 /// One table size's medians (ms) and means over its problems (fields in the order
 /// JSON has always listed them).
@@ -42,6 +44,19 @@ struct Times {
     fast_length: usize,
     expanded: usize,
     solved: u64,
+}
+
+/// The fact that marks a table-clearing step as having no IK solution (seed 002's
+/// `ik_unfeasible_grasp` / `ik_unfeasible_<direction>`), as the task's loop sets it.
+pub fn infeasible(step: &PlanStep) -> GroundAtom {
+    GroundAtom {
+        predicate: if step.action == "grasp" {
+            "ik_unfeasible_grasp".into()
+        } else {
+            format!("ik_unfeasible_{}", step.action.trim_start_matches("push_"))
+        },
+        args: step.args.clone(),
+    }
 }
 
 const PLAN_LIMIT: Duration = Duration::from_secs(60);
@@ -95,15 +110,7 @@ fn one_problem(domain: &Domain, n: usize, seed: u64, t: &mut Times) -> Result<()
     t.optimal_length += plan.steps.len();
     t.expanded += plan.expanded;
     // The seed's loop: the first action turns out IK-infeasible; mark it, replan.
-    let first = &plan.steps[0];
-    let fact = GroundAtom {
-        predicate: if first.action == "grasp" {
-            "ik_unfeasible_grasp".into()
-        } else {
-            format!("ik_unfeasible_{}", first.action.trim_start_matches("push_"))
-        },
-        args: first.args.clone(),
-    };
+    let fact = infeasible(&plan.steps[0]);
     let t0 = Instant::now();
     planner.set_fact(&fact, true)?;
     let _ = planner.plan(SearchMode::Optimal, Some(PLAN_LIMIT));

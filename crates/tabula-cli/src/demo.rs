@@ -569,8 +569,7 @@ fn simulator(log: &mut Vec<String>) -> Result<tabula_sim::DepthFrame> {
 /// Seed 002's decision step: plan which objects to push or grasp, in process.
 fn planning(log: &mut Vec<String>) -> Result<()> {
     use tabula_pddl::{
-        GroundAtom, GroundOptions, Planner, SearchMode, generator, parse_domain, parse_problem,
-        validate,
+        GroundOptions, Planner, SearchMode, generator, parse_domain, parse_problem, validate,
     };
     say!(
         log,
@@ -595,14 +594,7 @@ fn planning(log: &mut Vec<String>) -> Result<()> {
     say!(log, "    {}", steps.join(" "));
     // The first action turns out to have no IK solution: mark it and replan (SPEC §3.5).
     let first = &plan.steps[0];
-    let infeasible = GroundAtom {
-        predicate: if first.action == "grasp" {
-            "ik_unfeasible_grasp".into()
-        } else {
-            format!("ik_unfeasible_{}", first.action.trim_start_matches("push_"))
-        },
-        args: first.args.clone(),
-    };
+    let infeasible = tabula_bench::plan::infeasible(first);
     let t0 = Instant::now();
     planner.set_fact(&infeasible, true)?;
     // Objects that can no longer be removed leave the goal (the seed's rule, made exact).
