@@ -2,6 +2,8 @@
 //! per-axis errors, each tested with Mann–Whitney U.
 
 use serde::Serialize;
+use tabula_robot::Chain;
+use tabula_robot::ik::IkSolution;
 use tabula_robot::ik::bench::{IkBenchReport, MannWhitney, Spread, mann_whitney};
 
 /// One measure of a comparison: its medians for A and B and the test between them.
@@ -48,4 +50,31 @@ pub fn compare(a: &IkBenchReport, b: &IkBenchReport) -> Vec<Compared> {
             }
         })
         .collect()
+}
+
+/// The solutions as a table: the chain's joints, then one row per solution with its
+/// position and rotation errors, nearest to the seed first.
+pub fn solution_lines(chain: &Chain, sols: &[IkSolution]) -> Vec<String> {
+    let names: Vec<String> = (1..=chain.dof())
+        .map(|i| format!("{:>10}", format!("q{i}")))
+        .collect();
+    let mut lines = vec![
+        format!("  joints: {}", chain.joint_names.join(", ")),
+        format!("  #  {}   pos err (m)  rot err (rad)", names.join(" ")),
+    ];
+    for (i, s) in sols.iter().enumerate() {
+        let vals: Vec<String> = s.joints.iter().map(|v| format!("{v:>10.5}")).collect();
+        lines.push(format!(
+            "{:>3}  {}   {:.2e}     {:.2e}",
+            i + 1,
+            vals.join(" "),
+            s.position_error,
+            s.rotation_error
+        ));
+    }
+    lines.push(format!(
+        "  {} solution(s), nearest to the seed first",
+        sols.len()
+    ));
+    lines
 }

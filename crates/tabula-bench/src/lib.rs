@@ -5,6 +5,7 @@
 //! The CLI parses arguments and prints; everything measured is here.
 
 pub mod clear;
+pub mod demo;
 pub mod ik;
 pub mod judged;
 pub mod perception;
@@ -12,6 +13,7 @@ pub mod pick_place;
 pub mod place;
 pub mod plan;
 pub mod registry;
+pub mod report;
 pub mod spec;
 pub mod stats;
 pub mod tidy;

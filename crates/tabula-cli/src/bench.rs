@@ -3,10 +3,9 @@
 
 use anyhow::Result;
 use clap::Subcommand;
-use tabula_bench::perception::{Timer, frame, frame_rows, quality, stage_times, suite_row};
+use tabula_bench::perception::{PerceptionBench, Timer, frame_rows};
 use tabula_bench::stats::median;
 use tabula_perception::TabletopParams;
-use tabula_sim::generate::TabletopLayout;
 
 #[derive(Subcommand)]
 pub enum BenchCommand {
@@ -227,9 +226,9 @@ fn pick_place(variants: u64, json: bool, report: Option<&std::path::Path>) -> Re
         .map(|r| r.decision_cpu_ms)
         .collect();
     if let Some(dir) = report {
-        crate::report::bench_report(
+        tabula_bench::report::bench_report(
             dir,
-            crate::report::BenchSummary {
+            tabula_bench::report::BenchSummary {
                 title: "Pick and place by coordinates (seed 001's integral test)",
                 command: format!("tabula bench pick-place --variants {variants}"),
                 numbers: vec![
@@ -238,7 +237,9 @@ fn pick_place(variants: u64, json: bool, report: Option<&std::path::Path>) -> Re
                 ],
                 classes: (
                     "target",
-                    crate::report::per_class(rows.iter().map(|r| (r.target.as_str(), r.success))),
+                    tabula_bench::report::per_class(
+                        rows.iter().map(|r| (r.target.as_str(), r.success)),
+                    ),
                 ),
                 distributions: vec![(
                     "Decision CPU per task (successful tasks)",
@@ -310,65 +311,15 @@ fn frames(
     let rows = serde_json::to_value(&rows)?;
     let rows = rows.as_array().cloned().unwrap_or_default();
     if let Some(dir) = report {
-        let bars = |key: &str| -> Vec<(String, f64)> {
-            rows.iter()
-                .map(|r| {
-                    (
-                        format!(
-                            "{} ({})",
-                            std::path::Path::new(r["file"].as_str().unwrap_or(""))
-                                .file_name()
-                                .map_or(String::new(), |f| f.to_string_lossy().to_string()),
-                            r["layout"].as_str().unwrap_or("")
-                        ),
-                        r[key].as_f64().unwrap_or(f64::NAN),
-                    )
-                })
-                .collect()
-        };
-        crate::report::bench_report(
-            dir,
-            crate::report::BenchSummary {
-                title: "Perception on sensor frames",
-                command: format!("tabula bench frames --layout {layout} --reps {reps} --cloud …"),
-                numbers: vec![("frames".into(), clouds.len().to_string())],
-                classes: ("", Vec::new()),
-                distributions: Vec::new(),
-                bars: vec![
-                    (
-                        "Pipeline CPU per frame (1 thread, median)",
-                        "ms",
-                        bars("cpu_ms"),
-                    ),
-                    (
-                        "Pipeline wall time per frame (2 threads, median)",
-                        "ms",
-                        bars("wall_ms"),
-                    ),
-                ],
-            },
-            &rows,
-        )?;
+        let what = (layout, reps, clouds.len());
+        tabula_bench::report::perception::frames_page(dir, what, &rows)?;
     }
     if json {
         println!("{}", serde_json::to_string_pretty(&rows)?);
         return Ok(());
     }
-    println!(
-        "| file | layout | points | objects (+ cut by the edge) | CPU ms, 1 thread | wall ms, 2 threads |"
-    );
-    println!("|---|---|---:|---:|---:|---:|");
-    for r in &rows {
-        println!(
-            "| {} | {} | {} | {} (+{}) | {:.1} | {:.1} |",
-            r["file"].as_str().unwrap_or(""),
-            r["layout"].as_str().unwrap_or(""),
-            r["points"],
-            r["objects"],
-            r["partial_objects"],
-            r["cpu_ms"].as_f64().unwrap_or(f64::NAN),
-            r["wall_ms"].as_f64().unwrap_or(f64::NAN)
-        );
+    for line in tabula_bench::report::perception::frames_lines(&rows) {
+        println!("{line}");
     }
     Ok(())
 }
@@ -379,102 +330,18 @@ fn perception(
     json: bool,
     report: Option<&std::path::Path>,
 ) -> Result<()> {
-    let timer = Timer::new(reps)?;
-    let params = TabletopParams::default();
-    let nine = frame(0, &TabletopLayout::nine())?;
-    let (rows, valid_points) = stage_times(&nine, &params, &timer)?;
-    if !json {
-        for r in &rows {
-            println!(
-                "{:<90} {:>8.2} ms CPU  {:>8.2} ms wall   anchor {}",
-                r.stage, r.cpu_ms_1_thread, r.wall_ms_2_threads, r.anchor
-            );
-        }
-    }
-    let reference = quality(&nine, &params)?;
-    if !json {
-        println!(
-            "\nnine-object frame ({} valid points): table precision {:.4} recall {:.4}; {} of {} objects with IoU > 0.8 ({} segments)",
-            valid_points,
-            reference.table_precision,
-            reference.table_recall,
-            reference.recovered,
-            reference.objects,
-            reference.segments
-        );
-    }
-    // The suite: quality of every frame and the pipeline's CPU time on it.
-    let suite_timer = timer.with_reps(reps.min(5));
-    let mut suite = Vec::new();
     let progress = crate::progress::steps(scenes, "scenes");
-    for seed in 1..=scenes {
-        let _tick = crate::progress::Tick(&progress);
-        let s = suite_row(seed, &params, &suite_timer)?;
-        if !json {
-            println!(
-                "scene {seed:>3}: {:>2} objects ({} touching pairs, {} stacked), {:>2} recovered, table P {:.4} R {:.4}, {:.1} ms CPU, {:.1} ms wall",
-                s.objects,
-                s.touching_pairs,
-                s.stacked_pairs,
-                s.recovered,
-                s.table_precision,
-                s.table_recall,
-                s.cpu_ms,
-                s.wall_ms
-            );
-        }
-        suite.push(serde_json::to_value(&s)?);
-    }
-    let objects: usize = suite
-        .iter()
-        .map(|s| s["objects"].as_u64().unwrap_or(0) as usize)
-        .sum();
-    let recovered: usize = suite
-        .iter()
-        .map(|s| s["recovered"].as_u64().unwrap_or(0) as usize)
-        .sum();
-    let cpu: Vec<f64> = suite
-        .iter()
-        .map(|s| s["cpu_ms"].as_f64().unwrap_or(0.0))
-        .collect();
-    let worst_cpu = cpu.iter().copied().fold(0.0, f64::max);
-    let min_precision = suite
-        .iter()
-        .map(|s| s["table_precision"].as_f64().unwrap_or(0.0))
-        .fold(1.0, f64::min);
-    let min_recall = suite
-        .iter()
-        .map(|s| s["table_recall"].as_f64().unwrap_or(0.0))
-        .fold(1.0, f64::min);
+    let b = PerceptionBench::run(scenes, reps, &mut || progress.inc(1))?;
+    progress.finish_and_clear();
     if let Some(dir) = report {
-        perception_report(
-            dir,
-            (scenes, reps),
-            &reference,
-            (&rows, &suite),
-            (recovered, objects, &cpu),
-        )?;
+        tabula_bench::report::perception::bench_page(dir, &b)?;
     }
     if json {
-        println!(
-            "{}",
-            serde_json::to_string_pretty(&serde_json::json!({
-                "stages": rows,
-                "reference_frame": reference,
-                "reference_frame_valid_points": valid_points,
-                "suite": suite,
-                "suite_objects": objects,
-                "suite_recovered": recovered,
-                "suite_pipeline_cpu_ms_median": median(&cpu).unwrap_or(0.0),
-                "suite_pipeline_cpu_ms_max": worst_cpu,
-            }))?
-        );
-    } else if scenes > 0 {
-        println!(
-            "suite: {recovered} of {objects} objects ({:.1} %), table found in all {scenes} frames, table precision ≥ {min_precision:.4}, recall ≥ {min_recall:.4}; pipeline CPU median {:.1} ms, max {worst_cpu:.1} ms",
-            100.0 * recovered as f64 / objects.max(1) as f64,
-            median(&cpu).unwrap_or(0.0)
-        );
+        println!("{}", serde_json::to_string_pretty(&b.to_json()?)?);
+    } else {
+        for line in b.lines() {
+            println!("{line}");
+        }
     }
     Ok(())
 }
@@ -542,51 +409,5 @@ fn ros_latency(frames: usize, json: bool) -> Result<()> {
             at(&raw, 0.95)
         );
     }
-    Ok(())
-}
-
-/// The report page of `bench perception`: the reference frame's quality, the suite's
-/// objects found, the pipeline's CPU per suite frame, every stage's CPU.
-fn perception_report(
-    dir: &std::path::Path,
-    (scenes, reps): (u64, usize),
-    reference: &tabula_perception::eval::Score,
-    (rows, suite): (&[tabula_bench::perception::StageTime], &[serde_json::Value]),
-    (recovered, objects, cpu): (usize, usize, &[f64]),
-) -> Result<()> {
-    crate::report::bench_report(
-        dir,
-        crate::report::BenchSummary {
-            title: "Perception stages and the tabletop pipeline",
-            command: format!("tabula bench perception --scenes {scenes} --reps {reps}"),
-            numbers: vec![
-                (
-                    "reference frame: objects with IoU > 0.8".into(),
-                    format!("{} of {}", reference.recovered, reference.objects),
-                ),
-                (
-                    "reference frame: table precision / recall".into(),
-                    format!(
-                        "{:.4} / {:.4}",
-                        reference.table_precision, reference.table_recall
-                    ),
-                ),
-                (
-                    "suite: objects recovered".into(),
-                    format!("{recovered} of {objects}"),
-                ),
-            ],
-            classes: ("", Vec::new()),
-            distributions: vec![("Pipeline CPU per suite frame", "ms", cpu.to_vec())],
-            bars: vec![(
-                "CPU per stage on the reference frame (1 thread, median)",
-                "ms",
-                rows.iter()
-                    .map(|r| (r.stage.clone(), r.cpu_ms_1_thread))
-                    .collect(),
-            )],
-        },
-        &serde_json::json!({"stages": rows, "suite": suite}),
-    )?;
     Ok(())
 }

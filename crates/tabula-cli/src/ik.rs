@@ -257,7 +257,9 @@ fn solve(a: SolveArgs) -> Result<()> {
     );
     match sols {
         Ok(sols) => {
-            print_solutions(&s.chain, &sols);
+            for line in tabula_bench::ik::solution_lines(&s.chain, &sols) {
+                println!("{line}");
+            }
             Ok(())
         }
         Err(e) => no_solution_or_error(e),
@@ -272,25 +274,6 @@ fn no_solution_or_error(e: IkError) -> Result<()> {
         std::process::exit(crate::exit::NO_SOLUTION);
     }
     Err(e.into())
-}
-
-pub fn print_solutions(chain: &Chain, sols: &[tabula_robot::ik::IkSolution]) {
-    println!("  joints: {}", chain.joint_names.join(", "));
-    let names: Vec<String> = (1..=chain.dof())
-        .map(|i| format!("{:>10}", format!("q{i}")))
-        .collect();
-    println!("  #  {}   pos err (m)  rot err (rad)", names.join(" "));
-    for (i, s) in sols.iter().enumerate() {
-        let vals: Vec<String> = s.joints.iter().map(|v| format!("{v:>10.5}")).collect();
-        println!(
-            "{:>3}  {}   {:.2e}     {:.2e}",
-            i + 1,
-            vals.join(" "),
-            s.position_error,
-            s.rotation_error
-        );
-    }
-    println!("  {} solution(s), nearest to the seed first", sols.len());
 }
 
 /// `ik bench --compare A B`: both solvers on the same targets, 7 measures tested.
@@ -550,8 +533,8 @@ fn compare_report(
     compared: &[tabula_bench::ik::Compared],
     out: &serde_json::Value,
 ) -> Result<()> {
-    let mut report = crate::report::Report::create(dir, "IK solvers compared")?;
-    let mut section = crate::report::Section::new(format!(
+    let mut report = tabula_bench::report::Report::create(dir, "IK solvers compared")?;
+    let mut section = tabula_bench::report::Section::new(format!(
         "{} (A) against {} (B), {} targets, seed {}",
         ra.solver, rb.solver, a.poses, a.seed
     ));
@@ -582,7 +565,7 @@ fn compare_report(
             vec!["roll", "pitch", "yaw"],
         ),
     ] {
-        let svg = crate::plots::boxes(
+        let svg = tabula_bench::report::plots::boxes(
             title,
             unit,
             &names,
@@ -595,7 +578,7 @@ fn compare_report(
         let fig = report.svg(title, title, &svg)?;
         section.figures.push(fig);
     }
-    let svg = crate::plots::boxes(
+    let svg = tabula_bench::report::plots::boxes(
         "Solve time",
         "µs",
         &["solve time"],
@@ -623,9 +606,9 @@ fn bench_report(
 ) -> Result<()> {
     let e = &report.axis_error_samples;
     let p95 = |v: &[f64]| tabula_robot::ik::bench::Spread::of(v).p95;
-    crate::report::bench_report(
+    tabula_bench::report::bench_report(
         dir,
-        crate::report::BenchSummary {
+        tabula_bench::report::BenchSummary {
             title: "Inverse kinematics (seed 001's protocol)",
             command: format!(
                 "tabula ik bench --robot {} --solver {} --poses {} --seed {}",

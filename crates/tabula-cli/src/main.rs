@@ -13,11 +13,9 @@ mod perceive;
 mod pick_place;
 mod place;
 mod plan;
-mod plots;
 mod progress;
 #[cfg(feature = "ros")]
 mod remote;
-mod report;
 mod robot;
 #[cfg(feature = "ros")]
 mod serve;

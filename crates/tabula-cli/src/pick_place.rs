@@ -1,12 +1,12 @@
 //! `tabula pick-place`: seed 001's pick and place by coordinates in the simulator,
 //! judged by its physics (or against a robot served at `--connect`).
 
-use crate::report::{Recorded, Recording, Report, Section};
 use crate::tasks::{TaskRunArgs, check_arm, load_params, scene_robot};
 use anyhow::{Result, bail};
 use clap::Args;
+use tabula_bench::report::pick_place::section;
+use tabula_bench::report::recorded;
 use tabula_geom::Vec3;
-use tabula_sim::SimWorld;
 use tabula_tasks::pick_place::{PickPlaceParams, PickPlaceRequest};
 
 pub use tabula_bench::pick_place::PickPlaceRun as PickPlaceJson;
@@ -49,7 +49,7 @@ pub fn run_pick_place(a: &PickPlaceArgs) -> Result<PickPlaceJson> {
             let (out, scene) = pick_place_remote(a, &request, &params)?;
             a.run.save(&scene, &out, |report, out| {
                 report.title = "tabula pick-place".into();
-                let section = pick_place_section(report, out, None)?;
+                let section = section(report, out, None)?;
                 report.sections.push(section);
                 Ok(())
             })?;
@@ -61,112 +61,22 @@ pub fn run_pick_place(a: &PickPlaceArgs) -> Result<PickPlaceJson> {
     let world = a.run.world()?;
     let robot = scene_robot(&world, a.run.robot.as_deref())?;
     check_arm(&world, &robot, &a.arm)?;
-    let (out, world, recorded) = pick_place_in(
-        world,
-        a.run.robot.as_deref(),
-        &request,
-        &params,
-        a.run.seed,
-        a.run.recording(),
-    )?;
+    let (out, world, recorded) = recorded(a.run.recording(), |start| {
+        tabula_bench::pick_place::pick_place_in(
+            world,
+            a.run.robot.as_deref(),
+            (&request, &params),
+            a.run.seed,
+            start,
+        )
+    })?;
     a.run.save(&world, &out, |report, out| {
         report.title = "tabula pick-place".into();
-        let section = pick_place_section(report, out, recorded.as_ref())?;
+        let section = section(report, out, recorded.as_ref())?;
         report.sections.push(section);
         Ok(())
     })?;
     Ok(out)
-}
-
-/// The report's part for a pick and place: the verdict, the phases, the replay.
-pub fn pick_place_section(
-    report: &mut Report,
-    out: &PickPlaceJson,
-    recorded: Option<&Recorded>,
-) -> Result<Section> {
-    let r = &out.report;
-    let v = &out.verdict;
-    let mut s = Section::new("Pick and place by coordinates (seed 001)");
-    s.text(format!(
-        "{}: arm {}, {} grasp; `{}` ended {:.1} cm from the target, tilted {:.1}°.",
-        if out.success { "Success" } else { "Failed" },
-        r.arm.as_deref().unwrap_or("-"),
-        r.grasp
-            .map_or("-".into(), |g| format!("{g:?}").to_lowercase()),
-        v.object,
-        v.target_error * 100.0,
-        v.tilt.to_degrees()
-    ));
-    if let Some(e) = &out.error_message {
-        s.text(format!("Error: {e}"));
-    }
-    s.number("success", out.success)
-        .number("arm", r.arm.as_deref().unwrap_or("-"))
-        .number("decision CPU (ms)", format!("{:.1}", r.decision_cpu_ms))
-        .number("grasp candidates tried", r.candidates_tried)
-        .number(
-            "target error (cm)",
-            format!("{:.2}", v.target_error * 100.0),
-        )
-        .number("tilt (°)", format!("{:.2}", v.tilt.to_degrees()))
-        .number("furniture contacts", v.furniture_contacts.len());
-    s.log = r
-        .rejected
-        .iter()
-        .map(|w| format!("rejected: {w}"))
-        .collect();
-    phase_plot(report, &mut s, &r.phases)?;
-    if let Some(rec) = recorded {
-        report.recorded(&mut s, "pick-place", rec)?;
-    }
-    Ok(s)
-}
-
-/// Time per phase as bars (wall ms: the simulated motion is in it).
-pub fn phase_plot(
-    report: &mut Report,
-    section: &mut Section,
-    phases: &[tabula_tasks::pick_place::Phase],
-) -> Result<()> {
-    if phases.is_empty() {
-        return Ok(());
-    }
-    let bars: Vec<(String, f64)> = phases
-        .iter()
-        .map(|p| {
-            (
-                format!("{}{}", p.name, if p.ok { "" } else { " (failed)" }),
-                p.ms,
-            )
-        })
-        .collect();
-    let svg = crate::plots::bars(
-        "Time per phase",
-        "ms (wall, simulated motion included)",
-        &bars,
-    )?;
-    let fig = report.svg("phases", "Time per phase", &svg)?;
-    section.figures.push(fig);
-    Ok(())
-}
-
-/// A pick and place in `world`, judged by its physics (recorded for the report when
-/// `record`); returns the world afterwards.
-pub fn pick_place_in(
-    world: SimWorld,
-    robot: Option<&str>,
-    request: &PickPlaceRequest,
-    params: &PickPlaceParams,
-    seed: u64,
-    record: bool,
-) -> Result<(PickPlaceJson, SimWorld, Option<Recorded>)> {
-    let mut recording = Recording::new(record);
-    let (out, world) =
-        tabula_bench::pick_place::pick_place_in(world, robot, (request, params), seed, |d| {
-            recording.start(d)
-        })?;
-    let recorded = recording.finish(&world);
-    Ok((out, world, recorded))
 }
 
 /// One pick and place by the robot served at `--connect`, judged there.

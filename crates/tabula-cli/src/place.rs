@@ -1,10 +1,11 @@
 //! `tabula place` and `tabula bench place`: placing an unknown held object stably
 //! (seed 000) in the simulator, judged by its physics.
 
-use crate::report::{Recorded, Recording, Report, Section};
 use crate::tasks::{TaskRunArgs, load_params, scene_robot};
 use anyhow::Result;
 use tabula_bench::place::{BenchRow, PlaceRun as PlaceJson, suite_of, task_of, trial};
+use tabula_bench::report::place::section;
+use tabula_bench::report::{Recorded, Report, recorded};
 use tabula_bench::stats::wilson;
 use tabula_sim::SimWorld;
 use tabula_tasks::place::{PlaceParams, PlaceRequest};
@@ -16,24 +17,6 @@ pub struct PlaceArgs {
     /// The arm holding the object (`auto`: the one whose gripper is closed).
     #[arg(long, default_value = "auto")]
     pub arm: String,
-}
-
-/// One placement in `world`, judged by its physics (recorded for the report when
-/// `record`); returns the world afterwards.
-pub fn place_in(
-    world: SimWorld,
-    robot: Option<&str>,
-    request: &PlaceRequest,
-    params: &PlaceParams,
-    seed: u64,
-    record: bool,
-) -> Result<(PlaceJson, SimWorld, Option<Recorded>)> {
-    let mut recording = Recording::new(record);
-    let (out, world) = tabula_bench::place::place_in(world, robot, (request, params), seed, |d| {
-        recording.start(d)
-    })?;
-    let recorded = recording.finish(&world);
-    Ok((out, world, recorded))
 }
 
 /// One placement by the robot served at `--connect`, judged there.
@@ -75,7 +58,7 @@ pub fn run(a: PlaceArgs) -> Result<()> {
     };
     let sections = |report: &mut Report, out: &PlaceJson, recorded: Option<&Recorded>| {
         report.title = "tabula place".into();
-        let section = report_section(report, out, &params, recorded)?;
+        let section = section(report, out, &params, recorded)?;
         report.sections.push(section);
         Ok(())
     };
@@ -92,149 +75,13 @@ pub fn run(a: PlaceArgs) -> Result<()> {
         #[cfg(not(feature = "ros"))]
         anyhow::bail!("this tabula was built without ROS 2 support (feature `ros`)");
     }
-    let (out, world, recorded) = place_in(
-        world,
-        Some(&robot),
-        &request,
-        &params,
-        a.run.seed,
-        a.run.recording(),
-    )?;
+    let (out, world, recorded) = recorded(a.run.recording(), |start| {
+        tabula_bench::place::place_in(world, Some(&robot), (&request, &params), a.run.seed, start)
+    })?;
     a.run
         .finish(&world, &out, out.success, print_summary, |report, out| {
             sections(report, out, recorded.as_ref())
         })
-}
-
-/// The report's part for a placement: the verdict, the scanned model and its stable
-/// poses, time per phase, the replay and pictures of the release.
-pub fn report_section(
-    report: &mut Report,
-    out: &PlaceJson,
-    params: &PlaceParams,
-    recorded: Option<&Recorded>,
-) -> Result<Section> {
-    let r = &out.report;
-    let v = &out.verdict;
-    let mut s = Section::new("Placing an unknown object (seed 000)");
-    s.text(format!(
-        "{}: `{}` rests on {}, {:.1}° from the planned pose, moved {:.1} mm after release.",
-        if out.success { "Placed" } else { "Failed" },
-        v.object,
-        v.surface.as_deref().unwrap_or("nothing"),
-        v.orientation_error_deg,
-        v.moved_after_release_m * 1e3
-    ));
-    if let Some(e) = &out.error {
-        s.text(format!("Error ({}): {}", e.kind, e.message));
-    }
-    s.number("success", out.success)
-        .number("arm", r.arm.as_deref().unwrap_or("-"))
-        .number("decision CPU (ms)", format!("{:.1}", out.decision_ms))
-        .number("scan processing CPU (ms)", format!("{:.1}", r.scan_cpu_ms))
-        .number("stable poses found", r.poses_found)
-        .number("surfaces found", r.surfaces_found)
-        .number("spots tried", r.candidates_tried)
-        .number(
-            "orientation error (°)",
-            format!("{:.2}", v.orientation_error_deg),
-        )
-        .number("furniture contacts", v.furniture_contacts.len());
-    if let Some(m) = &r.model {
-        s.number("scanned model", model_line(m));
-    }
-    s.log = r
-        .rejected
-        .iter()
-        .map(|w| format!("rejected: {w}"))
-        .collect();
-    if !r.model_points.is_empty()
-        && let Ok(poses) = tabula_tasks::stable::of_cloud(&r.model_points, &params.stable)
-        && !poses.poses.is_empty()
-    {
-        let bars: Vec<(String, f64)> = poses
-            .poses
-            .iter()
-            .take(12)
-            .map(|p| {
-                let chosen = out
-                    .stable_pose
-                    .as_ref()
-                    .is_some_and(|c| c.normal().dot(p.normal()) > 0.999);
-                (
-                    format!(
-                        "({:+.2} {:+.2} {:+.2}) margin {:.0} mm, {:.0}°{}",
-                        p.support_normal[0],
-                        p.support_normal[1],
-                        p.support_normal[2],
-                        p.margin_m * 1e3,
-                        p.topple_deg,
-                        if chosen { " — placed" } else { "" }
-                    ),
-                    100.0 * p.probability,
-                )
-            })
-            .collect();
-        let svg = crate::plots::bars(
-            "Stable poses of the scanned object (support normal in the hand)",
-            "landing probability (%)",
-            &bars,
-        )?;
-        let fig = report.svg(
-            "stable-poses",
-            "Stable poses of the scanned model: probability, stability margin, topple tilt",
-            &svg,
-        )?;
-        s.figures.push(fig);
-    }
-    if let Some(view) = &r.top_view {
-        // Objects as the outlines of their points seen from above.
-        let objects = view
-            .objects
-            .iter()
-            .map(|pts| {
-                let flat: Vec<tabula_geom::Vec2> =
-                    pts.iter().map(|q| view.map.to_plane(*q)).collect();
-                tabula_geom::polygon::convex_hull_2d(&flat)
-                    .into_iter()
-                    .map(|i| pts[i])
-                    .collect()
-            })
-            .collect();
-        let (svg, _) = crate::perceive::top_view(&crate::perceive::TopView {
-            map: &view.map,
-            outline: &view.outline,
-            objects,
-            boxes: Vec::new(),
-            labels: Vec::new(),
-            spot: view.spot.clone(),
-        })?;
-        let fig = report.svg(
-            "top-view",
-            "The surface as the placement saw it: free (green), objects (red), unseen (grey), the object's footprint where it was planned to rest (blue)",
-            &svg,
-        )?;
-        s.figures.push(fig);
-    }
-    crate::pick_place::phase_plot(report, &mut s, &out.phases)?;
-    if let Some(rec) = recorded {
-        report.recorded(&mut s, "place", rec)?;
-    }
-    Ok(s)
-}
-
-/// The scanned model in one line: points, views, size in the tool frame, hull volume.
-pub fn model_line(m: &tabula_tasks::place::ModelReport) -> String {
-    format!(
-        "{} points from {} of {} views, {:.0} × {:.0} × {:.0} mm, hull {:.1} cm³",
-        m.points,
-        m.views,
-        m.views_tried,
-        m.size[0] * 1e3,
-        m.size[1] * 1e3,
-        m.size[2] * 1e3,
-        m.hull_volume_m3 * 1e6
-    )
 }
 
 fn print_summary(out: &PlaceJson) {
@@ -246,7 +93,7 @@ fn print_summary(out: &PlaceJson) {
         r.arm.as_deref().unwrap_or("-")
     );
     if let Some(m) = &r.model {
-        println!("  model: {}", model_line(m));
+        println!("  model: {}", tabula_bench::report::place::model_line(m));
     }
     if let Some(s) = &out.stable_pose {
         println!(
@@ -367,7 +214,11 @@ pub fn bench(b: &crate::trials::SuiteRun<'_>) -> Result<()> {
         }
     }
     if let Some(dir) = b.report {
-        bench_report(dir, b, &rows, &causes)?;
+        let command = format!(
+            "tabula bench place --suite {suite} --trials {} --seed {}",
+            b.count, b.seed
+        );
+        tabula_bench::report::place::bench_page(dir, command, &rows, &causes)?;
     }
     if b.json {
         println!("{}", serde_json::to_string_pretty(&rows)?);
@@ -437,56 +288,5 @@ pub fn bench(b: &crate::trials::SuiteRun<'_>) -> Result<()> {
                 .join(", ")
         );
     }
-    Ok(())
-}
-
-/// The report page of `bench place`: the success rate with its interval, failures by
-/// cause, success per object class, decision times.
-fn bench_report(
-    dir: &std::path::Path,
-    b: &crate::trials::SuiteRun<'_>,
-    rows: &[BenchRow],
-    causes: &std::collections::BTreeMap<&str, usize>,
-) -> Result<()> {
-    let (suite, trials, seed) = (b.suite, b.count, b.seed);
-    let n = rows.len();
-    let k = rows.iter().filter(|r| r.success).count();
-    let (lo, hi) = wilson(k, n);
-    let mut numbers = vec![
-        ("trials".to_string(), n.to_string()),
-        (
-            "placed (95 % interval)".to_string(),
-            format!(
-                "{k} = {:.1} % ({:.1}–{:.1} %)",
-                100.0 * k as f64 / n.max(1) as f64,
-                100.0 * lo,
-                100.0 * hi
-            ),
-        ),
-    ];
-    numbers.extend(
-        causes
-            .iter()
-            .map(|(c, count)| (format!("failed: {c}"), count.to_string())),
-    );
-    crate::report::bench_report(
-        dir,
-        crate::report::BenchSummary {
-            title: "Placing an unknown object (seed 000)",
-            command: format!("tabula bench place --suite {suite} --trials {trials} --seed {seed}"),
-            numbers,
-            classes: (
-                "object class",
-                crate::report::per_class(rows.iter().map(|r| (r.object.as_str(), r.success))),
-            ),
-            distributions: vec![(
-                "Decision CPU per task",
-                "ms",
-                rows.iter().map(|r| r.decision_ms).collect(),
-            )],
-            bars: Vec::new(),
-        },
-        &rows,
-    )?;
     Ok(())
 }

@@ -237,9 +237,9 @@ fn bench(b: BenchArgs) -> Result<()> {
                 })
                 .collect()
         };
-        crate::report::bench_report(
+        tabula_bench::report::bench_report(
             dir,
-            crate::report::BenchSummary {
+            tabula_bench::report::BenchSummary {
                 title: "Task planning: table clearing in PDDL (seed 002's domain)",
                 command: format!(
                     "tabula plan bench --objects {} --problems {}",

@@ -212,7 +212,7 @@ fn perceive(r: PerceiveRequest) -> Result<Value> {
         viewpoint: Pose::IDENTITY,
     };
     let params = tabula_perception::TabletopParams::default();
-    let perceived = crate::perceive::perceive(&file, pose, None, &[], &params)?;
+    let perceived = tabula_perception::frame::perceive(&file, pose, None, &[], &params)?;
     Ok(perceived.to_json(None, None))
 }
 

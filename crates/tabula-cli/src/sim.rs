@@ -148,19 +148,6 @@ fn print_poses(world: &SimWorld) {
     }
 }
 
-/// Writes a default snapshot of `world` next to the scene's camera view.
-pub fn default_snapshot(world: &SimWorld, path: &std::path::Path) -> Result<()> {
-    let img = snapshot(
-        world,
-        Vec3::new(2.2, -1.6, 1.9),
-        Vec3::new(0.7, 0.0, 0.6),
-        960,
-        720,
-    );
-    img.save(path)
-        .with_context(|| format!("cannot write {}", path.display()))
-}
-
 fn run_command(world: &mut SimWorld, line: &str) -> Result<()> {
     let words: Vec<&str> = line.split_whitespace().collect();
     let num = |i: usize| -> Result<f64> {
@@ -281,7 +268,7 @@ pub fn run(cmd: SimCommand) -> Result<()> {
                     .with_context(|| format!("command {} `{line}`", i + 1))?;
             }
             if let Some(path) = png {
-                default_snapshot(&world, &path)?;
+                tabula_bench::report::default_snapshot(&world, &path)?;
                 println!("wrote {}", path.display());
             }
         }

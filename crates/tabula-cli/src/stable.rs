@@ -154,9 +154,9 @@ pub fn bench(dir: &Path, reps: usize, json: bool, report: Option<&Path>) -> Resu
         });
     }
     if let Some(out) = report {
-        crate::report::bench_report(
+        tabula_bench::report::bench_report(
             out,
-            crate::report::BenchSummary {
+            tabula_bench::report::BenchSummary {
                 title: "Stable poses of the test objects",
                 command: format!("tabula bench stable-poses --reps {reps}"),
                 numbers: vec![("objects".into(), rows.len().to_string())],

@@ -1,10 +1,10 @@
 //! `tabula pick-place`: the task layer run in the simulator, judged by its physics.
 
-use crate::report::Report;
 use anyhow::{Context, Result};
 use clap::Args;
 use serde::Serialize;
 use std::path::{Path, PathBuf};
+use tabula_bench::report::Report;
 
 use tabula_sim::{PhysicsParams, Scene, SimWorld};
 

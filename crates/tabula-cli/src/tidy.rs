@@ -74,7 +74,7 @@ pub fn run(a: TidyArgs) -> Result<()> {
     a.run
         .finish(&world, &out, out.success, print_summary, |report, out| {
             report.title = "tabula tidy".into();
-            let mut s = crate::report::Section::new("Tidying a table");
+            let mut s = tabula_bench::report::Section::new("Tidying a table");
             s.number("objects on the table", out.objects)
                 .number("moved to another surface", out.moved)
                 .number("actions", out.actions)

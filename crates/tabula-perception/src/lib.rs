@@ -6,6 +6,7 @@
 
 pub mod eval;
 pub mod filters;
+pub mod frame;
 pub mod freespace;
 mod kd;
 pub mod params;

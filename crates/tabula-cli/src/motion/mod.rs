@@ -112,9 +112,9 @@ pub fn run(cmd: MotionCommand) -> Result<()> {
             let report = bench::run(&r, &chain, problems, seed, &params)?;
             progress.finish_and_clear();
             if let Some(dir) = &report_dir {
-                crate::report::bench_report(
+                tabula_bench::report::bench_report(
                     dir,
-                    crate::report::BenchSummary {
+                    tabula_bench::report::BenchSummary {
                         title: "Motion planning: RRT-Connect on tabletop reaches",
                         command: format!(
                             "tabula motion bench --robot {robot} --problems {problems} --seed {seed} --timeout {timeout}"

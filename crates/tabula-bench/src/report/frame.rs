@@ -1,7 +1,11 @@
 //! What `tabula perceive` draws: the top view of a frame (the table, the objects, the
 //! free space), the frame's image coloured by segment, and the report page.
 
-use super::*;
+use anyhow::{Context, Result};
+use std::path::Path;
+use tabula_geom::{PointCloud, Vec3};
+use tabula_perception::freespace::{Cell, FreeSpaceMap, Placement};
+use tabula_perception::tabletop::Tabletop;
 
 /// What a top view shows: a surface's occupancy grid (free green, objects red, unseen
 /// grey), its outline, object outlines and boxes, labels, and a chosen spot (blue).
@@ -213,7 +217,7 @@ fn draw_top_view<DB: plotters::prelude::DrawingBackend>(
 
 /// `perceive --report DIR`: the top view (top.svg, top.png), the labelled frame
 /// (frame.png) and index.html with the numbers.
-pub(super) fn write_report(
+pub fn perceive_page(
     dir: &Path,
     t: &Tabletop,
     map: &FreeSpaceMap,
@@ -221,8 +225,8 @@ pub(super) fn write_report(
     frame: Option<(&PointCloud, Option<&[[u8; 3]]>)>,
     json: &serde_json::Value,
 ) -> Result<()> {
-    let mut report = crate::report::Report::create(dir, "tabula perceive")?;
-    let mut s = crate::report::Section::new("The table, its objects and free space");
+    let mut report = super::Report::create(dir, "tabula perceive")?;
+    let mut s = super::Section::new("The table, its objects and free space");
     s.number("objects", t.objects.len())
         .number("objects cut by the frame's edge", t.partial.len())
         .number("table area seen (m²)", format!("{:.3}", t.table.area))
@@ -246,7 +250,7 @@ pub(super) fn write_report(
     std::fs::write(dir.join("top.svg"), &svg).context("cannot write top.svg")?;
     png.save(dir.join("top.png"))
         .context("cannot write top.png")?;
-    s.figures.push(crate::report::Figure {
+    s.figures.push(super::Figure {
         file: "top.svg".into(),
         caption:
             "Top view: free (green), objects (red), unseen (grey), boxes, the free spot (blue)"
@@ -256,7 +260,7 @@ pub(super) fn write_report(
         && cloud.is_organized()
     {
         write_frame_image(dir, cloud, colors, t)?;
-        s.figures.push(crate::report::Figure {
+        s.figures.push(super::Figure {
             file: "frame.png".into(),
             caption: "The frame: the support green, each object in its own colour".into(),
         });

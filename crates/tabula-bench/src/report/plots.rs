@@ -372,10 +372,7 @@ pub fn boxes(
     Ok(svg)
 }
 
-/// The median of `values` (NaN-free), `None` when empty.
-pub fn median(values: &[f64]) -> Option<f64> {
-    quantile(values, 0.5)
-}
+pub use crate::stats::median;
 
 /// The `q` quantile of the finite `values` (nearest rank), `None` when there are none.
 fn quantile(values: &[f64], q: f64) -> Option<f64> {

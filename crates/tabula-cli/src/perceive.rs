@@ -1,25 +1,19 @@
 //! `tabula perceive`: surfaces, the table, its objects and its free space in a PCD or
 //! PLY frame, with an optional robot self-filter and a top-view report.
 
-mod view;
-
-use view::write_report;
-pub use view::{TopView, top_view};
-
 use anyhow::{Context, Result, bail};
 use clap::Args;
 use std::path::{Path, PathBuf};
-use std::time::Instant;
-use tabula_geom::input::{Format, read_bytes};
-use tabula_geom::read_pcd_file;
-use tabula_geom::{CloudFile, PointCloud, Pose, Quat, Vec2, Vec3};
-use tabula_perception::freespace::{Cell, FreeSpaceMap, FreeSpaceParams, Placement};
-use tabula_perception::selffilter::{PlacedSolid, SelfFilterParams, self_filter};
-use tabula_perception::support::{FrameSource, SupportParams, frame_cloud};
-use tabula_perception::surfaces::find_surfaces;
-use tabula_perception::tabletop::Tabletop;
-use tabula_perception::tabletop::{TableObject, extract_framed};
-use tabula_perception::{TabletopParams, read_ply, to_world};
+use tabula_bench::report::frame::perceive_page;
+use tabula_geom::{PointCloud, Pose, Quat, Vec2, Vec3};
+use tabula_perception::TabletopParams;
+use tabula_perception::frame::{Perceived, box_yaw, mean_colour, perceive};
+use tabula_perception::freespace::{FreeSpaceMap, Placement};
+use tabula_perception::selffilter::PlacedSolid;
+use tabula_perception::support::FrameSource;
+use tabula_perception::tabletop::{TableObject, Tabletop};
+
+pub use tabula_perception::frame::read_cloud_file;
 
 #[derive(Args)]
 pub struct PerceiveArgs {
@@ -74,20 +68,7 @@ fn pose_arg(v: &[f64], what: &str) -> Result<Pose> {
 
 /// Reads a PCD or PLY file (by its first bytes, whatever the extension).
 pub fn read_cloud(path: &Path) -> Result<PointCloud> {
-    read_cloud_file(path).map(|f| f.cloud)
-}
-
-/// Reads a PCD or PLY file with its colours and sensor pose.
-pub fn read_cloud_file(path: &Path) -> Result<CloudFile> {
-    let bytes = read_bytes(path, Format::Cloud)?;
-    let file = if bytes.starts_with(b"ply") {
-        read_ply(&bytes)
-            .map(CloudFile::plain)
-            .map_err(anyhow::Error::from)
-    } else {
-        read_pcd_file(&bytes).map_err(anyhow::Error::from)
-    };
-    file.with_context(|| format!("{}", path.display()))
+    Ok(read_cloud_file(path)?.cloud)
 }
 
 /// The robot's collision shapes placed by forward kinematics. Joints not given on the
@@ -157,7 +138,7 @@ pub fn run(a: PerceiveArgs) -> Result<()> {
     let json = || perceived.to_json(placement, colors);
     if let Some(dir) = &a.report {
         let footprint = placement.flatten().zip(a.place.as_deref());
-        write_report(dir, result, map, footprint, Some((cloud, colors)), &json())?;
+        perceive_page(dir, result, map, footprint, Some((cloud, colors)), &json())?;
         eprintln!("report: {}", dir.join("index.html").display());
     }
     if a.json {
@@ -327,163 +308,4 @@ fn print_perceived(
         result.times.segmentation,
         result.times.objects
     );
-}
-
-/// Yaw (rad) of a box's long side from the world x axis, in [-90°, 90°): a box turned
-/// by 180° is the same box.
-fn box_yaw(o: &TableObject) -> f64 {
-    let a = o.obb.axes[0];
-    let yaw = a.y.atan2(a.x);
-    let half = std::f64::consts::FRAC_PI_2;
-    (yaw + half).rem_euclid(std::f64::consts::PI) - half
-}
-
-/// Mean colour of some points.
-fn mean_colour(colors: &[[u8; 3]], indices: &[usize]) -> [u8; 3] {
-    let mut sum = [0u64; 3];
-    for &i in indices {
-        for (s, c) in sum.iter_mut().zip(colors[i]) {
-            *s += c as u64;
-        }
-    }
-    let n = indices.len().max(1) as u64;
-    sum.map(|s| (s / n) as u8)
-}
-
-fn pose_json(p: &Pose) -> [f64; 7] {
-    let (t, q) = (p.translation, p.rotation);
-    [t.x, t.y, t.z, q.x, q.y, q.z, q.w]
-}
-
-fn arr(v: Vec3) -> [f64; 3] {
-    v.to_array()
-}
-
-/// What perception makes of one frame: how it was framed, the cloud in that frame
-/// (robot removed), the tabletop, every surface, the support's free space.
-pub struct Perceived {
-    pub framing: tabula_perception::support::Framing,
-    pub cloud: PointCloud,
-    pub result: Tabletop,
-    pub surfaces: tabula_perception::surfaces::SurfaceSearch,
-    pub map: FreeSpaceMap,
-    /// Points the robot's self-filter removed.
-    pub removed: usize,
-    /// Wall time of framing and the tabletop pipeline.
-    pub ms: f64,
-}
-
-/// Frames `file` (a given pose, `up`, its VIEWPOINT or the optical frame), removes the
-/// robot's `solids`, and runs the tabletop pipeline, the surface search and the free
-/// space map.
-pub fn perceive(
-    file: &CloudFile,
-    world_from_camera: Option<Pose>,
-    up: Option<Vec3>,
-    solids: &[PlacedSolid],
-    params: &TabletopParams,
-) -> Result<Perceived> {
-    let t0 = Instant::now();
-    let framing = frame_cloud(
-        &file.cloud,
-        &file.viewpoint,
-        world_from_camera,
-        up,
-        &SupportParams::default(),
-    )?;
-    let mut cloud = to_world(&framing.world_from_cloud, &file.cloud);
-    let mut removed = 0;
-    if !solids.is_empty() {
-        let keep = self_filter(&cloud.points, solids, &SelfFilterParams::default());
-        for (p, k) in cloud.points.iter_mut().zip(&keep) {
-            if !k && p.is_finite() {
-                *p = Vec3::NAN;
-                removed += 1;
-            }
-        }
-    }
-    let result = extract_framed(&cloud, &framing, params)?;
-    let ms = t0.elapsed().as_secs_f64() * 1e3;
-    let surfaces = find_surfaces(&cloud, None, &params.surfaces, false);
-    let map = FreeSpaceMap::from_tabletop(&result, &cloud.points, &FreeSpaceParams::default())?;
-    Ok(Perceived {
-        framing,
-        cloud,
-        result,
-        surfaces,
-        map,
-        removed,
-        ms,
-    })
-}
-
-impl Perceived {
-    /// What `perceive --json` prints (`placement`: the answer to `--place`, if asked).
-    pub fn to_json(
-        &self,
-        placement: Option<Option<Placement>>,
-        colors: Option<&[[u8; 3]]>,
-    ) -> serde_json::Value {
-        let mut v = to_json(
-            &self.result,
-            &self.surfaces.surfaces,
-            &self.map,
-            placement,
-            self.removed,
-            self.ms,
-            colors,
-        );
-        v["frame"] = serde_json::json!({
-            "source": self.framing.source,
-            "world_from_cloud": pose_json(&self.framing.world_from_cloud),
-            "sensor": arr(self.framing.eye),
-        });
-        v
-    }
-}
-
-fn to_json(
-    t: &Tabletop,
-    surfaces: &[tabula_perception::Surface],
-    map: &FreeSpaceMap,
-    placement: Option<Option<Placement>>,
-    removed: usize,
-    ms: f64,
-    colors: Option<&[[u8; 3]]>,
-) -> serde_json::Value {
-    use serde_json::json;
-    let object = |o: &TableObject| {
-        json!({
-            "points": o.indices.len(),
-            "size": arr(o.obb.half_extents * 2.0),
-            "yaw": box_yaw(o),
-            "color": colors.map(|c| mean_colour(c, &o.indices)),
-            "centroid": arr(o.centroid),
-            "axes": o.axes.map(arr),
-            "table_axes": o.table_axes.map(arr),
-            "obb": {"center": arr(o.obb.center), "axes": o.obb.axes.map(arr), "half_extents": arr(o.obb.half_extents)},
-            "height": o.height,
-            "footprint": o.footprint.iter().map(|p| arr(*p)).collect::<Vec<_>>(),
-            "hull": {"vertices": o.hull_vertices.iter().map(|p| arr(*p)).collect::<Vec<_>>(), "triangles": o.hull_triangles},
-            "top": o.top.as_ref().map(|s| json!({"height": s.height, "area": s.area, "centroid": arr(s.centroid), "hull": s.hull.iter().map(|p| arr(*p)).collect::<Vec<_>>()})),
-        })
-    };
-    let objects: Vec<_> = t.objects.iter().map(object).collect();
-    let partial: Vec<_> = t.partial.iter().map(object).collect();
-    let surfaces: Vec<_> = surfaces
-        .iter()
-        .map(|s| json!({"normal": arr(s.plane.normal), "d": s.plane.d, "points": s.inliers.len(), "area": s.area, "hull_area": s.hull_area, "centroid": arr(s.centroid), "hull": s.hull.iter().map(|p| arr(*p)).collect::<Vec<_>>()}))
-        .collect();
-    json!({
-        "partial_objects": partial,
-        "table": {"height": t.table.centroid.z, "normal": arr(t.plane.normal), "d": t.plane.d, "points": t.table.inliers.len(), "area": t.table.area, "hull_area": t.table.hull_area, "centroid": arr(t.table.centroid), "hull": t.table.hull.iter().map(|p| arr(*p)).collect::<Vec<_>>()},
-        "surfaces": surfaces,
-        "objects": objects,
-        "free_area": map.free_area(),
-        "placement": placement.map(|p| p.map(|p| json!({"position": arr(p.position), "yaw": p.yaw, "clearance": p.clearance}))),
-        "self_filtered_points": removed,
-        "kept_after_outlier_removal": t.kept,
-        "times_ms": t.times,
-        "ms": ms,
-    })
 }

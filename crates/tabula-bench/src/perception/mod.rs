@@ -3,6 +3,10 @@
 //! quality against the simulator's labels on a suite of seeded scenes, and the whole
 //! pipeline on sensor files.
 
+pub mod suite;
+
+pub use suite::PerceptionBench;
+
 use crate::stats::median;
 use anyhow::Result;
 use serde::Serialize;

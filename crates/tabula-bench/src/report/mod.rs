@@ -4,6 +4,13 @@
 //! checks itself once loaded (images decoded, replays drawn, no script errors) and
 //! writes the verdict into `#selftest`, which the browser test reads.
 
+pub mod clear;
+pub mod frame;
+pub mod perception;
+pub mod pick_place;
+pub mod place;
+pub mod plots;
+
 use anyhow::{Context, Result};
 use serde::Serialize;
 use std::path::{Path, PathBuf};
@@ -14,9 +21,9 @@ use tabula_sim::{SimDriver, SimWorld};
 /// three.js r149, the last release with a classic-script build (`build/three.min.js`,
 /// MIT, from the npm registry's `three` package); a page opened from disk may not load
 /// ES modules.
-const THREE_JS: &str = include_str!("../assets/three.min.js");
-const THREE_LICENSE: &str = include_str!("../assets/three.LICENSE");
-const REPORT_JS: &str = include_str!("../assets/report.js");
+const THREE_JS: &str = include_str!("../../assets/three.min.js");
+const THREE_LICENSE: &str = include_str!("../../assets/three.LICENSE");
+const REPORT_JS: &str = include_str!("../../assets/report.js");
 
 /// A picture or plot file in the report, with its caption.
 #[derive(Debug, Clone)]
@@ -291,18 +298,18 @@ pub fn bench_report(dir: &Path, b: BenchSummary<'_>, run: &impl Serialize) -> Re
             })
             .collect();
         let title = format!("Success per {class_name}");
-        let svg = crate::plots::bars(&title, "success (%)", &bars)?;
+        let svg = plots::bars(&title, "success (%)", &bars)?;
         let fig = report.svg("classes", &title, &svg)?;
         s.figures.push(fig);
     }
     for (caption, unit, bars) in &b.bars {
-        let svg = crate::plots::bars(caption, unit, bars)?;
+        let svg = plots::bars(caption, unit, bars)?;
         let fig = report.svg(caption, caption, &svg)?;
         s.figures.push(fig);
     }
     for (caption, unit, values) in &b.distributions {
         let bins = (values.len() as f64).sqrt().ceil().clamp(5.0, 40.0) as usize;
-        let svg = crate::plots::histogram(caption, unit, values, bins)?;
+        let svg = plots::histogram(caption, unit, values, bins)?;
         let fig = report.svg(caption, caption, &svg)?;
         s.figures.push(fig);
     }
@@ -327,8 +334,34 @@ pub fn per_class<'a>(items: impl Iterator<Item = (&'a str, bool)>) -> Vec<(Strin
     out
 }
 
+/// Writes a default snapshot of `world` next to the scene's camera view.
+pub fn default_snapshot(world: &SimWorld, path: &std::path::Path) -> Result<()> {
+    let img = tabula_sim::camera::snapshot(
+        world,
+        tabula_geom::Vec3::new(2.2, -1.6, 1.9),
+        tabula_geom::Vec3::new(0.7, 0.0, 0.6),
+        960,
+        720,
+    );
+    img.save(path)
+        .with_context(|| format!("cannot write {}", path.display()))
+}
+
 /// A recorded run: its replay and the pictures of its moments.
 pub type Recorded = (Replay, Vec<Moment>);
+
+/// Runs `run` — which hands its driver to the starter it is given, once it has one —
+/// recorded for the report when `enabled`: its output, the world afterwards, and the
+/// recording.
+pub fn recorded<T>(
+    enabled: bool,
+    run: impl FnOnce(&mut dyn FnMut(&mut SimDriver)) -> Result<(T, SimWorld)>,
+) -> Result<(T, SimWorld, Option<Recorded>)> {
+    let mut recording = Recording::new(enabled);
+    let (out, world) = run(&mut |d| recording.start(d))?;
+    let recorded = recording.finish(&world);
+    Ok((out, world, recorded))
+}
 
 /// Records a run in the simulator when a report was asked for: a replay and pictures
 /// before, at every grasp and release, and after.
@@ -392,7 +425,7 @@ mod tests {
             .svg(
                 "plot",
                 "a plot",
-                &crate::plots::bars("t", "ms", &[("a".into(), 1.0)]).unwrap(),
+                &plots::bars("t", "ms", &[("a".into(), 1.0)]).unwrap(),
             )
             .unwrap();
         s.figures.push(fig);
