@@ -14,7 +14,10 @@ pub mod place;
 pub mod plan;
 pub mod registry;
 pub mod report;
+#[cfg(feature = "ros")]
+pub mod ros;
 pub mod spec;
+pub mod stable;
 pub mod stats;
 pub mod tidy;
 pub mod trials;

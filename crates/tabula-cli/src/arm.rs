@@ -120,10 +120,10 @@ pub fn run(a: ArmArgs) -> Result<()> {
     let params: MoveGroupParams = load_params(a.params.as_deref())?;
     let (_, world) = load_world(&a.scene)?;
     let (robot_name, robot) = scene_robot_named(&world, a.robot.as_deref())?;
-    let obstacles = planning_scene(&world, &robot_name);
+    let obstacles = world.planning_scene(&robot_name);
     let out = if a.dry_run {
         let state = world.robot(&robot_name)?;
-        let js = joint_state_of(&state.model, &state.values);
+        let js = tabula_robot::driver::JointState::of_model(&state.model, &state.values);
         let mut fake = FakeDriver::new(robot.clone(), js, state.world_from_root);
         act(&mut fake, &robot, &obstacles, &a.action, &params, "fake")?
     } else {
@@ -190,37 +190,6 @@ fn save_scene(world: &SimWorld, path: Option<&PathBuf>) -> Result<()> {
 
 /// A shape of the planning scene: name, shape, world pose.
 pub type Obstacle = (String, tabula_geom::parry::shape::SharedShape, Pose);
-
-/// The planning scene: the furniture and every object `robot` does not hold, where the
-/// world has them (for the simulator and the dry run alike, from the scene file).
-pub fn planning_scene(world: &SimWorld, robot: &str) -> Vec<Obstacle> {
-    let held = world.held_objects(robot);
-    let mut obstacles = world.furniture_shapes();
-    obstacles.extend(
-        world
-            .object_shapes()
-            .into_iter()
-            .filter(|(name, _, _)| !held.contains(name)),
-    );
-    obstacles
-}
-
-/// A move group for `arm` at the driver's state with the planning scene's obstacles.
-pub fn move_group(
-    driver: &impl RobotDriver,
-    robot: &NamedRobot,
-    arm: &str,
-    obstacles: &[Obstacle],
-    params: &MoveGroupParams,
-) -> Result<MoveGroup> {
-    let state = driver.joint_state()?;
-    let root = driver.world_from_root()?;
-    let mut group = MoveGroup::new(robot, arm, &state, root, params.clone())?;
-    for (k, (name, shape, pose)) in obstacles.iter().enumerate() {
-        group.add_object(&format!("{name}#{k}"), shape.clone(), *pose)?;
-    }
-    Ok(group)
-}
 
 /// The arm called `wanted`, or the description's first.
 pub fn arm_name(robot: &NamedRobot, wanted: Option<&String>) -> Result<String> {
@@ -308,7 +277,7 @@ fn act(
         | ArmAction::Named { arm, .. } => Some(arm_name(robot, arm.as_ref())?),
     };
     if let Some(arm) = &arm {
-        let mut group = move_group(driver, robot, arm, obstacles, params)?;
+        let mut group = MoveGroup::at_driver(driver, (robot, arm), obstacles, params)?;
         let start = group.arm_values(&state);
         let plan = match action {
             ArmAction::MoveJoints { values, .. } => {
@@ -331,7 +300,11 @@ fn act(
                 group.plan_to_pose(&start, &target)
             }
             ArmAction::Named { name, .. } => {
-                let goal = named_configuration(robot, arm, name, group.joint_names(), &start)?;
+                let goal = robot.description.arm(arm)?.named_configuration(
+                    name,
+                    group.joint_names(),
+                    &start,
+                )?;
                 out.action = format!("named {name}");
                 group.plan_to_joints(&start, &[goal])
             }
@@ -351,58 +324,6 @@ fn act(
     let after = driver.joint_state()?;
     out.joints = after.names.into_iter().zip(after.positions).collect();
     Ok(out)
-}
-
-/// The configuration of arm `arm` named `name` in the robot's description (SRDF group
-/// states; `tuck` for a description's tucked pose); joints it leaves out keep their
-/// value in `current` (ordered as `joint_names`). An unknown name lists the known ones.
-pub fn named_configuration(
-    robot: &NamedRobot,
-    arm: &str,
-    name: &str,
-    joint_names: &[String],
-    current: &[f64],
-) -> Result<Vec<f64>> {
-    let group_desc = robot.description.arm(arm)?;
-    let named = match (group_desc.named.get(name), name) {
-        (Some(state), _) => state,
-        (None, "tuck" | "tucked") if !group_desc.tucked.is_empty() => &group_desc.tucked,
-        (None, other) => {
-            let mut known: Vec<&str> = group_desc.named.keys().map(String::as_str).collect();
-            if !group_desc.tucked.is_empty() {
-                known.push("tuck");
-            }
-            bail!(
-                "no named pose `{other}` for arm `{arm}`; named poses: {}",
-                if known.is_empty() {
-                    "none".to_string()
-                } else {
-                    known.join(", ")
-                }
-            )
-        }
-    };
-    Ok(joint_names
-        .iter()
-        .zip(current)
-        .map(|(n, s)| named.get(n).copied().unwrap_or(*s))
-        .collect())
-}
-
-/// Every single-axis joint of a model at `values` (mimic joints as their masters move
-/// them), as a driver reports its state.
-pub fn joint_state_of(
-    model: &tabula_robot::RobotModel,
-    values: &[f64],
-) -> tabula_robot::driver::JointState {
-    let mut js = tabula_robot::driver::JointState::default();
-    for (j, joint) in model.joints.iter().enumerate() {
-        if joint.kind.is_single_axis() {
-            js.names.push(joint.name.clone());
-            js.positions.push(model.joint_value(values, j));
-        }
-    }
-    js
 }
 
 /// No plan for the command: exit status 2, like every "no solution".

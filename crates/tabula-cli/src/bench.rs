@@ -4,7 +4,6 @@
 use anyhow::Result;
 use clap::Subcommand;
 use tabula_bench::perception::{PerceptionBench, Timer, frame_rows};
-use tabula_bench::stats::median;
 use tabula_perception::TabletopParams;
 
 #[derive(Subcommand)]
@@ -219,69 +218,17 @@ fn pick_place(variants: u64, json: bool, report: Option<&std::path::Path>) -> Re
         .collect();
     progress.finish_and_clear();
     let rows: Vec<PickPlaceRow> = rows.into_iter().collect::<Result<_>>()?;
-    let ok = rows.iter().filter(|r| r.success).count();
-    let decisions: Vec<f64> = rows
-        .iter()
-        .filter(|r| r.success)
-        .map(|r| r.decision_cpu_ms)
-        .collect();
+    use tabula_bench::report::pick_place as page;
     if let Some(dir) = report {
-        tabula_bench::report::bench_report(
-            dir,
-            tabula_bench::report::BenchSummary {
-                title: "Pick and place by coordinates (seed 001's integral test)",
-                command: format!("tabula bench pick-place --variants {variants}"),
-                numbers: vec![
-                    ("tasks".into(), rows.len().to_string()),
-                    ("placed (physics)".into(), ok.to_string()),
-                ],
-                classes: (
-                    "target",
-                    tabula_bench::report::per_class(
-                        rows.iter().map(|r| (r.target.as_str(), r.success)),
-                    ),
-                ),
-                distributions: vec![(
-                    "Decision CPU per task (successful tasks)",
-                    "ms",
-                    decisions.clone(),
-                )],
-                bars: Vec::new(),
-            },
-            &rows,
-        )?;
+        page::bench_page(dir, variants, &rows)?;
     }
     if json {
-        println!(
-            "{}",
-            serde_json::json!({
-                "variants": rows.len(),
-                "succeeded": ok,
-                "median_decision_cpu_ms": median(&decisions).unwrap_or(f64::NAN),
-                "rows": rows,
-            })
-        );
+        println!("{}", page::bench_json(&rows));
         return Ok(());
     }
-    println!("| seed | to | arm | success | decision CPU ms | error cm | why |");
-    println!("|---|---|---|---|---|---|---|");
-    for r in &rows {
-        println!(
-            "| {} | {} | {} | {} | {:.1} | {:.2} | {} |",
-            r.seed,
-            r.target,
-            r.arm.as_deref().unwrap_or("-"),
-            if r.success { "yes" } else { "NO" },
-            r.decision_cpu_ms,
-            r.target_error_cm,
-            r.error.as_deref().unwrap_or("")
-        );
+    for line in page::bench_lines(&rows) {
+        println!("{line}");
     }
-    println!(
-        "\n{ok} of {} placed (physics verdict); median decision {:.1} ms CPU",
-        rows.len(),
-        median(&decisions).unwrap_or(f64::NAN)
-    );
     Ok(())
 }
 
@@ -350,64 +297,13 @@ fn perception(
 /// and received `frames` times.
 #[cfg(feature = "ros")]
 fn ros_latency(frames: usize, json: bool) -> Result<()> {
-    let scene = tabula_sim::Scene::parse(
-        include_str!("../../../scenes/pr2_holding.toml"),
-        "pr2_holding.toml",
-    )?;
-    let world = tabula_sim::SimWorld::from_scene(&scene, Default::default())?;
-    let camera = world.camera("head")?;
-    let frame = tabula_sim::camera::capture(&world, &camera, 1);
-    let endpoint = || -> Result<String> {
-        let port = std::net::TcpListener::bind("127.0.0.1:0")?
-            .local_addr()?
-            .port();
-        Ok(format!("tcp/127.0.0.1:{port}"))
-    };
-    let in_ms = |v: Vec<f64>| -> Vec<f64> {
-        let mut ms: Vec<f64> = v.into_iter().map(|s| s * 1e3).collect();
-        ms.sort_by(f64::total_cmp);
-        ms
-    };
-    let ms = in_ms(
-        tabula_ros::bench::cloud_latency(&frame.cloud, frames, &endpoint()?)
-            .map_err(|e| anyhow::anyhow!("{e}"))?,
-    );
-    let bytes = frame.cloud.points.len() * 16;
-    let raw = in_ms(
-        tabula_ros::bench::raw_latency(bytes, frames, &endpoint()?)
-            .map_err(|e| anyhow::anyhow!("{e}"))?,
-    );
-    let at = |v: &[f64], q: f64| v[((v.len() - 1) as f64 * q).round() as usize];
-    let summary = serde_json::json!({
-        "frames": ms.len(),
-        "width": frame.cloud.width,
-        "height": frame.cloud.height,
-        "bytes": bytes,
-        "median_ms": at(&ms, 0.5),
-        "p95_ms": at(&ms, 0.95),
-        "max_ms": at(&ms, 1.0),
-        "raw_median_ms": at(&raw, 0.5),
-        "raw_p95_ms": at(&raw, 0.95),
-        "mb_per_s_at_median": bytes as f64 / 1e6 / (at(&ms, 0.5) / 1e3),
-    });
+    let latency = tabula_bench::ros::Latency::measure(frames)?;
     if json {
-        println!("{}", serde_json::to_string_pretty(&summary)?);
+        println!("{}", serde_json::to_string_pretty(&latency)?);
     } else {
-        println!(
-            "{}×{} PointCloud2 ({:.1} MB) publish → decoded, TCP loopback, {} frames: median {:.2} ms, p95 {:.2} ms, max {:.2} ms",
-            frame.cloud.width,
-            frame.cloud.height,
-            bytes as f64 / 1e6,
-            ms.len(),
-            at(&ms, 0.5),
-            at(&ms, 0.95),
-            at(&ms, 1.0)
-        );
-        println!(
-            "the same bytes put and received raw (zenoh alone): median {:.2} ms, p95 {:.2} ms",
-            at(&raw, 0.5),
-            at(&raw, 0.95)
-        );
+        for line in latency.lines() {
+            println!("{line}");
+        }
     }
     Ok(())
 }

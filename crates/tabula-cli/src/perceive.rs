@@ -4,14 +4,13 @@
 use anyhow::{Context, Result, bail};
 use clap::Args;
 use std::path::{Path, PathBuf};
-use tabula_bench::report::frame::perceive_page;
+use tabula_bench::report::frame::{perceive_page, perceived_lines};
 use tabula_geom::{PointCloud, Pose, Quat, Vec2, Vec3};
 use tabula_perception::TabletopParams;
-use tabula_perception::frame::{Perceived, box_yaw, mean_colour, perceive};
+use tabula_perception::frame::{Perceived, perceive};
 use tabula_perception::freespace::{FreeSpaceMap, Placement};
 use tabula_perception::selffilter::PlacedSolid;
-use tabula_perception::support::FrameSource;
-use tabula_perception::tabletop::{TableObject, Tabletop};
+use tabula_perception::tabletop::Tabletop;
 
 pub use tabula_perception::frame::read_cloud_file;
 
@@ -149,7 +148,9 @@ pub fn run(a: PerceiveArgs) -> Result<()> {
         }
         return Ok(());
     }
-    print_perceived(&perceived, placement, colors);
+    for line in perceived_lines(&perceived, placement, colors) {
+        println!("{line}");
+    }
     if no_place {
         std::process::exit(crate::exit::NO_SOLUTION);
     }
@@ -190,122 +191,4 @@ fn placement_of(
         .as_ref()
         .map_or(result.table.centroid, |n| Vec3::new(n[0], n[1], n[2]));
     Ok(Some(map.find_place(&footprint, a.margin, near)))
-}
-
-/// What `tabula perceive` prints without `--json`.
-fn print_perceived(
-    perceived: &Perceived,
-    placement: Option<Option<Placement>>,
-    colors: Option<&[[u8; 3]]>,
-) {
-    let Perceived {
-        framing,
-        result,
-        surfaces,
-        map,
-        removed,
-        ms,
-        ..
-    } = perceived;
-    let t = &framing.world_from_cloud;
-    match framing.source {
-        FrameSource::GivenPose => println!("frame: the world, from the sensor pose given"),
-        FrameSource::Viewpoint => println!(
-            "frame: the cloud's own (z up), sensor at ({:.3}, {:.3}, {:.3}) from its VIEWPOINT",
-            framing.eye.x, framing.eye.y, framing.eye.z
-        ),
-        FrameSource::Support => println!(
-            "frame: the support's (z up, support at z = 0, sensor {:.3} m above it looking along +x); \
-             world_from_cloud ({:.3}, {:.3}, {:.3}) ({:.4}, {:.4}, {:.4}, {:.4})",
-            framing.eye.z,
-            t.translation.x,
-            t.translation.y,
-            t.translation.z,
-            t.rotation.x,
-            t.rotation.y,
-            t.rotation.z,
-            t.rotation.w
-        ),
-    }
-    println!(
-        "table: {} points, height {:.3} m, normal ({:.3}, {:.3}, {:.3}), {:.2} m² seen, hull {:.2} m² ({} corners); free {:.2} m²",
-        result.table.inliers.len(),
-        result.table.centroid.z,
-        result.plane.normal.x,
-        result.plane.normal.y,
-        result.plane.normal.z,
-        result.table.area,
-        result.table.hull_area,
-        result.table.hull.len(),
-        map.free_area()
-    );
-    if *removed > 0 {
-        println!("self-filter: {removed} robot points removed");
-    }
-    println!("surfaces (all horizontal surfaces in reach):");
-    for s in &surfaces.surfaces {
-        println!(
-            "  at {:.3} m: {} points, {:.2} m², centroid ({:.3}, {:.3}, {:.3})",
-            s.centroid.z,
-            s.inliers.len(),
-            s.area,
-            s.centroid.x,
-            s.centroid.y,
-            s.centroid.z
-        );
-    }
-    let line = |i: usize, o: &TableObject| {
-        let (c, s) = (o.obb.center, o.obb.half_extents * 2.0);
-        println!(
-            "  {}: {} points, box centre ({:.3}, {:.3}, {:.3}), {:.3} × {:.3} × {:.3} m, yaw {:.0}°{}{}",
-            i + 1,
-            o.indices.len(),
-            c.x,
-            c.y,
-            c.z,
-            s.x,
-            s.y,
-            s.z,
-            box_yaw(o).to_degrees(),
-            o.top.as_ref().map_or(String::new(), |t| format!(
-                ", flat top {:.0} cm²",
-                t.area * 1e4
-            )),
-            colors.map_or(String::new(), |c| {
-                let [r, g, b] = mean_colour(c, &o.indices);
-                format!(", colour #{r:02x}{g:02x}{b:02x}")
-            })
-        );
-    };
-    println!("objects:");
-    for (i, o) in result.objects.iter().enumerate() {
-        line(i, o);
-    }
-    if !result.partial.is_empty() {
-        println!("cut by the frame's edge (partly seen):");
-        for (i, o) in result.partial.iter().enumerate() {
-            line(i, o);
-        }
-    }
-    match placement {
-        Some(Some(p)) => println!(
-            "place: ({:.3}, {:.3}, {:.3}) yaw {:.0}°, {:.3} m clear",
-            p.position.x,
-            p.position.y,
-            p.position.z,
-            p.yaw.to_degrees(),
-            p.clearance
-        ),
-        Some(None) => println!("place: the footprint fits nowhere on the table with that margin"),
-        None => {}
-    }
-    println!(
-        "{ms:.1} ms (outliers {:.1}, planes {:.1}, prism {:.1}, normals {:.1}, segmentation {:.1}, objects {:.1})",
-        result.times.outliers,
-        result.times.planes,
-        result.times.prism,
-        result.times.normals,
-        result.times.segmentation,
-        result.times.objects
-    );
 }

@@ -6,7 +6,6 @@ use anyhow::Result;
 use tabula_bench::place::{BenchRow, PlaceRun as PlaceJson, suite_of, task_of, trial};
 use tabula_bench::report::place::section;
 use tabula_bench::report::{Recorded, Report, recorded};
-use tabula_bench::stats::wilson;
 use tabula_sim::SimWorld;
 use tabula_tasks::place::{PlaceParams, PlaceRequest};
 
@@ -224,69 +223,8 @@ pub fn bench(b: &crate::trials::SuiteRun<'_>) -> Result<()> {
         println!("{}", serde_json::to_string_pretty(&rows)?);
         return Ok(());
     }
-    for r in &rows {
-        println!(
-            "{:>5} {:<14} {:<7} clutter {} {:<5} {:<8} {:>6.1}° {:>7.1} mm {:>8.1} ms {:>6}  {}",
-            r.seed,
-            r.object,
-            format!("{:?}", r.layout).to_lowercase(),
-            r.clutter,
-            r.arm,
-            if r.success { "placed" } else { "FAILED" },
-            r.orientation_error_deg.min(999.0),
-            r.moved_after_release_mm.min(9999.0),
-            r.decision_ms,
-            r.normal_error_deg
-                .map_or(String::new(), |e| format!("n{e:.1}°")),
-            r.cause.as_deref().unwrap_or("")
-        );
-    }
-    let n = rows.len();
-    let k = rows.iter().filter(|r| r.success).count();
-    let (lo, hi) = wilson(k, n);
-    let decisions: Vec<f64> = rows.iter().map(|r| r.decision_ms).collect();
-    let d = tabula_robot::ik::bench::Spread::of(&decisions);
-    println!(
-        "{suite}: {k}/{n} placed = {:.1} % (95 % interval {:.1}–{:.1} %); decision CPU median {:.0} ms, p95 {:.0} ms",
-        100.0 * k as f64 / n.max(1) as f64,
-        lo * 100.0,
-        hi * 100.0,
-        d.median,
-        d.p95
-    );
-    let found = rows.iter().filter(|r| r.table_found).count();
-    let (flo, fhi) = wilson(found, n);
-    println!(
-        "the table found by the sweep: {found}/{n} = {:.1} % (95 % interval {:.1}–{:.1} %)",
-        100.0 * found as f64 / n.max(1) as f64,
-        flo * 100.0,
-        fhi * 100.0
-    );
-    let free: Vec<&BenchRow> = rows
-        .iter()
-        .filter(|r| r.grip_allows_rest == Some(true))
-        .collect();
-    let judged = rows.iter().filter(|r| r.grip_allows_rest.is_some()).count();
-    if judged > 0 {
-        let placed = free.iter().filter(|r| r.success).count();
-        let (plo, phi) = wilson(placed, free.len());
-        println!(
-            "grips that leave the true object a resting face: {}/{judged}; of those, {placed} placed = {:.1} % (95 % interval {:.1}–{:.1} %)",
-            free.len(),
-            100.0 * placed as f64 / free.len().max(1) as f64,
-            plo * 100.0,
-            phi * 100.0
-        );
-    }
-    if !causes.is_empty() {
-        println!(
-            "failures by cause: {}",
-            causes
-                .iter()
-                .map(|(c, n)| format!("{c} {n}"))
-                .collect::<Vec<_>>()
-                .join(", ")
-        );
+    for line in tabula_bench::report::place::bench_lines(suite, &rows, &causes) {
+        println!("{line}");
     }
     Ok(())
 }

@@ -186,16 +186,13 @@ pub fn run(a: PlanArgs) -> Result<()> {
 }
 
 fn bench(b: BenchArgs) -> Result<()> {
+    use tabula_bench::report::plan::{bench_page, header_lines, row_line};
     let domain = parse_domain(include_str!("../../../pddl/tablewclear-domain.pddl"))?;
     let mut rows = Vec::new();
     if !b.json {
-        println!(
-            "table clearing (seed 002 domain), in process, {} problems per size, median wall ms",
-            b.problems
-        );
-        println!(
-            "  N  ground  optimal (len, exp.)  ground+optimal  replan-1-change  fast (len)  10-call loop  goal check"
-        );
+        for line in header_lines(b.problems) {
+            println!("{line}");
+        }
     }
     let progress = crate::progress::steps(b.objects.len() as u64, "sizes");
     for &n in &b.objects {
@@ -203,87 +200,13 @@ fn bench(b: BenchArgs) -> Result<()> {
         progress.set_message(format!("{n} objects"));
         let r = tabula_bench::plan::size_row(&domain, n, b.problems)?;
         if !b.json {
-            println!(
-                "{:>3}  {:>6.2}  {:>7.2} ({:>5.1}, {:>5.0})  {:>14.2}  {:>15.2}  {:>4.2} ({:>5.1})  {:>12.2}  {:>10.2}{}",
-                n,
-                r.ground_ms,
-                r.optimal_ms,
-                r.mean_optimal_length,
-                r.mean_expanded,
-                r.ground_plus_optimal_ms,
-                r.replan_ms,
-                r.fast_ms,
-                r.mean_fast_length,
-                r.loop10_ms,
-                r.goal_check_ms,
-                if r.solved < b.problems {
-                    format!("   ({}/{} solved)", r.solved, b.problems)
-                } else {
-                    String::new()
-                }
-            );
+            println!("{}", row_line(&r, b.problems));
         }
         rows.push(serde_json::to_value(&r)?);
     }
     progress.finish_and_clear();
     if let Some(dir) = &b.report {
-        let per_size = |key: &str| -> Vec<(String, f64)> {
-            rows.iter()
-                .map(|r| {
-                    (
-                        format!("{} objects", r["objects"]),
-                        r[key].as_f64().unwrap_or(f64::NAN),
-                    )
-                })
-                .collect()
-        };
-        tabula_bench::report::bench_report(
-            dir,
-            tabula_bench::report::BenchSummary {
-                title: "Task planning: table clearing in PDDL (seed 002's domain)",
-                command: format!(
-                    "tabula plan bench --objects {} --problems {}",
-                    b.objects
-                        .iter()
-                        .map(ToString::to_string)
-                        .collect::<Vec<_>>()
-                        .join(","),
-                    b.problems
-                ),
-                numbers: Vec::new(),
-                classes: (
-                    "table size (solved optimally)",
-                    rows.iter()
-                        .map(|r| {
-                            (
-                                format!("{} objects", r["objects"]),
-                                r["solved"].as_u64().unwrap_or(0) as usize,
-                                b.problems as usize,
-                            )
-                        })
-                        .collect(),
-                ),
-                distributions: Vec::new(),
-                bars: vec![
-                    (
-                        "Grounding and optimal plan (median)",
-                        "ms",
-                        per_size("ground_plus_optimal_ms"),
-                    ),
-                    (
-                        "Replanning after one IK-infeasible fact (median)",
-                        "ms",
-                        per_size("replan_ms"),
-                    ),
-                    (
-                        "The seed's loop, ten decisions (median)",
-                        "ms",
-                        per_size("loop10_ms"),
-                    ),
-                ],
-            },
-            &rows,
-        )?;
+        bench_page(dir, (&b.objects, b.problems), &rows)?;
     }
     if b.json {
         println!("{}", serde_json::to_string(&rows)?);

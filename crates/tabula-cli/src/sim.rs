@@ -4,7 +4,7 @@ use anyhow::{Context, Result, bail};
 use clap::{Args, Subcommand};
 use std::path::PathBuf;
 use std::time::Instant;
-use tabula_geom::{PcdEncoding, Vec3, rpy_from_quat};
+use tabula_geom::{Vec3, rpy_from_quat};
 use tabula_sim::camera::{Camera, capture, snapshot};
 use tabula_sim::world::MODELS;
 use tabula_sim::{PhysicsParams, Scene, SimWorld};
@@ -322,48 +322,13 @@ fn capture_to_file(a: &CaptureArgs) -> Result<()> {
     let t0 = Instant::now();
     let frame = capture(&world, &camera, a.seed);
     let ms = t0.elapsed().as_secs_f64() * 1e3;
-    let cannot_write = || format!("cannot write {}", a.out.display());
-    let mut out =
-        std::io::BufWriter::new(std::fs::File::create(&a.out).with_context(cannot_write)?);
-    let ply = a
-        .out
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("ply"));
-    if ply && a.world {
-        bail!("--world needs a PCD (PLY has no VIEWPOINT for the camera's pose)");
-    }
-    if ply {
-        let encoding = if a.binary {
-            tabula_geom::PlyEncoding::BinaryLittleEndian
-        } else {
-            tabula_geom::PlyEncoding::Ascii
-        };
-        tabula_geom::write_ply(&frame.cloud, &mut out, encoding).with_context(cannot_write)?;
-    } else {
-        let encoding = if a.binary {
-            PcdEncoding::Binary
-        } else {
-            PcdEncoding::Ascii
-        };
-        if a.world {
-            frame
-                .cloud
-                .transformed(&frame.world_from_camera)
-                .write_pcd_with(&mut out, encoding, &frame.world_from_camera, None)
-                .with_context(cannot_write)?;
-        } else {
-            frame
-                .cloud
-                .write_pcd(&mut out, encoding)
-                .with_context(cannot_write)?;
-        }
-    }
-    // Dropping a BufWriter swallows the last write's error (a full disk).
-    std::io::Write::flush(&mut out).with_context(cannot_write)?;
+    let how = tabula_sim::frame_file::FrameFile {
+        binary: a.binary,
+        world: a.world,
+    };
+    frame.write_file(&a.out, how)?;
     if let Some(path) = &a.labels {
-        let v = serde_json::json!({"width": frame.width, "height": frame.height, "names": frame.label_names, "labels": frame.labels});
-        std::fs::write(path, v.to_string())
-            .with_context(|| format!("cannot write {}", path.display()))?;
+        frame.write_labels(path)?;
     }
     let p = frame.world_from_camera;
     let [r, pi, y] = rpy_from_quat(p.rotation);

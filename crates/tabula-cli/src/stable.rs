@@ -109,94 +109,23 @@ pub fn run(args: StablePosesArgs) -> Result<()> {
     Ok(())
 }
 
-#[derive(serde::Serialize)]
-struct BenchRow {
-    object: String,
-    vertices: usize,
-    poses: usize,
-    most_likely_normal: Option<[f64; 3]>,
-    most_likely_probability: Option<f64>,
-    cpu_ms_median: f64,
-}
-
-/// Writes the test objects as OBJ files into `dir` and times the stable-pose search on
-/// each (median CPU over `reps`), for the side-by-side with trimesh
-/// (`scripts/trimesh_stable_poses.py DIR`).
+/// `tabula bench stable-poses`: the test objects written as OBJ files into `dir`, the
+/// stable-pose search timed on each (for the side-by-side with trimesh,
+/// `scripts/trimesh_stable_poses.py DIR`).
 pub fn bench(dir: &Path, reps: usize, json: bool, report: Option<&Path>) -> Result<()> {
-    std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
-    let params = StableParams::default();
-    let mut rows = Vec::new();
-    let catalogue = tabula_sim::objects::catalogue();
-    let progress = crate::progress::steps(catalogue.len() as u64, "objects");
-    for o in catalogue {
-        let _tick = crate::progress::Tick(&progress);
-        let path = dir.join(format!("{}.obj", o.name));
-        std::fs::write(&path, o.to_obj())
-            .with_context(|| format!("cannot write {}", path.display()))?;
-        let mut times = Vec::with_capacity(reps);
-        let mut last = None;
-        for _ in 0..reps.max(1) {
-            let c0 = thread_cpu_seconds();
-            let s = of_mesh(&o.vertices, &o.triangles, &params)?;
-            times.push((thread_cpu_seconds() - c0) * 1e3);
-            last = Some(s);
-        }
-        times.sort_by(f64::total_cmp);
-        let s = last.context("no repetition")?;
-        let ml = s.most_likely.map(|i| &s.poses[i]);
-        rows.push(BenchRow {
-            object: o.name.clone(),
-            vertices: o.vertices.len(),
-            poses: s.poses.len(),
-            most_likely_normal: ml.map(|p| p.support_normal.map(|x| (x * 1e3).round() / 1e3 + 0.0)),
-            most_likely_probability: ml.map(|p| p.probability),
-            cpu_ms_median: times[times.len() / 2],
-        });
-    }
+    let count = tabula_sim::objects::catalogue().len() as u64;
+    let progress = crate::progress::steps(count, "objects");
+    let rows = tabula_bench::stable::run(dir, reps, &mut || progress.inc(1))?;
+    progress.finish_and_clear();
     if let Some(out) = report {
-        tabula_bench::report::bench_report(
-            out,
-            tabula_bench::report::BenchSummary {
-                title: "Stable poses of the test objects",
-                command: format!("tabula bench stable-poses --reps {reps}"),
-                numbers: vec![("objects".into(), rows.len().to_string())],
-                classes: ("", Vec::new()),
-                distributions: Vec::new(),
-                bars: vec![(
-                    "CPU per object (median)",
-                    "ms",
-                    rows.iter()
-                        .map(|r| {
-                            (
-                                format!("{} ({} vertices)", r.object, r.vertices),
-                                r.cpu_ms_median,
-                            )
-                        })
-                        .collect(),
-                )],
-            },
-            &rows,
-        )?;
+        tabula_bench::report::stable::bench_page(out, reps, &rows)?;
     }
     if json {
         println!("{}", serde_json::to_string_pretty(&rows)?);
         return Ok(());
     }
-    println!(
-        "{:<14} {:>8} {:>6} {:>26} {:>7} {:>10}",
-        "object", "vertices", "poses", "most likely normal", "prob", "CPU ms"
-    );
-    for r in &rows {
-        let n = r.most_likely_normal.unwrap_or([f64::NAN; 3]);
-        println!(
-            "{:<14} {:>8} {:>6} {:>26} {:>7.3} {:>10.3}",
-            r.object,
-            r.vertices,
-            r.poses,
-            format!("({:.3}, {:.3}, {:.3})", n[0], n[1], n[2]),
-            r.most_likely_probability.unwrap_or(f64::NAN),
-            r.cpu_ms_median
-        );
+    for line in tabula_bench::report::stable::bench_lines(&rows) {
+        println!("{line}");
     }
     println!("meshes written to {}", dir.display());
     Ok(())

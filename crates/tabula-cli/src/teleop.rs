@@ -4,7 +4,7 @@
 //! path through the arm's IK from the current joints, checked against the joints'
 //! limits and the scene, executed in the simulator — or refused with the reason.
 
-use crate::arm::{arm_name, move_group, planning_scene};
+use crate::arm::arm_name;
 use crate::tasks::{load_params, load_world, scene_robot_named};
 use anyhow::{Result, anyhow};
 use clap::Args;
@@ -14,11 +14,11 @@ use ratatui::style::{Color, Style};
 use ratatui::text::Line;
 use ratatui::widgets::{Block, LineGauge, Paragraph};
 use std::path::PathBuf;
-use tabula_geom::{Pose, Quat, Vec3};
+use tabula_geom::{Pose, Vec3};
 use tabula_motion::group::{MoveGroup, MoveGroupParams};
-use tabula_robot::driver::{Arms, Grippers, HeadControl, JointStates, JointTrajectory};
-use tabula_robot::robots::NamedRobot;
 use tabula_sim::SimDriver;
+use tabula_tasks::skills::SkillError;
+use tabula_tasks::skills::jog::{Jog, JogFrame, JointReading};
 
 #[derive(Args)]
 pub struct TeleopArgs {
@@ -37,22 +37,10 @@ pub struct TeleopArgs {
     params: Option<PathBuf>,
 }
 
-/// Which frame a step is taken in.
-#[derive(Clone, Copy, PartialEq, Eq)]
-enum Frame {
-    Base,
-    Tool,
-}
-
-/// The tele-operation state: the simulated robot, its arm, step sizes, the last answer.
+/// The tele-operation state: the jogged arm in the simulator, step sizes, the last
+/// answer.
 struct Teleop {
-    driver: SimDriver,
-    robot: NamedRobot,
-    arm: String,
-    /// The arm over the scene's furniture and objects; its allowed-collision matrix is
-    /// sampled once, each step only takes the new joint state.
-    group: MoveGroup,
-    frame: Frame,
+    jog: Jog<SimDriver>,
     step_m: f64,
     step_rad: f64,
     /// Squeeze of a close (N per finger; the joint's limit caps it).
@@ -62,179 +50,62 @@ struct Teleop {
 }
 
 impl Teleop {
-    /// The tool's pose in the robot's base frame and the arm's joints (name, value,
-    /// limits).
-    #[allow(clippy::type_complexity)]
-    fn status(&mut self) -> Result<(Pose, Vec<(String, f64, f64, f64)>)> {
-        let state = self.driver.joint_state()?;
-        self.group.set_state(&self.robot, &state)?;
-        let group = &self.group;
-        let q = group.arm_values(&state);
-        let base_from_tool = self.driver.world_from_root()?.inverse() * group.tip_pose(&q)?;
-        let joints = group
-            .joint_names()
-            .iter()
-            .zip(&q)
-            .map(|(n, v)| {
-                let l = self
-                    .robot
-                    .model
-                    .joint(n)
-                    .map(|j| self.robot.model.joints[j].limits);
-                let (lo, hi) = l.map_or((f64::NAN, f64::NAN), |l| (l.lower, l.upper));
-                (n.clone(), *v, lo, hi)
-            })
-            .collect();
-        Ok((base_from_tool, joints))
-    }
-
     /// One step: `translation` (m) and `rotation` (a rotation vector, rad) in the
     /// current frame.
     fn step(&mut self, translation: Vec3, rotation: Vec3, what: &str) {
-        self.last = match self.try_step(translation, rotation) {
-            Ok(()) => format!(
-                "moved: {what} ({} frame)",
-                if self.frame == Frame::Base {
-                    "base"
-                } else {
-                    "tool"
-                }
-            ),
-            Err(e) => format!("refused: {what}: {e}"),
+        let frame = match self.jog.frame {
+            JogFrame::Base => "base",
+            JogFrame::Tool => "tool",
         };
-        self.refresh_snapshot();
+        let moved = self.jog.step(translation, rotation);
+        self.answer(
+            what,
+            moved.map(|()| format!("moved: {what} ({frame} frame)")),
+        );
     }
 
-    fn try_step(&mut self, translation: Vec3, rotation: Vec3) -> Result<()> {
-        let state = self.driver.joint_state()?;
-        self.group.set_state(&self.robot, &state)?;
-        let group = &self.group;
-        let q = group.arm_values(&state);
-        let world_from_tool = group.tip_pose(&q)?;
-        let world_from_base = self.driver.world_from_root()?;
-        let target = match self.frame {
-            Frame::Base => {
-                let r = world_from_base.rotation;
-                Pose::from_parts(
-                    world_from_tool.translation + r * translation,
-                    Quat::from_scaled_axis(r * rotation) * world_from_tool.rotation,
-                )
-            }
-            Frame::Tool => {
-                world_from_tool * Pose::from_parts(translation, Quat::from_scaled_axis(rotation))
-            }
-        };
-        let plan = group.cartesian(&q, &target).map_err(|e| anyhow!("{e}"))?;
-        self.driver.execute(&plan.trajectory)?;
-        Ok(())
-    }
-
-    /// Moves the torso's lift joint by `delta` (m), inside its limits and only if the
-    /// arm stays clear of the scene there.
     fn torso(&mut self, delta: f64) {
-        let result = (|| -> Result<String> {
-            let lift = self
-                .robot
-                .description
-                .torso_joints
-                .iter()
-                .find(|n| {
-                    self.robot.model.joint(n).is_some_and(|j| {
-                        self.robot.model.joints[j].kind == tabula_robot::model::JointKind::Prismatic
-                    })
-                })
-                .cloned()
-                .ok_or_else(|| anyhow!("this robot has no torso lift"))?;
-            let j = self
-                .robot
-                .model
-                .joint(&lift)
-                .ok_or_else(|| anyhow!("no joint {lift}"))?;
-            let limits = self.robot.model.joints[j].limits;
-            let state = self.driver.joint_state()?;
-            let now = state.get(&lift).unwrap_or(0.0);
-            let goal = now + delta;
-            if goal < limits.lower - 1e-9 || goal > limits.upper + 1e-9 {
-                anyhow::bail!(
-                    "{lift} would leave its limits [{:.3}, {:.3}] m",
-                    limits.lower,
-                    limits.upper
-                );
-            }
-            let mut after = state.clone();
-            if let Some(i) = after.names.iter().position(|n| *n == lift) {
-                after.positions[i] = goal;
-            }
-            self.group.set_state(&self.robot, &after)?;
-            let clash = self
-                .group
-                .world
-                .first_collision(&self.group.arm_values(&after))?;
-            self.group.set_state(&self.robot, &state)?;
-            if let Some((a, b)) = clash {
-                anyhow::bail!("{a} would touch {b}");
-            }
-            let v = limits.velocity.clamp(0.01, 0.1);
-            self.driver.execute(&JointTrajectory {
-                joint_names: vec![lift.clone()],
-                times: vec![0.0, delta.abs() / v],
-                positions: vec![vec![now], vec![goal]],
-            })?;
-            Ok(format!("moved: torso to {goal:.3} m"))
-        })();
-        self.last = result.unwrap_or_else(|e| format!("refused: torso: {e}"));
-        self.refresh_snapshot();
+        let moved = self.jog.torso(delta);
+        self.answer("torso", moved.map(|h| format!("moved: torso to {h:.3} m")));
     }
 
     fn gripper(&mut self, open: bool) {
-        let result = (|| -> Result<String> {
-            let group = self.robot.description.arm(&self.arm)?;
-            let g = self
-                .robot
-                .description
-                .gripper_of(group)
-                .map(|g| g.name.clone())
-                .ok_or_else(|| anyhow!("arm `{}` has no gripper", self.arm))?;
-            if open {
-                self.driver.open(&g)?;
-                Ok("gripper opened".into())
-            } else {
-                let s = self.driver.close_with_effort(&g, self.effort)?;
-                Ok(format!(
+        let grip = self.jog.gripper((!open).then_some(self.effort));
+        self.answer(
+            "gripper",
+            grip.map(|s| match s {
+                None => "gripper opened".into(),
+                Some(s) => format!(
                     "gripper closed to {:.1} mm{}",
                     s.width * 1e3,
                     if s.holding { ", holding" } else { "" }
-                ))
-            }
-        })();
-        self.last = result.unwrap_or_else(|e| format!("refused: gripper: {e}"));
-        self.refresh_snapshot();
+                ),
+            }),
+        );
     }
 
     fn look_at_gripper(&mut self) {
-        let result = (|| -> Result<String> {
-            let state = self.driver.joint_state()?;
-            self.group.set_state(&self.robot, &state)?;
-            let q = self.group.arm_values(&state);
-            let at = self.group.tip_pose(&q)?.translation;
-            let off = self.driver.look_at(at)?;
-            Ok(format!(
-                "looking at the gripper ({:.1}° off)",
-                off.to_degrees()
-            ))
-        })();
-        self.last = result.unwrap_or_else(|e| format!("refused: look: {e}"));
+        let off = self.jog.look_at_gripper();
+        self.answer(
+            "look",
+            off.map(|o| format!("looking at the gripper ({:.1}° off)", o.to_degrees())),
+        );
+    }
+
+    /// The answer to a key, or why it was refused; the picture refreshed.
+    fn answer(&mut self, what: &str, result: Result<String, SkillError>) {
+        self.last = result.unwrap_or_else(|e| format!("refused: {what}: {e}"));
         self.refresh_snapshot();
     }
 
     fn refresh_snapshot(&self) {
         if let Some(path) = &self.snapshot
-            && let Some(eye) = tabula_sim::replay::default_eyes(&self.driver.world)
+            && let Some(eye) = tabula_sim::replay::default_eyes(&self.jog.driver.world)
                 .into_iter()
                 .find(|e| e.camera.is_none())
         {
             let img =
-                tabula_sim::camera::snapshot(&self.driver.world, eye.eye, eye.target, 640, 480);
+                tabula_sim::camera::snapshot(&self.jog.driver.world, eye.eye, eye.target, 640, 480);
             let _ = img.save(path);
         }
     }
@@ -259,10 +130,9 @@ impl Teleop {
             KeyCode::Char('j') => self.step(Vec3::ZERO, Vec3::Z * r, &format!("+yaw {deg:.1}°")),
             KeyCode::Char('l') => self.step(Vec3::ZERO, -Vec3::Z * r, &format!("-yaw {deg:.1}°")),
             KeyCode::Char('t') => {
-                self.frame = if self.frame == Frame::Base {
-                    Frame::Tool
-                } else {
-                    Frame::Base
+                self.jog.frame = match self.jog.frame {
+                    JogFrame::Base => JogFrame::Tool,
+                    JogFrame::Tool => JogFrame::Base,
                 };
                 self.last = "frame switched".into();
             }
@@ -300,11 +170,10 @@ impl Teleop {
         true
     }
 
-    #[allow(clippy::type_complexity)]
     fn draw(
         &self,
         frame: &mut ratatui::Frame,
-        status: &Result<(Pose, Vec<(String, f64, f64, f64)>)>,
+        status: &Result<(Pose, Vec<JointReading>), SkillError>,
     ) {
         let (pose, joints) = match status {
             Ok((p, j)) => (*p, j),
@@ -339,10 +208,9 @@ impl Teleop {
             )),
             Line::from(format!(
                 "frame: {}   step: {:.1} cm, {:.1}°   grip effort: {:.1} N",
-                if self.frame == Frame::Base {
-                    "base"
-                } else {
-                    "tool"
+                match self.jog.frame {
+                    JogFrame::Base => "base",
+                    JogFrame::Tool => "tool",
                 },
                 self.step_m * 100.0,
                 self.step_rad.to_degrees(),
@@ -356,7 +224,7 @@ impl Teleop {
         frame.render_widget(
             Paragraph::new(lines).block(Block::bordered().title(format!(
                 " tabula teleop — {} arm `{}` ",
-                self.robot.label, self.arm
+                self.jog.robot.label, self.jog.arm
             ))),
             top,
         );
@@ -408,15 +276,17 @@ pub fn run(a: TeleopArgs) -> Result<()> {
     let (_, world) = load_world(&a.scene)?;
     let (robot_name, robot) = scene_robot_named(&world, a.robot.as_deref())?;
     let arm = arm_name(&robot, a.group.as_ref())?;
-    let obstacles = planning_scene(&world, &robot_name);
+    let obstacles = world.planning_scene(&robot_name);
     let driver = SimDriver::new(world, &robot_name, 1)?;
-    let group = move_group(&driver, &robot, &arm, &obstacles, &params)?;
+    let group = MoveGroup::at_driver(&driver, (&robot, &arm), &obstacles, &params)?;
     let mut t = Teleop {
-        driver,
-        robot,
-        arm,
-        group,
-        frame: Frame::Base,
+        jog: Jog {
+            driver,
+            robot,
+            arm,
+            group,
+            frame: JogFrame::Base,
+        },
         step_m: 0.01,
         step_rad: 5f64.to_radians(),
         effort: 20.0,
@@ -430,7 +300,7 @@ pub fn run(a: TeleopArgs) -> Result<()> {
         ratatui::try_init().map_err(|e| anyhow!("teleop cannot take over the terminal: {e}"))?;
     let result = (|| -> Result<()> {
         loop {
-            let status = t.status();
+            let status = t.jog.status();
             terminal.draw(|f| t.draw(f, &status))?;
             if let Event::Key(k) = event::read()?
                 && k.kind == KeyEventKind::Press

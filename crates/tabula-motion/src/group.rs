@@ -125,6 +125,24 @@ pub struct MoveGroup {
 }
 
 impl MoveGroup {
+    /// A move group for `arm` at `driver`'s state, with `obstacles` (name, shape, world
+    /// pose) as its planning scene.
+    pub fn at_driver(
+        driver: &impl tabula_robot::driver::RobotDriver,
+        (robot, arm): (&NamedRobot, &str),
+        obstacles: &[(String, SharedShape, Pose)],
+        params: &MoveGroupParams,
+    ) -> Result<Self, MoveError> {
+        let driver_error = |e: tabula_robot::driver::DriverError| MoveError::World(e.to_string());
+        let state = driver.joint_state().map_err(driver_error)?;
+        let root = driver.world_from_root().map_err(driver_error)?;
+        let mut group = Self::new(robot, arm, &state, root, params.clone())?;
+        for (k, (name, shape, pose)) in obstacles.iter().enumerate() {
+            group.add_object(&format!("{name}#{k}"), shape.clone(), *pose)?;
+        }
+        Ok(group)
+    }
+
     /// The group `arm` of `robot`, at the joint state `state` with its root at
     /// `world_from_root`. The allowed-collision matrix is sampled here; build one group
     /// per robot and use [`Self::for_arm`] / [`Self::set_state`] for the rest.

@@ -261,6 +261,41 @@ impl RobotDescription {
 }
 
 impl ArmGroup {
+    /// The configuration named `name` (SRDF group states; `tuck` for a description's
+    /// tucked pose) over `joint_names`; joints it leaves out keep their value in
+    /// `current`. An unknown name lists the known ones.
+    pub fn named_configuration(
+        &self,
+        name: &str,
+        joint_names: &[String],
+        current: &[f64],
+    ) -> Result<Vec<f64>, RobotError> {
+        let named = match (self.named.get(name), name) {
+            (Some(state), _) => state,
+            (None, "tuck" | "tucked") if !self.tucked.is_empty() => &self.tucked,
+            (None, other) => {
+                let mut known: Vec<&str> = self.named.keys().map(String::as_str).collect();
+                if !self.tucked.is_empty() {
+                    known.push("tuck");
+                }
+                let known = if known.is_empty() {
+                    "none".to_string()
+                } else {
+                    known.join(", ")
+                };
+                return Err(RobotError::Description(format!(
+                    "no named pose `{other}` for arm `{}`; named poses: {known}",
+                    self.name
+                )));
+            }
+        };
+        Ok(joint_names
+            .iter()
+            .zip(current)
+            .map(|(n, s)| named.get(n).copied().unwrap_or(*s))
+            .collect())
+    }
+
     /// The arm's chain.
     pub fn chain(&self, model: &RobotModel) -> Result<Chain, RobotError> {
         Chain::new(model, &self.base, &self.tip)

@@ -54,6 +54,19 @@ pub struct JointState {
 }
 
 impl JointState {
+    /// Every single-axis joint of `model` at `values` (mimic joints as their masters
+    /// move them), as a driver reports its state.
+    pub fn of_model(model: &crate::RobotModel, values: &[f64]) -> Self {
+        let mut js = Self::default();
+        for (j, joint) in model.joints.iter().enumerate() {
+            if joint.kind.is_single_axis() {
+                js.names.push(joint.name.clone());
+                js.positions.push(model.joint_value(values, j));
+            }
+        }
+        js
+    }
+
     /// The position of `name`, if the state has it.
     pub fn get(&self, name: &str) -> Option<f64> {
         self.names

@@ -5,6 +5,7 @@
 
 pub mod camera;
 pub mod driver;
+pub mod frame_file;
 pub mod generate;
 pub mod judge;
 pub mod objects;

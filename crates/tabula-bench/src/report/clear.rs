@@ -203,12 +203,8 @@ pub fn bench_page(
 pub fn bench_lines(rows: &[BenchRow], s: &Summary) -> Vec<String> {
     let suite = &s.suite;
     let mut lines = Vec::new();
-    lines.push(format!(
-        "| seed | objects | in bin | actions | grasps (failed) | pushes | no-plan | IK backtracks | loops | collisions | moved | decision ms | stop |"
-    ));
-    lines.push(format!(
-        "|---|---|---|---|---|---|---|---|---|---|---|---|---|"
-    ));
+    lines.push("| seed | objects | in bin | actions | grasps (failed) | pushes | no-plan | IK backtracks | loops | collisions | moved | decision ms | stop |".to_string());
+    lines.push("|---|---|---|---|---|---|---|---|---|---|---|---|---|".to_string());
     for r in rows {
         lines.push(format!(
             "| {} | {} | {} | {} | {} ({}) | {} | {} | {} | {} | {} | {} | {:.1} | {} |",

@@ -4,8 +4,10 @@
 use anyhow::{Context, Result};
 use std::path::Path;
 use tabula_geom::{PointCloud, Vec3};
+use tabula_perception::frame::{Perceived, box_yaw, mean_colour};
 use tabula_perception::freespace::{Cell, FreeSpaceMap, Placement};
-use tabula_perception::tabletop::Tabletop;
+use tabula_perception::support::FrameSource;
+use tabula_perception::tabletop::{TableObject, Tabletop};
 
 /// What a top view shows: a surface's occupancy grid (free green, objects red, unseen
 /// grey), its outline, object outlines and boxes, labels, and a chosen spot (blue).
@@ -345,4 +347,125 @@ fn write_frame_image(
     img.save(dir.join("frame.png"))
         .context("cannot write frame.png")?;
     Ok(())
+}
+
+/// What `tabula perceive` prints without `--json`.
+pub fn perceived_lines(
+    perceived: &Perceived,
+    placement: Option<Option<Placement>>,
+    colors: Option<&[[u8; 3]]>,
+) -> Vec<String> {
+    let mut lines = Vec::new();
+    let Perceived {
+        framing,
+        result,
+        surfaces,
+        map,
+        removed,
+        ms,
+        ..
+    } = perceived;
+    let t = &framing.world_from_cloud;
+    match framing.source {
+        FrameSource::GivenPose => lines.push("frame: the world, from the sensor pose given".to_string()),
+        FrameSource::Viewpoint => lines.push(format!(
+            "frame: the cloud's own (z up), sensor at ({:.3}, {:.3}, {:.3}) from its VIEWPOINT",
+            framing.eye.x, framing.eye.y, framing.eye.z
+        )),
+        FrameSource::Support => lines.push(format!(
+            "frame: the support's (z up, support at z = 0, sensor {:.3} m above it looking along +x); \
+             world_from_cloud ({:.3}, {:.3}, {:.3}) ({:.4}, {:.4}, {:.4}, {:.4})",
+            framing.eye.z,
+            t.translation.x,
+            t.translation.y,
+            t.translation.z,
+            t.rotation.x,
+            t.rotation.y,
+            t.rotation.z,
+            t.rotation.w
+        )),
+    }
+    lines.push(format!(
+        "table: {} points, height {:.3} m, normal ({:.3}, {:.3}, {:.3}), {:.2} m² seen, hull {:.2} m² ({} corners); free {:.2} m²",
+        result.table.inliers.len(),
+        result.table.centroid.z,
+        result.plane.normal.x,
+        result.plane.normal.y,
+        result.plane.normal.z,
+        result.table.area,
+        result.table.hull_area,
+        result.table.hull.len(),
+        map.free_area()
+    ));
+    if *removed > 0 {
+        lines.push(format!("self-filter: {removed} robot points removed"));
+    }
+    lines.push("surfaces (all horizontal surfaces in reach):".to_string());
+    for s in &surfaces.surfaces {
+        lines.push(format!(
+            "  at {:.3} m: {} points, {:.2} m², centroid ({:.3}, {:.3}, {:.3})",
+            s.centroid.z,
+            s.inliers.len(),
+            s.area,
+            s.centroid.x,
+            s.centroid.y,
+            s.centroid.z
+        ));
+    }
+    let line = |i: usize, o: &TableObject| {
+        let (c, s) = (o.obb.center, o.obb.half_extents * 2.0);
+        format!(
+            "  {}: {} points, box centre ({:.3}, {:.3}, {:.3}), {:.3} × {:.3} × {:.3} m, yaw {:.0}°{}{}",
+            i + 1,
+            o.indices.len(),
+            c.x,
+            c.y,
+            c.z,
+            s.x,
+            s.y,
+            s.z,
+            box_yaw(o).to_degrees(),
+            o.top.as_ref().map_or(String::new(), |t| format!(
+                ", flat top {:.0} cm²",
+                t.area * 1e4
+            )),
+            colors.map_or(String::new(), |c| {
+                let [r, g, b] = mean_colour(c, &o.indices);
+                format!(", colour #{r:02x}{g:02x}{b:02x}")
+            })
+        )
+    };
+    lines.push("objects:".to_string());
+    for (i, o) in result.objects.iter().enumerate() {
+        lines.push(line(i, o));
+    }
+    if !result.partial.is_empty() {
+        lines.push("cut by the frame's edge (partly seen):".to_string());
+        for (i, o) in result.partial.iter().enumerate() {
+            lines.push(line(i, o));
+        }
+    }
+    match placement {
+        Some(Some(p)) => lines.push(format!(
+            "place: ({:.3}, {:.3}, {:.3}) yaw {:.0}°, {:.3} m clear",
+            p.position.x,
+            p.position.y,
+            p.position.z,
+            p.yaw.to_degrees(),
+            p.clearance
+        )),
+        Some(None) => lines
+            .push("place: the footprint fits nowhere on the table with that margin".to_string()),
+        None => {}
+    }
+    lines.push(format!(
+        "{ms:.1} ms (outliers {:.1}, planes {:.1}, prism {:.1}, normals {:.1}, segmentation {:.1}, objects {:.1})",
+        result.times.outliers,
+        result.times.planes,
+        result.times.prism,
+        result.times.normals,
+        result.times.segmentation,
+        result.times.objects
+    ));
+    lines
 }

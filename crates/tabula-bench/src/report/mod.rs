@@ -6,10 +6,14 @@
 
 pub mod clear;
 pub mod frame;
+pub mod ik;
+pub mod motion;
 pub mod perception;
 pub mod pick_place;
 pub mod place;
+pub mod plan;
 pub mod plots;
+pub mod stable;
 
 use anyhow::{Context, Result};
 use serde::Serialize;

@@ -98,10 +98,8 @@ pub fn frames_page(
 /// What `bench frames` prints: a table row per file and layout.
 pub fn frames_lines(rows: &[Value]) -> Vec<String> {
     let mut lines = Vec::new();
-    lines.push(format!(
-        "| file | layout | points | objects (+ cut by the edge) | CPU ms, 1 thread | wall ms, 2 threads |"
-    ));
-    lines.push(format!("|---|---|---:|---:|---:|---:|"));
+    lines.push("| file | layout | points | objects (+ cut by the edge) | CPU ms, 1 thread | wall ms, 2 threads |".to_string());
+    lines.push("|---|---|---:|---:|---:|---:|".to_string());
     for r in rows {
         lines.push(format!(
             "| {} | {} | {} | {} (+{}) | {:.1} | {:.1} |",

@@ -2,7 +2,8 @@
 //! phases shows.
 
 use super::{Recorded, Report, Section};
-use crate::pick_place::PickPlaceRun;
+use crate::pick_place::{BenchRow, PickPlaceRun};
+use crate::stats::median;
 use anyhow::Result;
 
 /// The report's part for a pick and place: the verdict, the phases, the replay.
@@ -75,4 +76,80 @@ pub fn phase_plot(
     let fig = report.svg("phases", "Time per phase", &svg)?;
     section.figures.push(fig);
     Ok(())
+}
+
+/// The tasks placed and the decision times of the successful ones.
+fn placed(rows: &[BenchRow]) -> (usize, Vec<f64>) {
+    let ok = rows.iter().filter(|r| r.success).count();
+    let decisions: Vec<f64> = rows
+        .iter()
+        .filter(|r| r.success)
+        .map(|r| r.decision_cpu_ms)
+        .collect();
+    (ok, decisions)
+}
+
+/// The report page of `bench pick-place`: success per target, decision times.
+pub fn bench_page(dir: &std::path::Path, variants: u64, rows: &[BenchRow]) -> Result<()> {
+    let (ok, decisions) = placed(rows);
+    super::bench_report(
+        dir,
+        super::BenchSummary {
+            title: "Pick and place by coordinates (seed 001's integral test)",
+            command: format!("tabula bench pick-place --variants {variants}"),
+            numbers: vec![
+                ("tasks".into(), rows.len().to_string()),
+                ("placed (physics)".into(), ok.to_string()),
+            ],
+            classes: (
+                "target",
+                super::per_class(rows.iter().map(|r| (r.target.as_str(), r.success))),
+            ),
+            distributions: vec![(
+                "Decision CPU per task (successful tasks)",
+                "ms",
+                decisions.clone(),
+            )],
+            bars: Vec::new(),
+        },
+        &rows,
+    )?;
+    Ok(())
+}
+
+/// What `bench pick-place --json` prints.
+pub fn bench_json(rows: &[BenchRow]) -> serde_json::Value {
+    let (ok, decisions) = placed(rows);
+    serde_json::json!({
+        "variants": rows.len(),
+        "succeeded": ok,
+        "median_decision_cpu_ms": median(&decisions).unwrap_or(f64::NAN),
+        "rows": rows,
+    })
+}
+
+/// What `bench pick-place` prints: a table row per task, then the totals.
+pub fn bench_lines(rows: &[BenchRow]) -> Vec<String> {
+    let (ok, decisions) = placed(rows);
+    let mut lines = Vec::new();
+    lines.push("| seed | to | arm | success | decision CPU ms | error cm | why |".to_string());
+    lines.push("|---|---|---|---|---|---|---|".to_string());
+    for r in rows {
+        lines.push(format!(
+            "| {} | {} | {} | {} | {:.1} | {:.2} | {} |",
+            r.seed,
+            r.target,
+            r.arm.as_deref().unwrap_or("-"),
+            if r.success { "yes" } else { "NO" },
+            r.decision_cpu_ms,
+            r.target_error_cm,
+            r.error.as_deref().unwrap_or("")
+        ));
+    }
+    lines.push(format!(
+        "\n{ok} of {} placed (physics verdict); median decision {:.1} ms CPU",
+        rows.len(),
+        median(&decisions).unwrap_or(f64::NAN)
+    ));
+    lines
 }

@@ -7,7 +7,7 @@ use crate::stats::wilson;
 use anyhow::Result;
 use tabula_tasks::place::PlaceParams;
 
-//// The report's part for a placement: the verdict, the scanned model and its stable
+/// The report's part for a placement: the verdict, the scanned model and its stable
 /// poses, time per phase, the replay and pictures of the release.
 pub fn section(
     report: &mut Report,
@@ -186,4 +186,79 @@ pub fn bench_page(
         &rows,
     )?;
     Ok(())
+}
+
+/// What `bench place` prints: a line per task, the success rate with its interval, the
+/// table found, the grips that leave a resting face, failures by cause.
+pub fn bench_lines(
+    suite: &str,
+    rows: &[BenchRow],
+    causes: &std::collections::BTreeMap<&str, usize>,
+) -> Vec<String> {
+    let mut lines = Vec::new();
+    for r in rows {
+        lines.push(format!(
+            "{:>5} {:<14} {:<7} clutter {} {:<5} {:<8} {:>6.1}° {:>7.1} mm {:>8.1} ms {:>6}  {}",
+            r.seed,
+            r.object,
+            format!("{:?}", r.layout).to_lowercase(),
+            r.clutter,
+            r.arm,
+            if r.success { "placed" } else { "FAILED" },
+            r.orientation_error_deg.min(999.0),
+            r.moved_after_release_mm.min(9999.0),
+            r.decision_ms,
+            r.normal_error_deg
+                .map_or(String::new(), |e| format!("n{e:.1}°")),
+            r.cause.as_deref().unwrap_or("")
+        ));
+    }
+    let n = rows.len();
+    let k = rows.iter().filter(|r| r.success).count();
+    let (lo, hi) = wilson(k, n);
+    let decisions: Vec<f64> = rows.iter().map(|r| r.decision_ms).collect();
+    let d = tabula_robot::ik::bench::Spread::of(&decisions);
+    lines.push(format!(
+        "{suite}: {k}/{n} placed = {:.1} % (95 % interval {:.1}–{:.1} %); decision CPU median {:.0} ms, p95 {:.0} ms",
+        100.0 * k as f64 / n.max(1) as f64,
+        lo * 100.0,
+        hi * 100.0,
+        d.median,
+        d.p95
+    ));
+    let found = rows.iter().filter(|r| r.table_found).count();
+    let (flo, fhi) = wilson(found, n);
+    lines.push(format!(
+        "the table found by the sweep: {found}/{n} = {:.1} % (95 % interval {:.1}–{:.1} %)",
+        100.0 * found as f64 / n.max(1) as f64,
+        flo * 100.0,
+        fhi * 100.0
+    ));
+    let free: Vec<&BenchRow> = rows
+        .iter()
+        .filter(|r| r.grip_allows_rest == Some(true))
+        .collect();
+    let judged = rows.iter().filter(|r| r.grip_allows_rest.is_some()).count();
+    if judged > 0 {
+        let placed = free.iter().filter(|r| r.success).count();
+        let (plo, phi) = wilson(placed, free.len());
+        lines.push(format!(
+            "grips that leave the true object a resting face: {}/{judged}; of those, {placed} placed = {:.1} % (95 % interval {:.1}–{:.1} %)",
+            free.len(),
+            100.0 * placed as f64 / free.len().max(1) as f64,
+            plo * 100.0,
+            phi * 100.0
+        ));
+    }
+    if !causes.is_empty() {
+        lines.push(format!(
+            "failures by cause: {}",
+            causes
+                .iter()
+                .map(|(c, n)| format!("{c} {n}"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        ));
+    }
+    lines
 }

@@ -111,66 +111,16 @@ pub fn run(cmd: MotionCommand) -> Result<()> {
             let progress = crate::progress::spinner(&format!("{problems} reach problems"));
             let report = bench::run(&r, &chain, problems, seed, &params)?;
             progress.finish_and_clear();
+            let what = (robot.as_str(), seed, timeout);
             if let Some(dir) = &report_dir {
-                tabula_bench::report::bench_report(
-                    dir,
-                    tabula_bench::report::BenchSummary {
-                        title: "Motion planning: RRT-Connect on tabletop reaches",
-                        command: format!(
-                            "tabula motion bench --robot {robot} --problems {problems} --seed {seed} --timeout {timeout}"
-                        ),
-                        numbers: vec![
-                            ("problems".into(), report.problems.to_string()),
-                            ("solved".into(), report.solved.to_string()),
-                            (
-                                "planning ms median / p95".into(),
-                                format!("{:.2} / {:.2}", report.time_ms_median, report.time_ms_p95),
-                            ),
-                            (
-                                "collision checks per second".into(),
-                                format!("{:.0}", report.checks_per_second),
-                            ),
-                        ],
-                        classes: ("", Vec::new()),
-                        distributions: vec![(
-                            "Planning time per solved problem",
-                            "ms",
-                            report.time_ms_samples.clone(),
-                        )],
-                        bars: Vec::new(),
-                    },
-                    &report,
-                )?;
+                tabula_bench::report::motion::reach_page(dir, what, &report)?;
             }
             if json {
                 println!("{}", serde_json::to_string(&report)?);
             } else {
-                println!(
-                    "RRT-Connect on {} tabletop reach problems ({}), seed {seed}, {timeout} s limit",
-                    report.problems, report.robot
-                );
-                println!(
-                    "  solved              {}/{} ({:.1} %)",
-                    report.solved,
-                    report.problems,
-                    100.0 * report.success_rate
-                );
-                println!(
-                    "  planning time       median {:.3} ms   p95 {:.3} ms",
-                    report.time_ms_median, report.time_ms_p95
-                );
-                println!(
-                    "  path length         median {:.3} rad",
-                    report.path_length_median
-                );
-                println!(
-                    "  validity checks     {:.0} per second; one check median {:.2} µs",
-                    report.checks_per_second, report.validity_check_us_median
-                );
-                println!(
-                    "  convex–convex query median {:.3} µs",
-                    report.convex_query_us_median
-                );
+                for line in tabula_bench::report::motion::reach_lines(what, &report) {
+                    println!("{line}");
+                }
             }
         }
     }

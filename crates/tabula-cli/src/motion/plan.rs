@@ -4,7 +4,7 @@
 //! or a MoveIt motion plan request (YAML). Prints the timed trajectory; exit 2 with the
 //! reason when there is none.
 
-use crate::arm::{NoSolution, joint_state_of, named_configuration, planning_scene};
+use crate::arm::NoSolution;
 use crate::tasks::{load_world, scene_robot_named};
 use anyhow::{Context, Result, anyhow, bail};
 use clap::Args;
@@ -180,9 +180,9 @@ fn setup(
         let (name, robot) = scene_robot_named(&world, a.robot.as_deref())?;
         let arm = arm_name(&robot, group)?;
         let state = world.robot(&name)?;
-        let js = joint_state_of(&state.model, &state.values);
+        let js = tabula_robot::driver::JointState::of_model(&state.model, &state.values);
         let mut g = MoveGroup::new(&robot, &arm, &js, state.world_from_root, params.clone())?;
-        for (k, (obj, shape, pose)) in planning_scene(&world, &name).into_iter().enumerate() {
+        for (k, (obj, shape, pose)) in world.planning_scene(&name).into_iter().enumerate() {
             g.add_object(&format!("{obj}#{k}"), shape, pose)?;
         }
         return Ok((robot, g, Vec::new()));
@@ -265,7 +265,10 @@ fn start_and_goals(
             check_length("--start", q, &names)?;
             q.clone()
         }
-        (None, Some(n)) => named_configuration(robot, &arm, n, &names, &current)?,
+        (None, Some(n)) => robot
+            .description
+            .arm(&arm)?
+            .named_configuration(n, &names, &current)?,
         (None, None) => current.clone(),
     };
     let goals = if let Some(q) = &a.goal_joints {
@@ -277,7 +280,12 @@ fn start_and_goals(
             [p[3], p[4], p[5]],
         )])
     } else if let Some(n) = &a.goal_named {
-        Goals::Joints(vec![named_configuration(robot, &arm, n, &names, &start)?])
+        Goals::Joints(vec![
+            robot
+                .description
+                .arm(&arm)?
+                .named_configuration(n, &names, &start)?,
+        ])
     } else {
         let p = problem.ok_or_else(|| anyhow!("no goal given"))?;
         if !p.joint_goals.is_empty() {

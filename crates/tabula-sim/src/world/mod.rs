@@ -583,6 +583,19 @@ impl SimWorld {
         self.shapes_of(EntityKind::Furniture)
     }
 
+    /// The planning scene of `robot`: the furniture and every object it does not hold,
+    /// where the world has them (name, shape, world pose).
+    pub fn planning_scene(&self, robot: &str) -> Vec<(String, SharedShape, Pose)> {
+        let held = self.held_objects(robot);
+        let mut obstacles = self.furniture_shapes();
+        obstacles.extend(
+            self.object_shapes()
+                .into_iter()
+                .filter(|(name, _, _)| !held.contains(name)),
+        );
+        obstacles
+    }
+
     /// Every object's collider shapes where they are now (name, shape, world pose).
     pub fn object_shapes(&self) -> Vec<(String, SharedShape, Pose)> {
         self.shapes_of(EntityKind::Object)

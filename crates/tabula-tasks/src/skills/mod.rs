@@ -3,6 +3,7 @@
 //! and one error type that task errors wrap.
 //!
 //! * [`base`]: where a mobile robot's base stands.
+//! * [`jog`]: the tool stepped along or about an axis (tele-operation).
 //! * [`hand`]: the gripper's collision shapes, open and closed, and tool poses.
 //! * [`grasp`]: [`GraspPlanner`] and its planners.
 //! * [`motion`]: running a planned phase, going home, the arm's current values.
@@ -14,6 +15,7 @@
 pub mod base;
 pub mod grasp;
 pub mod hand;
+pub mod jog;
 pub mod motion;
 pub mod phase;
 pub mod pick;
