@@ -167,14 +167,30 @@ pub fn read_pcd(bytes: &[u8]) -> Result<PointCloud, PcdError> {
     read_pcd_file(bytes).map(|f| f.cloud)
 }
 
-/// Parses PCD bytes: points, colours if the file has an `rgb`/`rgba` field, and the
-/// `VIEWPOINT` pose (translation, then the quaternion w x y z, as PCL writes it).
-pub fn read_pcd_file(bytes: &[u8]) -> Result<CloudFile, PcdError> {
-    let mut fields: Vec<Field> = Vec::new();
-    let (mut width, mut height, mut points) = (None, None, None);
-    let mut viewpoint = Pose::IDENTITY;
+/// What a PCD header says, up to its `DATA` line.
+struct PcdHeader {
+    fields: Vec<Field>,
+    width: Option<usize>,
+    height: Option<usize>,
+    points: Option<usize>,
+    viewpoint: Pose,
+    /// The `DATA` encoding, lower case; where the body starts.
+    data: String,
+    body_start: usize,
+}
+
+/// The header's lines, up to and including `DATA`.
+fn parse_pcd_header(bytes: &[u8]) -> Result<PcdHeader, PcdError> {
+    let mut h = PcdHeader {
+        fields: Vec::new(),
+        width: None,
+        height: None,
+        points: None,
+        viewpoint: Pose::IDENTITY,
+        data: String::new(),
+        body_start: bytes.len(),
+    };
     let mut pos = 0;
-    let mut data = None;
     while pos < bytes.len() {
         let end = bytes[pos..]
             .iter()
@@ -188,25 +204,29 @@ pub fn read_pcd_file(bytes: &[u8]) -> Result<CloudFile, PcdError> {
         let mut words = line.split_whitespace();
         let key = words.next().unwrap_or("").to_ascii_uppercase();
         let rest: Vec<&str> = words.collect();
+        if key == "DATA" {
+            h.data = rest.first().copied().unwrap_or("").to_ascii_lowercase();
+            h.body_start = pos;
+            return Ok(h);
+        }
+        h.line(&key, &rest)?;
+    }
+    err("no DATA line")
+}
+
+impl PcdHeader {
+    /// One header line other than `DATA`.
+    fn line(&mut self, key: &str, rest: &[&str]) -> Result<(), PcdError> {
         let num = |s: &str| {
             s.parse::<usize>()
                 .map_err(|_| PcdError(format!("`{}` in {key} is not a count", clip(s))))
         };
-        match key.as_str() {
+        let first = || rest.first().copied().unwrap_or("");
+        match key {
             "VERSION" => {}
-            "VIEWPOINT" => {
-                let v: Vec<f64> = rest.iter().filter_map(|s| s.parse().ok()).collect();
-                if v.len() != 7 || rest.len() != 7 || !v.iter().all(|x| x.is_finite()) {
-                    return err("VIEWPOINT needs seven finite numbers: x y z qw qx qy qz");
-                }
-                let q = Quat::from_xyzw(v[4], v[5], v[6], v[3]);
-                if q.length() < 1e-9 {
-                    return err("VIEWPOINT's quaternion is zero");
-                }
-                viewpoint = Pose::from_parts(Vec3::new(v[0], v[1], v[2]), q.normalize());
-            }
+            "VIEWPOINT" => self.viewpoint = viewpoint(rest)?,
             "FIELDS" => {
-                fields = rest
+                self.fields = rest
                     .iter()
                     .map(|n| Field {
                         name: n.to_string(),
@@ -217,71 +237,61 @@ pub fn read_pcd_file(bytes: &[u8]) -> Result<CloudFile, PcdError> {
                     .collect();
             }
             "SIZE" | "TYPE" | "COUNT" => {
-                if rest.len() != fields.len() {
+                if rest.len() != self.fields.len() {
                     return err(format!(
                         "{key} has {} entries for {} fields",
                         rest.len(),
-                        fields.len()
+                        self.fields.len()
                     ));
                 }
-                for (f, v) in fields.iter_mut().zip(&rest) {
-                    match key.as_str() {
+                for (f, v) in self.fields.iter_mut().zip(rest) {
+                    match key {
                         "SIZE" => f.size = num(v)?,
                         "TYPE" => f.kind = v.bytes().next().unwrap_or(b'?').to_ascii_uppercase(),
                         _ => f.count = num(v)?,
                     }
                 }
             }
-            "WIDTH" => width = Some(num(rest.first().copied().unwrap_or(""))?),
-            "HEIGHT" => height = Some(num(rest.first().copied().unwrap_or(""))?),
-            "POINTS" => points = Some(num(rest.first().copied().unwrap_or(""))?),
-            "DATA" => {
-                data = Some(rest.first().copied().unwrap_or("").to_ascii_lowercase());
-                break;
-            }
+            "WIDTH" => self.width = Some(num(first())?),
+            "HEIGHT" => self.height = Some(num(first())?),
+            "POINTS" => self.points = Some(num(first())?),
             other => return err(format!("unknown header line `{}`", clip(other))),
         }
+        Ok(())
     }
-    let Some(data) = data else {
-        return err("no DATA line");
-    };
-    let (w, h) = (width.unwrap_or(0), height.unwrap_or(1));
-    let n = points.unwrap_or(w.saturating_mul(h));
-    if w.checked_mul(h) != Some(n) {
-        return err(format!("WIDTH {w} × HEIGHT {h} is not POINTS {n}"));
-    }
-    if n > MAX_PCD_POINTS {
-        return err(format!(
-            "{n} points is more than this reader accepts ({MAX_PCD_POINTS})"
-        ));
-    }
-    for f in &fields {
-        if !matches!((f.kind, f.size), (b'F', 4 | 8) | (b'I' | b'U', 1 | 2 | 4))
-            || f.count == 0
-            || f.count > 1 << 16
-        {
+
+    /// Width, height and point count, checked against each other and the bound.
+    fn size(&self) -> Result<(usize, usize, usize), PcdError> {
+        let (w, h) = (self.width.unwrap_or(0), self.height.unwrap_or(1));
+        let n = self.points.unwrap_or(w.saturating_mul(h));
+        if w.checked_mul(h) != Some(n) {
+            return err(format!("WIDTH {w} × HEIGHT {h} is not POINTS {n}"));
+        }
+        if n > MAX_PCD_POINTS {
             return err(format!(
-                "field `{}` has an unsupported type {}{} × {}",
-                clip(&f.name),
-                f.kind as char,
-                f.size,
-                f.count
+                "{n} points is more than this reader accepts ({MAX_PCD_POINTS})"
             ));
         }
+        for f in &self.fields {
+            if !matches!((f.kind, f.size), (b'F', 4 | 8) | (b'I' | b'U', 1 | 2 | 4))
+                || f.count == 0
+                || f.count > 1 << 16
+            {
+                return err(format!(
+                    "field `{}` has an unsupported type {}{} × {}",
+                    clip(&f.name),
+                    f.kind as char,
+                    f.size,
+                    f.count
+                ));
+            }
+        }
+        Ok((w, h, n))
     }
-    let index = |name: &str| fields.iter().position(|f| f.name == name);
-    let (Some(ix), Some(iy), Some(iz)) = (index("x"), index("y"), index("z")) else {
-        return err("the fields must include x, y and z");
-    };
-    let colour = index("rgb")
-        .or_else(|| index("rgba"))
-        .filter(|&i| fields[i].size == 4 && fields[i].count == 1);
-    // Bytes of one point (binary) and values of one point (ascii); at most 65,536
-    // fields of 65,536 values of 8 bytes each, so neither overflows.
-    let stride: usize = fields.iter().map(|f| f.size * f.count).sum();
-    let values: usize = fields.iter().map(|f| f.count).sum();
-    let offsets = |unit: &dyn Fn(&Field) -> usize| -> Vec<usize> {
-        fields
+
+    /// Each field's start, counted in `unit`s of the fields before it.
+    fn offsets(&self, unit: &dyn Fn(&Field) -> usize) -> Vec<usize> {
+        self.fields
             .iter()
             .scan(0, |o, f| {
                 let here = *o;
@@ -289,75 +299,130 @@ pub fn read_pcd_file(bytes: &[u8]) -> Result<CloudFile, PcdError> {
                 Some(here)
             })
             .collect()
-    };
-    let body = &bytes[pos..];
-    let too_short = |what: &str, have: usize, need: Option<usize>| {
-        err(format!(
-            "{what} has {have} bytes, the header needs {}",
+    }
+}
+
+/// `VIEWPOINT x y z qw qx qy qz` as a pose.
+fn viewpoint(rest: &[&str]) -> Result<Pose, PcdError> {
+    let v: Vec<f64> = rest.iter().filter_map(|s| s.parse().ok()).collect();
+    if v.len() != 7 || rest.len() != 7 || !v.iter().all(|x| x.is_finite()) {
+        return err("VIEWPOINT needs seven finite numbers: x y z qw qx qy qz");
+    }
+    let q = Quat::from_xyzw(v[4], v[5], v[6], v[3]);
+    if q.length() < 1e-9 {
+        return err("VIEWPOINT's quaternion is zero");
+    }
+    Ok(Pose::from_parts(Vec3::new(v[0], v[1], v[2]), q.normalize()))
+}
+
+/// Which fields a point is read from: x, y, z and the packed colour, if any.
+struct Columns {
+    xyz: [usize; 3],
+    colour: Option<usize>,
+}
+
+fn too_short<T>(what: &str, have: usize, need: Option<usize>) -> Result<T, PcdError> {
+    err(format!(
+        "{what} has {have} bytes, the header needs {}",
+        need.map_or("more than memory holds".into(), |n| n.to_string())
+    ))
+}
+
+/// `DATA ascii`: one point per non-empty line.
+fn read_ascii(body: &[u8], n: usize, h: &PcdHeader, c: &Columns) -> Result<Decoded, PcdError> {
+    let values: usize = h.fields.iter().map(|f| f.count).sum();
+    let text = String::from_utf8_lossy(body);
+    let at = h.offsets(&|f| f.count);
+    let [ix, iy, iz] = c.xyz;
+    let mut pts = Vec::new();
+    let mut cols = Vec::new();
+    for (k, line) in text.lines().filter(|l| !l.trim().is_empty()).enumerate() {
+        if k >= n {
+            break;
+        }
+        let vals: Vec<&str> = line.split_whitespace().collect();
+        if vals.len() < values {
+            return err(format!(
+                "data line {} has {} values, expected {values}",
+                k + 1,
+                vals.len()
+            ));
+        }
+        let v = |i: usize| parse_ascii(vals[at[i]], k + 1);
+        pts.push(Vec3::new(v(ix)?, v(iy)?, v(iz)?));
+        if let Some(ci) = c.colour {
+            cols.push(unpack_rgb(ascii_rgb_bits(
+                vals[at[ci]],
+                &h.fields[ci],
+                k + 1,
+            )?));
+        }
+    }
+    Ok((pts, c.colour.map(|_| cols)))
+}
+
+/// `DATA binary`: point-major rows of `stride` bytes.
+fn read_binary(body: &[u8], n: usize, h: &PcdHeader, c: &Columns) -> Result<Decoded, PcdError> {
+    let stride: usize = h.fields.iter().map(|f| f.size * f.count).sum();
+    let need = n.checked_mul(stride);
+    if need.is_none_or(|need| body.len() < need) {
+        return too_short("binary data", body.len(), need);
+    }
+    let offs = h.offsets(&|f| f.size * f.count);
+    Ok(decode(n, &h.fields, c.xyz, c.colour, &|i, k| {
+        &body[k * stride + offs[i]..]
+    }))
+}
+
+/// `DATA binary_compressed`: an LZF block of field-major columns (all x, then all y, …).
+fn read_compressed(body: &[u8], n: usize, h: &PcdHeader, c: &Columns) -> Result<Decoded, PcdError> {
+    if body.len() < 8 {
+        return err("compressed header truncated");
+    }
+    let csize = u32::from_le_bytes([body[0], body[1], body[2], body[3]]) as usize;
+    let usize_ = u32::from_le_bytes([body[4], body[5], body[6], body[7]]) as usize;
+    // The uncompressed size must be what the header's fields and points make, checked
+    // before anything is reserved for it.
+    let stride: usize = h.fields.iter().map(|f| f.size * f.count).sum();
+    let need = n.checked_mul(stride);
+    if need != Some(usize_) {
+        return err(format!(
+            "compressed block unpacks to {usize_} bytes, the header needs {}",
             need.map_or("more than memory holds".into(), |n| n.to_string())
-        ))
+        ));
+    }
+    if body.len() - 8 < csize {
+        return too_short("compressed data", body.len() - 8, Some(csize));
+    }
+    let raw = lzf_decompress(&body[8..8 + csize], usize_)?;
+    let starts = h.offsets(&|f| f.size * f.count * n);
+    let fields = &h.fields;
+    Ok(decode(n, fields, c.xyz, c.colour, &|i, k| {
+        &raw[starts[i] + k * fields[i].size * fields[i].count..]
+    }))
+}
+
+/// Parses PCD bytes: points, colours if the file has an `rgb`/`rgba` field, and the
+/// `VIEWPOINT` pose (translation, then the quaternion w x y z, as PCL writes it).
+pub fn read_pcd_file(bytes: &[u8]) -> Result<CloudFile, PcdError> {
+    let h = parse_pcd_header(bytes)?;
+    let (w, height, n) = h.size()?;
+    let index = |name: &str| h.fields.iter().position(|f| f.name == name);
+    let (Some(ix), Some(iy), Some(iz)) = (index("x"), index("y"), index("z")) else {
+        return err("the fields must include x, y and z");
     };
-    let (cloud_points, colors) = match data.as_str() {
-        "ascii" => {
-            let text = String::from_utf8_lossy(body);
-            let at = offsets(&|f| f.count);
-            let mut pts = Vec::new();
-            let mut cols = Vec::new();
-            for (k, line) in text.lines().filter(|l| !l.trim().is_empty()).enumerate() {
-                if k >= n {
-                    break;
-                }
-                let vals: Vec<&str> = line.split_whitespace().collect();
-                if vals.len() < values {
-                    return err(format!(
-                        "data line {} has {} values, expected {values}",
-                        k + 1,
-                        vals.len()
-                    ));
-                }
-                let v = |i: usize| parse_ascii(vals[at[i]], k + 1);
-                pts.push(Vec3::new(v(ix)?, v(iy)?, v(iz)?));
-                if let Some(c) = colour {
-                    cols.push(unpack_rgb(ascii_rgb_bits(vals[at[c]], &fields[c], k + 1)?));
-                }
-            }
-            (pts, colour.map(|_| cols))
-        }
-        "binary" => {
-            let need = n.checked_mul(stride);
-            if need.is_none_or(|need| body.len() < need) {
-                return too_short("binary data", body.len(), need);
-            }
-            let offs = offsets(&|f| f.size * f.count);
-            decode(n, &fields, [ix, iy, iz], colour, &|i, k| {
-                &body[k * stride + offs[i]..]
-            })
-        }
-        "binary_compressed" => {
-            if body.len() < 8 {
-                return err("compressed header truncated");
-            }
-            let csize = u32::from_le_bytes([body[0], body[1], body[2], body[3]]) as usize;
-            let usize_ = u32::from_le_bytes([body[4], body[5], body[6], body[7]]) as usize;
-            // The uncompressed size must be what the header's fields and points make,
-            // checked before anything is reserved for it.
-            let need = n.checked_mul(stride);
-            if need != Some(usize_) {
-                return err(format!(
-                    "compressed block unpacks to {usize_} bytes, the header needs {}",
-                    need.map_or("more than memory holds".into(), |n| n.to_string())
-                ));
-            }
-            if body.len() - 8 < csize {
-                return too_short("compressed data", body.len() - 8, Some(csize));
-            }
-            let raw = lzf_decompress(&body[8..8 + csize], usize_)?;
-            // Field-major layout: all x, then all y, …
-            let starts = offsets(&|f| f.size * f.count * n);
-            decode(n, &fields, [ix, iy, iz], colour, &|i, k| {
-                &raw[starts[i] + k * fields[i].size * fields[i].count..]
-            })
-        }
+    let colour = index("rgb")
+        .or_else(|| index("rgba"))
+        .filter(|&i| h.fields[i].size == 4 && h.fields[i].count == 1);
+    let columns = Columns {
+        xyz: [ix, iy, iz],
+        colour,
+    };
+    let body = &bytes[h.body_start..];
+    let (cloud_points, colors) = match h.data.as_str() {
+        "ascii" => read_ascii(body, n, &h, &columns)?,
+        "binary" => read_binary(body, n, &h, &columns)?,
+        "binary_compressed" => read_compressed(body, n, &h, &columns)?,
         other => return err(format!("unknown DATA encoding `{}`", clip(other))),
     };
     if cloud_points.len() != n {
@@ -369,11 +434,11 @@ pub fn read_pcd_file(bytes: &[u8]) -> Result<CloudFile, PcdError> {
     Ok(CloudFile {
         cloud: PointCloud {
             width: w,
-            height: h,
+            height,
             points: cloud_points,
         },
         colors,
-        viewpoint,
+        viewpoint: h.viewpoint,
     })
 }
 

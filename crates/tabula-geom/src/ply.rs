@@ -135,10 +135,16 @@ fn header_end(bytes: &[u8]) -> Option<(usize, usize)> {
     None
 }
 
-fn read_ply_parts(bytes: &[u8], want_faces: bool) -> Result<(PointCloud, Vec<Vec<u32>>), PlyError> {
-    let (end, body_start) = header_end(bytes).ok_or(PlyError("no end_header line".into()))?;
-    let header =
-        std::str::from_utf8(&bytes[..end]).map_err(|_| PlyError("header is not text".into()))?;
+/// What a PLY header says: the body's format, its elements, PCL's organized size.
+struct Header {
+    format: Format,
+    elements: Vec<Element>,
+    cols: Option<usize>,
+    rows: Option<usize>,
+}
+
+/// The header's lines after the `ply` magic, checked.
+fn parse_header(header: &str) -> Result<Header, PlyError> {
     let mut lines = header.lines().map(str::trim).filter(|l| !l.is_empty());
     if lines.next() != Some("ply") {
         return err("missing `ply` magic");
@@ -155,14 +161,7 @@ fn read_ply_parts(bytes: &[u8], want_faces: bool) -> Result<(PointCloud, Vec<Vec
                     clip(version, 20)
                 ));
             }
-            ["format", f, _version] => {
-                format = Some(match *f {
-                    "ascii" => Format::Ascii,
-                    "binary_little_endian" => Format::Binary { little: true },
-                    "binary_big_endian" => Format::Binary { little: false },
-                    other => return err(format!("unknown format `{other}`")),
-                })
-            }
+            ["format", f, _version] => format = Some(parse_format(f)?),
             ["comment", ..] => {}
             ["obj_info", "num_cols", n] => cols = n.parse::<usize>().ok(),
             ["obj_info", "num_rows", n] => rows = n.parse::<usize>().ok(),
@@ -178,18 +177,12 @@ fn read_ply_parts(bytes: &[u8], want_faces: bool) -> Result<(PointCloud, Vec<Vec
                 let (Some(c), Some(t)) = (Scalar::parse(c), Scalar::parse(t)) else {
                     return err(format!("bad list types in `{}`", clip(line, 80)));
                 };
-                elements
-                    .last_mut()
-                    .ok_or(PlyError("property before any element".into()))?
-                    .props
-                    .push(Property::List(c, t));
+                last(&mut elements)?.props.push(Property::List(c, t));
             }
             ["property", t, name] => {
                 let t = Scalar::parse(t)
                     .ok_or(PlyError(format!("unknown type in `{}`", clip(line, 80))))?;
-                elements
-                    .last_mut()
-                    .ok_or(PlyError("property before any element".into()))?
+                last(&mut elements)?
                     .props
                     .push(Property::Scalar(name.to_string(), t));
             }
@@ -197,51 +190,180 @@ fn read_ply_parts(bytes: &[u8], want_faces: bool) -> Result<(PointCloud, Vec<Vec
         }
     }
     let format = format.ok_or(PlyError("missing format line".into()))?;
-    let body = &bytes[body_start..];
-    let mut points: Vec<Vec3> = Vec::new();
-    let mut found_vertex = false;
-    let mut ascii_tokens = match format {
-        Format::Ascii => Some(
-            std::str::from_utf8(body)
-                .map_err(|_| PlyError("ascii body is not text".into()))?
-                .split_ascii_whitespace(),
-        ),
-        Format::Binary { .. } => None,
-    };
-    let mut offset = 0usize;
-    let mut faces: Vec<Vec<u32>> = Vec::new();
-    for e in &elements {
-        if e.props.is_empty() {
-            // No property: nothing stored, whatever the count says.
-            continue;
+    Ok(Header {
+        format,
+        elements,
+        cols,
+        rows,
+    })
+}
+
+/// The element a `property` line belongs to: the last one declared.
+fn last(elements: &mut [Element]) -> Result<&mut Element, PlyError> {
+    elements
+        .last_mut()
+        .ok_or(PlyError("property before any element".into()))
+}
+
+fn parse_format(f: &str) -> Result<Format, PlyError> {
+    Ok(match f {
+        "ascii" => Format::Ascii,
+        "binary_little_endian" => Format::Binary { little: true },
+        "binary_big_endian" => Format::Binary { little: false },
+        other => return err(format!("unknown format `{other}`")),
+    })
+}
+
+/// The body, read one value at a time: ASCII tokens or binary bytes.
+enum Body<'a> {
+    Ascii(std::str::SplitAsciiWhitespace<'a>),
+    Binary {
+        bytes: &'a [u8],
+        offset: usize,
+        little: bool,
+    },
+}
+
+impl<'a> Body<'a> {
+    fn new(body: &'a [u8], format: Format) -> Result<Self, PlyError> {
+        Ok(match format {
+            Format::Ascii => Body::Ascii(
+                std::str::from_utf8(body)
+                    .map_err(|_| PlyError("ascii body is not text".into()))?
+                    .split_ascii_whitespace(),
+            ),
+            Format::Binary { little } => Body::Binary {
+                bytes: body,
+                offset: 0,
+                little,
+            },
+        })
+    }
+
+    fn token(tokens: &mut std::str::SplitAsciiWhitespace<'a>) -> Result<&'a str, PlyError> {
+        tokens
+            .next()
+            .ok_or(PlyError("ascii body ends early".into()))
+    }
+
+    /// The next scalar of type `t`.
+    fn scalar(&mut self, t: Scalar) -> Result<f64, PlyError> {
+        match self {
+            Body::Ascii(tokens) => parse_number(Self::token(tokens)?, t),
+            Body::Binary {
+                bytes,
+                offset,
+                little,
+            } => {
+                let b = bytes
+                    .get(*offset..*offset + t.size())
+                    .ok_or(PlyError("binary body ends early".into()))?;
+                *offset += t.size();
+                Ok(t.read(b, *little))
+            }
         }
-        // The fewest bytes an element takes: its binary row (a list at least its count),
-        // or in ASCII a digit and a separator per property. Nothing is reserved for
-        // more elements than the body can hold.
-        let least: usize = e
-            .props
-            .iter()
-            .map(|p| match (p, format) {
-                (_, Format::Ascii) => 2,
-                (Property::Scalar(_, t), Format::Binary { .. }) => t.size(),
-                (Property::List(c, _), Format::Binary { .. }) => c.size(),
-            })
-            .sum();
-        if e.count
-            .checked_mul(least)
-            .is_none_or(|n| n > body.len() + 1)
-        {
-            return err(format!(
-                "{} `{}` elements cannot fit in {} bytes",
-                e.count,
-                clip(&e.name, 40),
-                body.len()
-            ));
+    }
+
+    /// The next list (count type `c`, items `t`): its items as vertex indices into
+    /// `face` when `keep`, else skipped.
+    fn list(
+        &mut self,
+        (c, t): (Scalar, Scalar),
+        keep: bool,
+        face: &mut Vec<u32>,
+    ) -> Result<(), PlyError> {
+        match self {
+            Body::Ascii(tokens) => {
+                let tok = Self::token(tokens)?;
+                let n: usize = tok
+                    .parse()
+                    .map_err(|_| PlyError(format!("bad list length `{}`", clip(tok, 40))))?;
+                for _ in 0..n {
+                    let item = Self::token(tokens)?;
+                    if keep {
+                        face.push(item.parse().map_err(|_| {
+                            PlyError(format!("bad vertex index `{}`", clip(item, 40)))
+                        })?);
+                    }
+                }
+                Ok(())
+            }
+            Body::Binary {
+                bytes,
+                offset,
+                little,
+            } => {
+                let b = bytes
+                    .get(*offset..*offset + c.size())
+                    .ok_or(PlyError("binary body ends early".into()))?;
+                *offset += c.size();
+                let n = c.read(b, *little);
+                if !(n >= 0.0 && n.fract() == 0.0) {
+                    return err("bad list length");
+                }
+                let skip = (n as usize)
+                    .checked_mul(t.size())
+                    .ok_or(PlyError("list too long".into()))?;
+                if offset.checked_add(skip).is_none_or(|end| end > bytes.len()) {
+                    return err("binary body ends early");
+                }
+                if keep {
+                    for i in 0..n as usize {
+                        let at = *offset + i * t.size();
+                        let index = t.read(&bytes[at..at + t.size()], *little);
+                        if !(index >= 0.0 && index <= u32::MAX as f64) {
+                            return err("bad vertex index");
+                        }
+                        face.push(index as u32);
+                    }
+                }
+                *offset += skip;
+                Ok(())
+            }
         }
+    }
+}
+
+/// Refuses an element count the body cannot hold: the fewest bytes an element takes
+/// are its binary row (a list at least its count), or in ASCII a digit and a separator
+/// per property. Nothing is reserved for more elements than the body can hold.
+fn check_fits(e: &Element, format: Format, body_len: usize) -> Result<(), PlyError> {
+    let least: usize = e
+        .props
+        .iter()
+        .map(|p| match (p, format) {
+            (_, Format::Ascii) => 2,
+            (Property::Scalar(_, t), Format::Binary { .. }) => t.size(),
+            (Property::List(c, _), Format::Binary { .. }) => c.size(),
+        })
+        .sum();
+    if e.count.checked_mul(least).is_none_or(|n| n > body_len + 1) {
+        return err(format!(
+            "{} `{}` elements cannot fit in {} bytes",
+            e.count,
+            clip(&e.name, 40),
+            body_len
+        ));
+    }
+    Ok(())
+}
+
+/// What the body's elements give: the vertices' points and, when asked, the faces.
+#[derive(Default)]
+struct Parts {
+    points: Vec<Vec3>,
+    faces: Vec<Vec<u32>>,
+    found_vertex: bool,
+}
+
+impl Parts {
+    /// Reads element `e`'s rows, keeping the vertices' x y z and (`want_faces`) the
+    /// faces' index lists.
+    fn read(&mut self, e: &Element, body: &mut Body, want_faces: bool) -> Result<(), PlyError> {
         let is_vertex = e.name == "vertex";
         let is_face = want_faces && e.name == "face";
         if is_face {
-            faces.reserve(e.count);
+            self.faces.reserve(e.count);
         }
         let xyz: [Option<usize>; 3] = ["x", "y", "z"].map(|axis| {
             e.props
@@ -252,98 +374,61 @@ fn read_ply_parts(bytes: &[u8], want_faces: bool) -> Result<(PointCloud, Vec<Vec
             if xyz.iter().any(|k| k.is_none()) {
                 return err("vertex element lacks x, y or z");
             }
-            found_vertex = true;
-            points.reserve(e.count);
+            self.found_vertex = true;
+            self.points.reserve(e.count);
         }
         for _ in 0..e.count {
             let mut v = [f64::NAN; 3];
             let mut face: Vec<u32> = Vec::new();
             for (k, prop) in e.props.iter().enumerate() {
-                match (prop, &mut ascii_tokens, format) {
-                    (Property::Scalar(_, t), Some(tokens), _) => {
-                        let tok = tokens
-                            .next()
-                            .ok_or(PlyError("ascii body ends early".into()))?;
-                        let value: f64 = parse_number(tok, *t)?;
+                match prop {
+                    Property::Scalar(_, t) => {
+                        let value = body.scalar(*t)?;
                         if let Some(axis) = xyz.iter().position(|&a| a == Some(k)) {
                             v[axis] = value;
                         }
                     }
-                    (Property::List(_, _), Some(tokens), _) => {
-                        let tok = tokens
-                            .next()
-                            .ok_or(PlyError("ascii body ends early".into()))?;
-                        let n: usize = tok.parse().map_err(|_| {
-                            PlyError(format!("bad list length `{}`", clip(tok, 40)))
-                        })?;
-                        for _ in 0..n {
-                            let item = tokens
-                                .next()
-                                .ok_or(PlyError("ascii body ends early".into()))?;
-                            if is_face {
-                                face.push(item.parse().map_err(|_| {
-                                    PlyError(format!("bad vertex index `{}`", clip(item, 40)))
-                                })?);
-                            }
-                        }
-                    }
-                    (Property::Scalar(_, t), None, Format::Binary { little }) => {
-                        let b = body
-                            .get(offset..offset + t.size())
-                            .ok_or(PlyError("binary body ends early".into()))?;
-                        offset += t.size();
-                        if let Some(axis) = xyz.iter().position(|&a| a == Some(k)) {
-                            v[axis] = t.read(b, little);
-                        }
-                    }
-                    (Property::List(c, t), None, Format::Binary { little }) => {
-                        let b = body
-                            .get(offset..offset + c.size())
-                            .ok_or(PlyError("binary body ends early".into()))?;
-                        offset += c.size();
-                        let n = c.read(b, little);
-                        if !(n >= 0.0 && n.fract() == 0.0) {
-                            return err("bad list length");
-                        }
-                        let skip = (n as usize)
-                            .checked_mul(t.size())
-                            .ok_or(PlyError("list too long".into()))?;
-                        if offset.checked_add(skip).is_none_or(|end| end > body.len()) {
-                            return err("binary body ends early");
-                        }
-                        if is_face {
-                            for i in 0..n as usize {
-                                let at = offset + i * t.size();
-                                let index = t.read(&body[at..at + t.size()], little);
-                                if !(index >= 0.0 && index <= u32::MAX as f64) {
-                                    return err("bad vertex index");
-                                }
-                                face.push(index as u32);
-                            }
-                        }
-                        offset += skip;
-                    }
-                    (_, None, Format::Ascii) => unreachable!("ascii bodies have a tokenizer"),
+                    Property::List(c, t) => body.list((*c, *t), is_face, &mut face)?,
                 }
             }
             if is_vertex {
-                points.push(Vec3::new(v[0], v[1], v[2]));
+                self.points.push(Vec3::new(v[0], v[1], v[2]));
             }
             if is_face {
-                faces.push(face);
+                self.faces.push(face);
             }
         }
+        Ok(())
     }
-    if !found_vertex {
+}
+
+fn read_ply_parts(bytes: &[u8], want_faces: bool) -> Result<(PointCloud, Vec<Vec<u32>>), PlyError> {
+    let (end, body_start) = header_end(bytes).ok_or(PlyError("no end_header line".into()))?;
+    let header =
+        std::str::from_utf8(&bytes[..end]).map_err(|_| PlyError("header is not text".into()))?;
+    let header = parse_header(header)?;
+    let bytes = &bytes[body_start..];
+    let mut body = Body::new(bytes, header.format)?;
+    let mut parts = Parts::default();
+    for e in &header.elements {
+        if e.props.is_empty() {
+            // No property: nothing stored, whatever the count says.
+            continue;
+        }
+        check_fits(e, header.format, bytes.len())?;
+        parts.read(e, &mut body, want_faces)?;
+    }
+    if !parts.found_vertex {
         return err("no vertex element");
     }
-    let cloud = match (cols, rows) {
+    let points = parts.points;
+    let cloud = match (header.cols, header.rows) {
         (Some(w), Some(h)) if w.checked_mul(h) == Some(points.len()) && h > 1 => {
             PointCloud::organized(w, h, points).ok_or(PlyError("bad organized size".into()))?
         }
         _ => PointCloud::unorganized(points),
     };
-    Ok((cloud, faces))
+    Ok((cloud, parts.faces))
 }
 
 fn parse_number(tok: &str, t: Scalar) -> Result<f64, PlyError> {

@@ -69,34 +69,90 @@ pub fn table_clearing_problem(n: usize, seed: u64) -> String {
 
 fn draw_problem(n: usize, seed: u64, draw: u64) -> String {
     let mut rng = ChaCha8Rng::seed_from_u64(seed ^ draw.wrapping_mul(0x2545_F491_4F6C_DD1D));
+    let table = draw_table(n, &mut rng);
+    let mut facts: Vec<String> = Vec::new();
+    for &(top, base) in &table.on {
+        facts.push(format!("(on o{} o{})", top + 1, base + 1));
+    }
+    facts.extend(table.blocking_facts());
+    for o in 0..n {
+        for k in 1..=4 {
+            if rng.random_bool(0.1) {
+                facts.push(format!("(ik_unfeasible_dir{k} o{})", o + 1));
+            }
+        }
+        if rng.random_bool(0.1) {
+            facts.push(format!("(ik_unfeasible_grasp o{})", o + 1));
+        }
+    }
+    let objects: Vec<String> = (1..=n).map(|i| format!("o{i}")).collect();
+    let goal: Vec<String> = objects.iter().map(|o| format!("(removed {o})")).collect();
+    format!(
+        "(define (problem table-{n}-{seed})\n  (:domain tablewclear)\n  (:objects {} - obj)\n  (:init\n    {})\n  (:goal (and {})))\n",
+        objects.join(" "),
+        facts.join("\n    "),
+        goal.join(" ")
+    )
+}
+
+/// A drawn table: each object's footprint, which stand on which, which are stacked.
+struct DrawnTable {
+    rects: Vec<Rect>,
+    on: Vec<(usize, usize)>,
+    stacked: Vec<bool>,
+}
+
+/// `n` objects on a table about √n × 16 cm wide: some touching, a few stacked on an
+/// object that is on the table.
+fn draw_table(n: usize, rng: &mut ChaCha8Rng) -> DrawnTable {
     let side = (n.max(1) as f64).sqrt() * 0.16;
-    let mut rects: Vec<Rect> = Vec::with_capacity(n);
-    let mut on: Vec<(usize, usize)> = Vec::new();
-    let mut stacked = vec![false; n];
+    let mut t = DrawnTable {
+        rects: Vec::with_capacity(n),
+        on: Vec::new(),
+        stacked: vec![false; n],
+    };
     for i in 0..n {
         let hx = rng.random_range(0.015..0.035);
         let hy = rng.random_range(0.015..0.06);
-        // A few are stacked on an object that is on the table.
         if i > 0 && rng.random_bool(0.1) {
             let base = rng.random_range(0..i);
-            if !stacked[base] && !on.iter().any(|&(_, b)| b == base) {
-                let b = rects[base];
-                rects.push(Rect {
+            if !t.stacked[base] && !t.on.iter().any(|&(_, b)| b == base) {
+                let b = t.rects[base];
+                t.rects.push(Rect {
                     cx: b.cx,
                     cy: b.cy,
                     hx,
                     hy,
                 });
-                on.push((i, base));
-                stacked[i] = true;
+                t.on.push((i, base));
+                t.stacked[i] = true;
                 continue;
             }
         }
-        let mut placed = None;
+        let placed = t.place(i, (hx, hy), side, rng);
+        t.rects.push(placed.unwrap_or(Rect {
+            cx: side + i as f64,
+            cy: 0.0,
+            hx,
+            hy,
+        }));
+    }
+    t
+}
+
+impl DrawnTable {
+    /// A free spot for object `i` of half sizes `(hx, hy)`: touching a previous object
+    /// along x or y now and then, else anywhere on the table; `None` after 200 tries.
+    fn place(
+        &self,
+        i: usize,
+        (hx, hy): (f64, f64),
+        side: f64,
+        rng: &mut ChaCha8Rng,
+    ) -> Option<Rect> {
         for attempt in 0..200 {
             let r = if i > 0 && attempt < 100 && rng.random_bool(0.3) {
-                // Touching a previous object along x or y.
-                let o = rects[rng.random_range(0..i)];
+                let o = self.rects[rng.random_range(0..i)];
                 let sx = if rng.random_bool(0.5) { 1.0 } else { -1.0 };
                 if rng.random_bool(0.5) {
                     Rect {
@@ -121,89 +177,53 @@ fn draw_problem(n: usize, seed: u64, draw: u64) -> String {
                     hy,
                 }
             };
-            if !rects
+            if !self
+                .rects
                 .iter()
                 .enumerate()
-                .any(|(j, o)| !stacked[j] && o.overlaps(&r))
+                .any(|(j, o)| !self.stacked[j] && o.overlaps(&r))
             {
-                placed = Some(r);
-                break;
+                return Some(r);
             }
         }
-        rects.push(placed.unwrap_or(Rect {
-            cx: side + i as f64,
-            cy: 0.0,
-            hx,
-            hy,
-        }));
+        None
     }
-    let mut facts: Vec<String> = Vec::new();
-    for &(top, base) in &on {
-        facts.push(format!("(on o{} o{})", top + 1, base + 1));
-    }
-    // Pushing along ±x, ±y (dir1..dir4): the object swept by its own length, and the
-    // gripper behind it.
-    let dirs = [(1.0, 0.0), (-1.0, 0.0), (0.0, 1.0), (0.0, -1.0)];
-    for b in 0..n {
-        if stacked[b] {
-            continue;
-        }
-        let rb = rects[b];
-        // Fingers close along x: they sweep a finger width beside both x faces.
-        let grasp_zone = rb.grown(FINGER_WIDTH, 0.0);
-        for (k, &(dx, dy)) in dirs.iter().enumerate() {
-            let len = if dx != 0.0 { 2.0 * rb.hx } else { 2.0 * rb.hy };
-            let swept = Rect {
-                cx: rb.cx + dx * len / 2.0,
-                cy: rb.cy + dy * len / 2.0,
-                hx: rb.hx + dx.abs() * len / 2.0,
-                hy: rb.hy + dy.abs() * len / 2.0,
-            };
-            let behind = Rect {
-                cx: rb.cx - dx * (rb.hx + PUSH_STANDOFF / 2.0),
-                cy: rb.cy - dy * (rb.hy + PUSH_STANDOFF / 2.0),
-                hx: if dx != 0.0 {
-                    PUSH_STANDOFF / 2.0
-                } else {
-                    rb.hx
-                },
-                hy: if dy != 0.0 {
-                    PUSH_STANDOFF / 2.0
-                } else {
-                    rb.hy
-                },
-            };
-            for a in 0..n {
-                if a != b
-                    && !stacked[a]
-                    && (swept.overlaps(&rects[a]) || behind.overlaps(&rects[a]))
-                {
+
+    /// Which objects block pushing another along ±x, ±y (dir1..dir4: the object swept
+    /// by its own length, and the gripper behind it) and grasping it (fingers close
+    /// along x: they sweep a finger width beside both x faces).
+    fn blocking_facts(&self) -> Vec<String> {
+        let (rects, stacked, n) = (&self.rects, &self.stacked, self.rects.len());
+        let dirs = [(1.0, 0.0), (-1.0, 0.0), (0.0, 1.0), (0.0, -1.0)];
+        let mut facts = Vec::new();
+        let blocks =
+            |a: usize, b: usize, zone: &Rect| a != b && !stacked[a] && zone.overlaps(&rects[a]);
+        for b in (0..n).filter(|&b| !stacked[b]) {
+            let rb = rects[b];
+            for (k, &(dx, dy)) in dirs.iter().enumerate() {
+                let len = if dx != 0.0 { 2.0 * rb.hx } else { 2.0 * rb.hy };
+                let swept = Rect {
+                    cx: rb.cx + dx * len / 2.0,
+                    cy: rb.cy + dy * len / 2.0,
+                    hx: rb.hx + dx.abs() * len / 2.0,
+                    hy: rb.hy + dy.abs() * len / 2.0,
+                };
+                let half = PUSH_STANDOFF / 2.0;
+                let behind = Rect {
+                    cx: rb.cx - dx * (rb.hx + half),
+                    cy: rb.cy - dy * (rb.hy + half),
+                    hx: if dx != 0.0 { half } else { rb.hx },
+                    hy: if dy != 0.0 { half } else { rb.hy },
+                };
+                for a in (0..n).filter(|&a| blocks(a, b, &swept) || blocks(a, b, &behind)) {
                     facts.push(format!("(block_dir{} o{} o{})", k + 1, a + 1, b + 1));
                 }
             }
-        }
-        for a in 0..n {
-            if a != b && !stacked[a] && grasp_zone.overlaps(&rects[a]) {
+            let grasp_zone = rb.grown(FINGER_WIDTH, 0.0);
+            for a in (0..n).filter(|&a| blocks(a, b, &grasp_zone)) {
                 facts.push(format!("(block_grasp o{} o{})", a + 1, b + 1));
             }
         }
+        facts
     }
-    for o in 0..n {
-        for k in 1..=4 {
-            if rng.random_bool(0.1) {
-                facts.push(format!("(ik_unfeasible_dir{k} o{})", o + 1));
-            }
-        }
-        if rng.random_bool(0.1) {
-            facts.push(format!("(ik_unfeasible_grasp o{})", o + 1));
-        }
-    }
-    let objects: Vec<String> = (1..=n).map(|i| format!("o{i}")).collect();
-    let goal: Vec<String> = objects.iter().map(|o| format!("(removed {o})")).collect();
-    format!(
-        "(define (problem table-{n}-{seed})\n  (:domain tablewclear)\n  (:objects {} - obj)\n  (:init\n    {})\n  (:goal (and {})))\n",
-        objects.join(" "),
-        facts.join("\n    "),
-        goal.join(" ")
-    )
 }

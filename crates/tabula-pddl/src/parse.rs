@@ -179,50 +179,7 @@ pub fn parse_domain(text: &str) -> R<Domain> {
         let (head, items) = section(s, "a domain section such as (:predicates …)")?;
         match head {
             ":requirements" => d.requirements.extend(requirements(&items[1..])?),
-            ":types" => {
-                for (t, loc) in typed_list(&items[1..], false)? {
-                    if t.name == "object" {
-                        continue;
-                    }
-                    if d.types.iter().any(|(n, _)| *n == t.name) {
-                        return err(loc, ErrorKind::Duplicate(t.name));
-                    }
-                    if t.name == t.type_name {
-                        return err(
-                            loc,
-                            ErrorKind::Syntax(format!(
-                                "type `{}` is declared a subtype of itself",
-                                t.name
-                            )),
-                        );
-                    }
-                    d.types.push((t.name, Some(t.type_name)));
-                }
-                // Every chain of parents must reach `object`: a cycle (a - b, b - a)
-                // makes every subtype question unanswerable.
-                for (name, _) in &d.types {
-                    let mut cur = name.as_str();
-                    for _ in 0..=d.types.len() {
-                        match d
-                            .types
-                            .iter()
-                            .find(|(n, _)| n == cur)
-                            .and_then(|(_, p)| p.as_deref())
-                        {
-                            Some(parent) => cur = parent,
-                            None => break,
-                        }
-                    }
-                    if d.types.iter().any(|(n, p)| n == cur && p.is_some()) {
-                        return err(
-                            s.loc(),
-                            ErrorKind::Syntax(format!(
-                                "the :types form a cycle through `{name}`: every type must descend from `object`"
-                            )),
-                        );
-                    }
-                }
-            }
+            ":types" => declare_types(&mut d, &items[1..], s.loc())?,
             ":constants" => {
                 for (c, loc) in typed_list(&items[1..], false)? {
                     if d.constants.iter().any(|k| k.name == c.name) {
@@ -233,37 +190,8 @@ pub fn parse_domain(text: &str) -> R<Domain> {
                 }
             }
             ":predicates" | ":functions" => {
-                let mut i = 1;
-                while i < items.len() {
-                    let decl = list(&items[i], "a declaration (name ?args…)")?;
-                    let Some(first) = decl.first() else {
-                        return expected(&items[i], "a name");
-                    };
-                    let pname = atom(first, "a name")?.to_string();
-                    let mut params = Vec::new();
-                    for (t, loc) in typed_list(&decl[1..], true)? {
-                        type_uses.push((t.type_name.clone(), loc));
-                        params.push(t);
-                    }
-                    let sig = Signature {
-                        name: pname.clone(),
-                        params,
-                    };
-                    let target = if head == ":predicates" {
-                        &mut d.predicates
-                    } else {
-                        &mut d.functions
-                    };
-                    if target.iter().any(|p| p.name == pname) {
-                        return err(items[i].loc(), ErrorKind::Duplicate(pname));
-                    }
-                    target.push(sig);
-                    i += 1;
-                    // `:functions` may give a return type: `(f ?x) - number`.
-                    if head == ":functions" && items.get(i).and_then(Sexpr::atom) == Some("-") {
-                        i += 2;
-                    }
-                }
+                let functions = head == ":functions";
+                declare_signatures(&mut d, (functions, &items[1..]), &mut type_uses)?;
             }
             ":action" => actions.push(s),
             other => {
@@ -295,6 +223,88 @@ pub fn parse_domain(text: &str) -> R<Domain> {
         d.actions.push(a);
     }
     Ok(d)
+}
+
+/// A `:types` section: each type once, none its own parent, and every chain of parents
+/// reaching `object` (a cycle, a - b and b - a, makes every subtype question
+/// unanswerable).
+fn declare_types(d: &mut Domain, items: &[Sexpr], section: Loc) -> R<()> {
+    for (t, loc) in typed_list(items, false)? {
+        if t.name == "object" {
+            continue;
+        }
+        if d.types.iter().any(|(n, _)| *n == t.name) {
+            return err(loc, ErrorKind::Duplicate(t.name));
+        }
+        if t.name == t.type_name {
+            let message = format!("type `{}` is declared a subtype of itself", t.name);
+            return err(loc, ErrorKind::Syntax(message));
+        }
+        d.types.push((t.name, Some(t.type_name)));
+    }
+    for (name, _) in &d.types {
+        let mut cur = name.as_str();
+        for _ in 0..=d.types.len() {
+            match d
+                .types
+                .iter()
+                .find(|(n, _)| n == cur)
+                .and_then(|(_, p)| p.as_deref())
+            {
+                Some(parent) => cur = parent,
+                None => break,
+            }
+        }
+        if d.types.iter().any(|(n, p)| n == cur && p.is_some()) {
+            return err(
+                section,
+                ErrorKind::Syntax(format!(
+                    "the :types form a cycle through `{name}`: every type must descend from `object`"
+                )),
+            );
+        }
+    }
+    Ok(())
+}
+
+/// A `:predicates` or (`functions`) `:functions` section: each name once, its
+/// parameters' types noted in `type_uses`.
+fn declare_signatures(
+    d: &mut Domain,
+    (functions, items): (bool, &[Sexpr]),
+    type_uses: &mut Vec<(String, Loc)>,
+) -> R<()> {
+    let mut i = 0;
+    while i < items.len() {
+        let decl = list(&items[i], "a declaration (name ?args…)")?;
+        let Some(first) = decl.first() else {
+            return expected(&items[i], "a name");
+        };
+        let pname = atom(first, "a name")?.to_string();
+        let mut params = Vec::new();
+        for (t, loc) in typed_list(&decl[1..], true)? {
+            type_uses.push((t.type_name.clone(), loc));
+            params.push(t);
+        }
+        let target = if functions {
+            &mut d.functions
+        } else {
+            &mut d.predicates
+        };
+        if target.iter().any(|p| p.name == pname) {
+            return err(items[i].loc(), ErrorKind::Duplicate(pname));
+        }
+        target.push(Signature {
+            name: pname,
+            params,
+        });
+        i += 1;
+        // `:functions` may give a return type: `(f ?x) - number`.
+        if functions && items.get(i).and_then(Sexpr::atom) == Some("-") {
+            i += 2;
+        }
+    }
+    Ok(())
 }
 
 struct Scope<'a> {
@@ -586,39 +596,11 @@ pub fn parse_problem(text: &str, domain: &Domain) -> R<Problem> {
     for s in sections {
         let (head, items) = section(s, "a problem section such as (:init …)")?;
         match head {
-            ":domain" => {
-                let Some(dn) = items.get(1) else {
-                    return expected(s, "a domain name");
-                };
-                p.domain_name = atom(dn, "a domain name")?.to_string();
-                if p.domain_name != domain.name {
-                    return err(
-                        dn.loc(),
-                        ErrorKind::DomainMismatch {
-                            domain: domain.name.clone(),
-                            problem_domain: p.domain_name.clone(),
-                        },
-                    );
-                }
-            }
+            ":domain" => p.domain_name = problem_domain(s, items, domain)?,
             ":requirements" => {
                 requirements(&items[1..])?;
             }
-            ":objects" => {
-                for (o, oloc) in typed_list(&items[1..], false)? {
-                    if !domain.types.iter().any(|(n, _)| *n == o.type_name) {
-                        return err(oloc, ErrorKind::UndefinedType(o.type_name));
-                    }
-                    if p.objects
-                        .iter()
-                        .chain(&domain.constants)
-                        .any(|k| k.name == o.name)
-                    {
-                        return err(oloc, ErrorKind::Duplicate(o.name));
-                    }
-                    p.objects.push(o);
-                }
-            }
+            ":objects" => declare_objects(&mut p, &items[1..], domain)?,
             ":init" => init_nodes = &items[1..],
             ":goal" => {
                 let Some(g) = items.get(1) else {
@@ -651,7 +633,7 @@ pub fn parse_problem(text: &str, domain: &Domain) -> R<Problem> {
             ErrorKind::Syntax("the problem names no (:domain …)".into()),
         );
     }
-    let scope = Scope {
+    let mut scope = Scope {
         domain,
         vars: Vec::new(),
         objects: &p.objects,
@@ -664,23 +646,7 @@ pub fn parse_problem(text: &str, domain: &Domain) -> R<Problem> {
             return expected(node, "an initial fact");
         }
         if items[0].atom() == Some("=") {
-            if items.len() != 3 {
-                return expected(node, "(= (function objects…) value)");
-            }
-            let f = list(&items[1], "(function objects…)")?;
-            let Some(fname) = f.first() else {
-                return expected(&items[1], "a function");
-            };
-            let fname = atom(fname, "a function name")?;
-            let Some(sig) = domain.functions.iter().find(|s| s.name == fname) else {
-                return err(items[1].loc(), ErrorKind::UndefinedFunction(fname.into()));
-            };
-            let args = scope.args(fname, &sig.params, &f[1..], items[1].loc())?;
-            let value = atom(&items[2], "a number")?;
-            let Ok(value) = value.parse::<i64>() else {
-                return expected(&items[2], "an integer value");
-            };
-            init_numeric.push((ground(fname, args), value));
+            init_numeric.push(scope.numeric_fact(node, items)?);
             continue;
         }
         let a = scope.atom(items, node.loc())?;
@@ -688,18 +654,72 @@ pub fn parse_problem(text: &str, domain: &Domain) -> R<Problem> {
     }
     init.sort();
     init.dedup();
+    let goal = goal_node.map(|g| scope.condition(g)).transpose()?;
     p.init = init;
     p.init_numeric = init_numeric;
-    let mut goal_scope = Scope {
-        domain,
-        vars: Vec::new(),
-        objects: &p.objects,
-    };
-    if let Some(g) = goal_node {
-        let goal = goal_scope.condition(g)?;
+    if let Some(goal) = goal {
         p.goal = goal;
     }
     Ok(p)
+}
+
+/// The `:domain` section's name, which must be `domain`'s.
+fn problem_domain(s: &Sexpr, items: &[Sexpr], domain: &Domain) -> R<String> {
+    let Some(dn) = items.get(1) else {
+        return expected(s, "a domain name");
+    };
+    let name = atom(dn, "a domain name")?.to_string();
+    if name != domain.name {
+        return err(
+            dn.loc(),
+            ErrorKind::DomainMismatch {
+                domain: domain.name.clone(),
+                problem_domain: name,
+            },
+        );
+    }
+    Ok(name)
+}
+
+/// An `:objects` section: each of a declared type, none named twice or as a constant.
+fn declare_objects(p: &mut Problem, items: &[Sexpr], domain: &Domain) -> R<()> {
+    for (o, oloc) in typed_list(items, false)? {
+        if !domain.types.iter().any(|(n, _)| *n == o.type_name) {
+            return err(oloc, ErrorKind::UndefinedType(o.type_name));
+        }
+        if p.objects
+            .iter()
+            .chain(&domain.constants)
+            .any(|k| k.name == o.name)
+        {
+            return err(oloc, ErrorKind::Duplicate(o.name));
+        }
+        p.objects.push(o);
+    }
+    Ok(())
+}
+
+impl Scope<'_> {
+    /// An initial numeric fact `(= (function objects…) value)`.
+    fn numeric_fact(&self, node: &Sexpr, items: &[Sexpr]) -> R<(GroundAtom, i64)> {
+        if items.len() != 3 {
+            return expected(node, "(= (function objects…) value)");
+        }
+        let f = list(&items[1], "(function objects…)")?;
+        let Some(fname) = f.first() else {
+            return expected(&items[1], "a function");
+        };
+        let fname = atom(fname, "a function name")?;
+        let Some(sig) = self.domain.functions.iter().find(|s| s.name == fname) else {
+            return err(items[1].loc(), ErrorKind::UndefinedFunction(fname.into()));
+        };
+        let args = self.args(fname, &sig.params, &f[1..], items[1].loc())?;
+        let value = atom(&items[2], "a number")?;
+        let Ok(value) = value.parse::<i64>() else {
+            return expected(&items[2], "an integer value");
+        };
+        Ok((ground(fname, args), value))
+    }
 }
 
 fn ground(name: &str, args: Vec<Term>) -> GroundAtom {

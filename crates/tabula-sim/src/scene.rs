@@ -356,6 +356,48 @@ impl Scene {
             key,
             message,
         };
+        self.check_names()
+            .map_err(|(name, key, m)| err(name, key, m))?;
+        self.check_floor().map_err(|message| SceneError {
+            file: file.to_string(),
+            line: 0,
+            key: "floor.size".into(),
+            message,
+        })?;
+        let entries = self
+            .objects
+            .iter()
+            .map(|o| (&o.name, "object", check_object(o)))
+            .chain(
+                self.furniture
+                    .iter()
+                    .map(|f| (&f.name, "furniture", check_furniture(f))),
+            )
+            .chain(
+                self.robots
+                    .iter()
+                    .map(|r| (&r.name, "robot", check_robot(r))),
+            )
+            .chain(
+                self.cameras
+                    .iter()
+                    .map(|c| (&c.name, "camera", check_camera(c))),
+            );
+        for (name, table, checked) in entries {
+            if let Err((field, message)) = checked {
+                let key = match field {
+                    "" => format!("{table}.{}", name.get_ref()),
+                    field => format!("{table}.{}.{field}", name.get_ref()),
+                };
+                return Err(err(name, key, message));
+            }
+        }
+        Ok(())
+    }
+
+    /// Every name is given and used once, across all tables.
+    #[allow(clippy::type_complexity)]
+    fn check_names(&self) -> Result<(), (&Spanned<String>, String, String)> {
         let mut names = std::collections::HashSet::new();
         let all_names = self
             .objects
@@ -366,198 +408,161 @@ impl Scene {
             .chain(self.cameras.iter().map(|c| (&c.name, "camera")));
         for (name, table) in all_names {
             if name.get_ref().is_empty() {
-                return Err(err(
-                    name,
-                    format!("{table}.name"),
-                    "name must not be empty".into(),
-                ));
+                let message = "name must not be empty".into();
+                return Err((name, format!("{table}.name"), message));
             }
             if !names.insert(name.get_ref().clone()) {
-                return Err(err(
-                    name,
-                    format!("{table}.name"),
-                    format!("`{}` is used twice", name.get_ref()),
-                ));
+                let message = format!("`{}` is used twice", name.get_ref());
+                return Err((name, format!("{table}.name"), message));
             }
         }
-        let finite_pose = |p: &PoseSpec| {
-            p.xyz
-                .iter()
-                .all(|v| v.is_finite() && v.abs() <= MAX_COORDINATE)
-                && p.rpy.iter().all(|v| v.is_finite())
-        };
+        Ok(())
+    }
+
+    fn check_floor(&self) -> Result<(), String> {
         if let Some(floor) = &self.floor
             && floor
                 .size
                 .iter()
                 .any(|d| !(MIN_SIZE..=10.0 * MAX_COORDINATE).contains(d))
         {
-            return Err(SceneError {
-                file: file.to_string(),
-                line: 0,
-                key: "floor.size".into(),
-                message: format!(
-                    "floor sizes must be between {MIN_SIZE} and {} m",
-                    10.0 * MAX_COORDINATE
-                ),
-            });
-        }
-        for o in &self.objects {
-            let key = |k: &str| format!("object.{}.{k}", o.name.get_ref());
-            if !finite_pose(&o.pose) {
-                return Err(err(
-                    &o.name,
-                    key("pose"),
-                    "pose values must be finite, positions within ±1000 m".into(),
-                ));
-            }
-            let dims: Vec<f64> = match &o.shape {
-                ShapeSpec::Box(s) => s.to_vec(),
-                ShapeSpec::Cylinder { radius, height } | ShapeSpec::Cone { radius, height } => {
-                    vec![*radius, *height]
-                }
-                ShapeSpec::Capsule { radius, height } => vec![*radius, height + 1e-9],
-                ShapeSpec::Sphere { radius } => vec![*radius],
-                ShapeSpec::Mesh { scale, .. } => scale.to_vec(),
-            };
-            if dims.iter().any(|d| !(MIN_SIZE..=MAX_SIZE).contains(d)) {
-                return Err(err(
-                    &o.name,
-                    key("shape"),
-                    format!(
-                        "sizes (and mesh scales) must be between {MIN_SIZE} and {MAX_SIZE}: \
-                         the physics cannot simulate a body outside that range"
-                    ),
-                ));
-            }
-            match (o.mass, o.density) {
-                (Some(m), _) if !(MIN_MASS..=MAX_MASS).contains(&m) => {
-                    return Err(err(
-                        &o.name,
-                        key("mass"),
-                        format!("mass must be between {MIN_MASS} and {MAX_MASS} kg, got {m}"),
-                    ));
-                }
-                (_, Some(d)) if !(MIN_DENSITY..=MAX_DENSITY).contains(&d) => {
-                    return Err(err(
-                        &o.name,
-                        key("density"),
-                        format!(
-                            "density must be between {MIN_DENSITY} and {MAX_DENSITY} kg/m³, got {d}"
-                        ),
-                    ));
-                }
-                _ => {}
-            }
-            if !(o.friction.is_finite() && o.friction >= 0.0) {
-                return Err(err(
-                    &o.name,
-                    key("friction"),
-                    "friction must be a non-negative number".into(),
-                ));
-            }
-        }
-        for f in &self.furniture {
-            let key = |k: &str| format!("furniture.{}.{k}", f.name.get_ref());
-            if !finite_pose(&f.pose) {
-                return Err(err(
-                    &f.name,
-                    key("pose"),
-                    "pose values must be finite, positions within ±1000 m".into(),
-                ));
-            }
-            if let Some(s) = f.size
-                && s.iter().any(|d| !(MIN_SIZE..=MAX_SIZE).contains(d))
-            {
-                return Err(err(
-                    &f.name,
-                    key("size"),
-                    format!("sizes must be between {MIN_SIZE} and {MAX_SIZE} m"),
-                ));
-            }
-            if let Some(a) = f.angle_deg
-                && !(a.is_finite() && a > 90.0 && a < 180.0)
-            {
-                return Err(err(
-                    &f.name,
-                    key("angle_deg"),
-                    format!("a ramp angle must be between 90° and 180°, got {a}"),
-                ));
-            }
-        }
-        for r in &self.robots {
-            if !finite_pose(&r.pose) || r.joints.values().any(|v| !v.is_finite()) {
-                return Err(err(
-                    &r.name,
-                    format!("robot.{}", r.name.get_ref()),
-                    "pose and joint values must be finite".into(),
-                ));
-            }
-        }
-        for c in &self.cameras {
-            let key = |k: &str| format!("camera.{}.{k}", c.name.get_ref());
-            if c.look_at.is_some() == c.link.is_some() {
-                return Err(err(
-                    &c.name,
-                    key("look_at"),
-                    "give either look_at = {eye, target} or robot + link".into(),
-                ));
-            }
-            if c.width == 0
-                || c.height == 0
-                || c.width.checked_mul(c.height).is_none_or(|n| n > 16_000_000)
-            {
-                return Err(err(
-                    &c.name,
-                    key("width"),
-                    "image size must be between 1 and 16 million pixels".into(),
-                ));
-            }
-            let fov_ok = |v: f64| v.is_finite() && v > 0.0 && v < 179.0;
-            if !fov_ok(c.hfov_deg) || !fov_ok(c.vfov_deg) {
-                return Err(err(
-                    &c.name,
-                    key("hfov_deg"),
-                    "fields of view must be in (0°, 179°)".into(),
-                ));
-            }
-            if !(c.min_range.is_finite()
-                && c.max_range.is_finite()
-                && 0.0 <= c.min_range
-                && c.min_range < c.max_range)
-            {
-                return Err(err(
-                    &c.name,
-                    key("max_range"),
-                    "need 0 ≤ min_range < max_range".into(),
-                ));
-            }
-            if !(c.noise_coefficient.is_finite() && c.noise_coefficient >= 0.0) {
-                return Err(err(
-                    &c.name,
-                    key("noise_coefficient"),
-                    "noise must be non-negative".into(),
-                ));
-            }
-            if !(0.0..=1.0).contains(&c.outlier_fraction) {
-                return Err(err(
-                    &c.name,
-                    key("outlier_fraction"),
-                    "outlier_fraction must be in [0, 1]".into(),
-                ));
-            }
-            if let Some(l) = &c.look_at
-                && (l.eye.iter().chain(&l.target).any(|v| !v.is_finite()) || l.eye == l.target)
-            {
-                return Err(err(
-                    &c.name,
-                    key("look_at"),
-                    "eye and target must be finite and distinct".into(),
-                ));
-            }
+            return Err(format!(
+                "floor sizes must be between {MIN_SIZE} and {} m",
+                10.0 * MAX_COORDINATE
+            ));
         }
         Ok(())
     }
+}
+
+/// A field's check failed: the field (empty for the entry itself) and why.
+type FieldError = (&'static str, String);
+
+fn finite_pose(p: &PoseSpec) -> bool {
+    p.xyz
+        .iter()
+        .all(|v| v.is_finite() && v.abs() <= MAX_COORDINATE)
+        && p.rpy.iter().all(|v| v.is_finite())
+}
+
+const POSE_MESSAGE: &str = "pose values must be finite, positions within ±1000 m";
+
+fn check_object(o: &ObjectSpec) -> Result<(), FieldError> {
+    if !finite_pose(&o.pose) {
+        return Err(("pose", POSE_MESSAGE.into()));
+    }
+    let dims: Vec<f64> = match &o.shape {
+        ShapeSpec::Box(s) => s.to_vec(),
+        ShapeSpec::Cylinder { radius, height } | ShapeSpec::Cone { radius, height } => {
+            vec![*radius, *height]
+        }
+        ShapeSpec::Capsule { radius, height } => vec![*radius, height + 1e-9],
+        ShapeSpec::Sphere { radius } => vec![*radius],
+        ShapeSpec::Mesh { scale, .. } => scale.to_vec(),
+    };
+    if dims.iter().any(|d| !(MIN_SIZE..=MAX_SIZE).contains(d)) {
+        return Err((
+            "shape",
+            format!(
+                "sizes (and mesh scales) must be between {MIN_SIZE} and {MAX_SIZE}: \
+                 the physics cannot simulate a body outside that range"
+            ),
+        ));
+    }
+    match (o.mass, o.density) {
+        (Some(m), _) if !(MIN_MASS..=MAX_MASS).contains(&m) => {
+            return Err((
+                "mass",
+                format!("mass must be between {MIN_MASS} and {MAX_MASS} kg, got {m}"),
+            ));
+        }
+        (_, Some(d)) if !(MIN_DENSITY..=MAX_DENSITY).contains(&d) => {
+            return Err((
+                "density",
+                format!("density must be between {MIN_DENSITY} and {MAX_DENSITY} kg/m³, got {d}"),
+            ));
+        }
+        _ => {}
+    }
+    if !(o.friction.is_finite() && o.friction >= 0.0) {
+        return Err(("friction", "friction must be a non-negative number".into()));
+    }
+    Ok(())
+}
+
+fn check_furniture(f: &FurnitureSpec) -> Result<(), FieldError> {
+    if !finite_pose(&f.pose) {
+        return Err(("pose", POSE_MESSAGE.into()));
+    }
+    if let Some(s) = f.size
+        && s.iter().any(|d| !(MIN_SIZE..=MAX_SIZE).contains(d))
+    {
+        return Err((
+            "size",
+            format!("sizes must be between {MIN_SIZE} and {MAX_SIZE} m"),
+        ));
+    }
+    if let Some(a) = f.angle_deg
+        && !(a.is_finite() && a > 90.0 && a < 180.0)
+    {
+        return Err((
+            "angle_deg",
+            format!("a ramp angle must be between 90° and 180°, got {a}"),
+        ));
+    }
+    Ok(())
+}
+
+fn check_robot(r: &RobotSpec) -> Result<(), FieldError> {
+    if !finite_pose(&r.pose) || r.joints.values().any(|v| !v.is_finite()) {
+        return Err(("", "pose and joint values must be finite".into()));
+    }
+    Ok(())
+}
+
+fn check_camera(c: &CameraSpec) -> Result<(), FieldError> {
+    if c.look_at.is_some() == c.link.is_some() {
+        return Err((
+            "look_at",
+            "give either look_at = {eye, target} or robot + link".into(),
+        ));
+    }
+    if c.width == 0 || c.height == 0 || c.width.checked_mul(c.height).is_none_or(|n| n > 16_000_000)
+    {
+        return Err((
+            "width",
+            "image size must be between 1 and 16 million pixels".into(),
+        ));
+    }
+    let fov_ok = |v: f64| v.is_finite() && v > 0.0 && v < 179.0;
+    if !fov_ok(c.hfov_deg) || !fov_ok(c.vfov_deg) {
+        return Err(("hfov_deg", "fields of view must be in (0°, 179°)".into()));
+    }
+    if !(c.min_range.is_finite()
+        && c.max_range.is_finite()
+        && 0.0 <= c.min_range
+        && c.min_range < c.max_range)
+    {
+        return Err(("max_range", "need 0 ≤ min_range < max_range".into()));
+    }
+    if !(c.noise_coefficient.is_finite() && c.noise_coefficient >= 0.0) {
+        return Err(("noise_coefficient", "noise must be non-negative".into()));
+    }
+    if !(0.0..=1.0).contains(&c.outlier_fraction) {
+        return Err((
+            "outlier_fraction",
+            "outlier_fraction must be in [0, 1]".into(),
+        ));
+    }
+    if let Some(l) = &c.look_at
+        && (l.eye.iter().chain(&l.target).any(|v| !v.is_finite()) || l.eye == l.target)
+    {
+        return Err((
+            "look_at",
+            "eye and target must be finite and distinct".into(),
+        ));
+    }
+    Ok(())
 }
 
 /// Just a spanned name, for entries made by code rather than read from a file.

@@ -15,10 +15,8 @@ pub fn perception(
     report: &mut Report,
 ) -> Result<Section> {
     use tabula_geom::Vec2;
-    use tabula_perception::eval::{Truth, score, table_top_truth};
     use tabula_perception::freespace::{FreeSpaceMap, FreeSpaceParams};
     use tabula_perception::{TabletopParams, extract, to_world};
-    use tabula_sim::generate::{TABLE_TOP, TabletopLayout, tabletop_frame};
     say!(
         tour,
         "8. Perception (PCL's role): the table, its objects and its free space in that frame\n"
@@ -95,6 +93,16 @@ pub fn perception(
             map.free_area()
         ),
     }
+    nine_object_frame(tour, &mut section)?;
+    Ok(section)
+}
+
+/// The nine-object frame (two touching pairs, a stack, 0.5 % outliers) scored
+/// against the simulator's labels, into the tour and `section`.
+fn nine_object_frame(tour: &mut Tour, section: &mut Section) -> Result<()> {
+    use tabula_perception::eval::{Truth, score, table_top_truth};
+    use tabula_perception::{TabletopParams, extract, to_world};
+    use tabula_sim::generate::{TABLE_TOP, TabletopLayout, tabletop_frame};
     let g = tabletop_frame(0, &TabletopLayout::nine())?;
     let cloud = to_world(&g.frame.world_from_camera, &g.frame.cloud);
     let t0 = Instant::now();
@@ -137,5 +145,5 @@ pub fn perception(
             format!("{:.3} / {:.3}", s.table_precision, s.table_recall),
         )
         .number("pipeline time on that frame (ms, wall)", format!("{ms:.1}"));
-    Ok(section)
+    Ok(())
 }

@@ -121,6 +121,23 @@ pub fn quality(f: &Frame, params: &TabletopParams) -> Result<Score> {
     ))
 }
 
+/// The prism of the reference frame (points over the table, inside its outline), for
+/// the stages that run on it.
+fn reference_prism(cloud: &PointCloud, eye: Vec3, params: &TabletopParams) -> Result<Vec<bool>> {
+    let t = extract(cloud, eye, params)?;
+    let (u, v) = plane_basis(t.plane.normal);
+    let to2 = |q: Vec3| Vec2::new(q.dot(u), q.dot(v));
+    let mut hull: Vec<Vec2> = t.table.hull.iter().map(|&q| to2(q)).collect();
+    if polygon_area(&hull) < 0.0 {
+        hull.reverse();
+    }
+    Ok(cloud
+        .points
+        .iter()
+        .map(|&q| q.is_finite() && t.plane.distance(q) > 0.01 && inside_convex(&hull, to2(q)))
+        .collect())
+}
+
 /// Every stage timed on the reference frame `nine` (the nine objects): rows in
 /// the order the stages run; the frame's valid points.
 pub fn stage_times(
@@ -141,19 +158,7 @@ pub fn stage_times(
     let all: Vec<usize> = (0..cloud.points.len())
         .filter(|&i| cloud.points[i].is_finite())
         .collect();
-    // The prism of the reference frame, for the stages that run on it.
-    let t = extract(cloud, eye, &params)?;
-    let (u, v) = plane_basis(t.plane.normal);
-    let to2 = |q: Vec3| Vec2::new(q.dot(u), q.dot(v));
-    let mut hull: Vec<Vec2> = t.table.hull.iter().map(|&q| to2(q)).collect();
-    if polygon_area(&hull) < 0.0 {
-        hull.reverse();
-    }
-    let prism: Vec<bool> = cloud
-        .points
-        .iter()
-        .map(|&q| q.is_finite() && t.plane.distance(q) > 0.01 && inside_convex(&hull, to2(q)))
-        .collect();
+    let prism = reference_prism(cloud, eye, &params)?;
     let prism_idx: Vec<usize> = (0..prism.len()).filter(|&i| prism[i]).collect();
     let anchor_sor = OutlierParams {
         mean_k: 20,

@@ -158,15 +158,58 @@ impl GroundTask {
         problem: &Problem,
         options: &GroundOptions,
     ) -> Result<Self, GroundError> {
-        let (mut changing, mut added) = (HashSet::new(), HashSet::new());
-        for a in &domain.actions {
-            predicates_in_effects(&a.effect, &mut changing, &mut added);
-        }
         let mutable: HashSet<&str> = options
             .mutable_predicates
             .iter()
             .map(String::as_str)
             .collect();
+        let mut g = Grounder::start(domain, problem, &mutable, options.deadline);
+        let unit_cost = !(domain.uses_action_costs() && problem.minimize_total_cost);
+        let mut raw: Vec<Raw> = Vec::new();
+        for action in &domain.actions {
+            g.ground_schema(action, unit_cost, &mut raw)?;
+        }
+        let goal_formula = g.condition(&problem.goal, &mut Vec::new(), true);
+        if let Some(e) = g.stopped.take() {
+            return Err(e);
+        }
+        let goal_clauses =
+            dnf(&goal_formula).ok_or_else(|| GroundError::DnfTooLarge("the goal".into()))?;
+        let mutable_atoms: Vec<bool> = g
+            .atoms
+            .iter()
+            .map(|a| mutable.contains(domain.predicates[a[0] as usize].name.as_str()))
+            .collect();
+        let init_atoms: Vec<bool> = g.atoms.iter().map(|a| g.init.contains(a)).collect();
+        let atoms: Vec<GroundAtom> = g.atoms.iter().map(|a| g.ground_atom(a)).collect();
+        Ok(finish(atoms, init_atoms, mutable_atoms, raw, goal_clauses))
+    }
+
+    /// Number of fluent facts.
+    pub fn num_facts(&self) -> usize {
+        self.facts.len()
+    }
+
+    /// The literal of a fluent atom, if the atom is in the task.
+    pub fn fact(&self, atom: &GroundAtom) -> Option<u32> {
+        self.fact_index.get(atom).copied()
+    }
+}
+
+impl<'a> Grounder<'a> {
+    /// A grounder over the domain's constants and the problem's objects, knowing which
+    /// predicates are static or never added (`mutable` ones are neither) and the
+    /// initial state's atoms.
+    fn start(
+        domain: &'a Domain,
+        problem: &'a Problem,
+        mutable: &HashSet<&str>,
+        deadline: Option<std::time::Instant>,
+    ) -> Self {
+        let (mut changing, mut added) = (HashSet::new(), HashSet::new());
+        for a in &domain.actions {
+            predicates_in_effects(&a.effect, &mut changing, &mut added);
+        }
         let object_names: Vec<&str> = domain
             .constants
             .iter()
@@ -195,26 +238,19 @@ impl GroundTask {
             .iter()
             .map(|p| !added.contains(&p.name) && !is_mutable(p))
             .collect();
+        let key_of =
+            |name: &str, index: &FxHashMap<&str, u32>| index.get(name).copied().unwrap_or(u32::MAX);
         let init_keys = problem
             .init
             .iter()
             .map(|a| {
-                std::iter::once(
-                    predicate_index
-                        .get(a.predicate.as_str())
-                        .copied()
-                        .unwrap_or(u32::MAX),
-                )
-                .chain(
-                    a.args
-                        .iter()
-                        .map(|o| object_index.get(o.as_str()).copied().unwrap_or(u32::MAX)),
-                )
-                .collect()
+                std::iter::once(key_of(&a.predicate, &predicate_index))
+                    .chain(a.args.iter().map(|o| key_of(o, &object_index)))
+                    .collect()
             })
             .collect();
         let init = InitIndex::new(domain, object_names.len(), init_keys);
-        let mut g = Grounder {
+        Grounder {
             domain,
             problem,
             object_names,
@@ -229,112 +265,95 @@ impl GroundTask {
             predicate_of_name: FxHashMap::default(),
             key: Vec::new(),
             work: 0,
-            deadline: options.deadline,
+            deadline,
             stopped: None,
-        };
-        let unit_cost = !(domain.uses_action_costs() && problem.minimize_total_cost);
-        let mut raw: Vec<Raw> = Vec::new();
-        for action in &domain.actions {
-            let combinations: u128 = action
-                .params
-                .iter()
-                .map(|p| g.objects(&p.type_name).len() as u128)
-                .product();
-            if combinations > GROUNDING_LIMIT {
-                return Err(GroundError::TooLarge {
-                    action: action.name.clone(),
-                    combinations,
-                    limit: GROUNDING_LIMIT,
-                });
-            }
-            let mut failure = None;
-            let mut binding = Vec::new();
-            g.for_each_binding(&action.params, 0, &mut binding, &mut |g, b| {
-                if failure.is_some() {
-                    return;
-                }
-                let pre = g.condition(&action.precondition, b, true);
-                let Some(clauses) = dnf(&pre) else {
-                    failure = Some(GroundError::DnfTooLarge(action.name.clone()));
-                    return;
-                };
-                if clauses.is_empty() {
-                    return;
-                }
-                let cost = if unit_cost {
-                    1
-                } else {
-                    match g.cost(action, b) {
-                        Ok(c) if c >= 0 => c as u64,
-                        Ok(_) => {
-                            failure = Some(GroundError::NegativeCost(action.name.clone()));
-                            return;
-                        }
-                        Err(e) => {
-                            failure = Some(e);
-                            return;
-                        }
-                    }
-                };
-                let mut effs = Vec::new();
-                g.effect(&action.effect, b, &Gf::True, &mut effs);
-                let mut effects = Vec::new();
-                for (cond, atom, add) in effs {
-                    let Some(cs) = dnf(&cond) else {
-                        failure = Some(GroundError::DnfTooLarge(action.name.clone()));
-                        return;
-                    };
-                    for c in cs {
-                        effects.push((c, atom, add));
-                    }
-                }
-                let args: Vec<&str> = b
-                    .iter()
-                    .take(action.params.len())
-                    .map(|(_, o)| g.object_names[*o as usize])
-                    .collect();
-                let name = if args.is_empty() {
-                    format!("({})", action.name)
-                } else {
-                    format!("({} {})", action.name, args.join(" "))
-                };
-                for clause in clauses {
-                    raw.push(Raw {
-                        name: name.clone(),
-                        pre: clause,
-                        effects: effects.clone(),
-                        cost,
-                        artificial: false,
-                    });
-                }
-            });
-            if let Some(e) = g.stopped.take().or(failure) {
-                return Err(e);
-            }
         }
-        let goal_formula = g.condition(&problem.goal, &mut Vec::new(), true);
-        if let Some(e) = g.stopped.take() {
-            return Err(e);
-        }
-        let goal_clauses =
-            dnf(&goal_formula).ok_or_else(|| GroundError::DnfTooLarge("the goal".into()))?;
-        let mutable_atoms: Vec<bool> = g
-            .atoms
+    }
+
+    /// Every ground action of schema `action` whose precondition can hold, one per
+    /// disjunct of its precondition's DNF, into `raw`.
+    fn ground_schema(
+        &mut self,
+        action: &'a Action,
+        unit_cost: bool,
+        raw: &mut Vec<Raw>,
+    ) -> Result<(), GroundError> {
+        let combinations: u128 = action
+            .params
             .iter()
-            .map(|a| is_mutable(&domain.predicates[a[0] as usize]))
+            .map(|p| self.objects(&p.type_name).len() as u128)
+            .product();
+        if combinations > GROUNDING_LIMIT {
+            return Err(GroundError::TooLarge {
+                action: action.name.clone(),
+                combinations,
+                limit: GROUNDING_LIMIT,
+            });
+        }
+        let mut failure = None;
+        let mut binding = Vec::new();
+        self.for_each_binding(&action.params, 0, &mut binding, &mut |g, b| {
+            if failure.is_some() {
+                return;
+            }
+            match g.bound_action(action, b, unit_cost) {
+                Ok(actions) => raw.extend(actions),
+                Err(e) => failure = Some(e),
+            }
+        });
+        match self.stopped.take().or(failure) {
+            Some(e) => Err(e),
+            None => Ok(()),
+        }
+    }
+
+    /// The ground actions of `action` under binding `b`: none when its precondition
+    /// cannot hold, else one per disjunct.
+    fn bound_action(
+        &mut self,
+        action: &'a Action,
+        b: &mut Binding<'a>,
+        unit_cost: bool,
+    ) -> Result<Vec<Raw>, GroundError> {
+        let pre = self.condition(&action.precondition, b, true);
+        let clauses = dnf(&pre).ok_or_else(|| GroundError::DnfTooLarge(action.name.clone()))?;
+        if clauses.is_empty() {
+            return Ok(Vec::new());
+        }
+        let cost = if unit_cost {
+            1
+        } else {
+            match self.cost(action, b)? {
+                c if c >= 0 => c as u64,
+                _ => return Err(GroundError::NegativeCost(action.name.clone())),
+            }
+        };
+        let mut effs = Vec::new();
+        self.effect(&action.effect, b, &Gf::True, &mut effs);
+        let mut effects = Vec::new();
+        for (cond, atom, add) in effs {
+            let cs = dnf(&cond).ok_or_else(|| GroundError::DnfTooLarge(action.name.clone()))?;
+            effects.extend(cs.into_iter().map(|c| (c, atom, add)));
+        }
+        let args: Vec<&str> = b
+            .iter()
+            .take(action.params.len())
+            .map(|(_, o)| self.object_names[*o as usize])
             .collect();
-        let init_atoms: Vec<bool> = g.atoms.iter().map(|a| g.init.contains(a)).collect();
-        let atoms: Vec<GroundAtom> = g.atoms.iter().map(|a| g.ground_atom(a)).collect();
-        Ok(finish(atoms, init_atoms, mutable_atoms, raw, goal_clauses))
-    }
-
-    /// Number of fluent facts.
-    pub fn num_facts(&self) -> usize {
-        self.facts.len()
-    }
-
-    /// The literal of a fluent atom, if the atom is in the task.
-    pub fn fact(&self, atom: &GroundAtom) -> Option<u32> {
-        self.fact_index.get(atom).copied()
+        let name = if args.is_empty() {
+            format!("({})", action.name)
+        } else {
+            format!("({} {})", action.name, args.join(" "))
+        };
+        Ok(clauses
+            .into_iter()
+            .map(|clause| Raw {
+                name: name.clone(),
+                pre: clause,
+                effects: effects.clone(),
+                cost,
+                artificial: false,
+            })
+            .collect())
     }
 }

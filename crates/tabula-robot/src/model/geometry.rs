@@ -1,7 +1,7 @@
 //! Link geometry from URDF: primitives and meshes, mesh references resolved through the
 //! package search, and meshes that cannot be found recorded rather than dropped.
 
-use super::checked_value;
+use super::urdf::checked_value;
 use crate::RobotError;
 use crate::packages::PackagePaths;
 use std::path::{Path, PathBuf};

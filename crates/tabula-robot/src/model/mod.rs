@@ -8,13 +8,14 @@ use crate::RobotError;
 use crate::packages::PackagePaths;
 use std::collections::HashMap;
 use std::path::Path;
-use tabula_geom::{Pose, Vec3, pose_from_xyz_rpy};
+use tabula_geom::{Pose, Vec3};
 
 mod default_tool;
 mod geometry;
+mod urdf;
 
+use geometry::MeshContext;
 pub use geometry::{Geometry, Shape, UnreadableMesh, resolve_mesh_path};
-use geometry::{MeshContext, convert_geometry};
 
 /// How a joint moves.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -187,39 +188,7 @@ impl RobotModel {
             if link_index.insert(l.name.clone(), links.len()).is_some() {
                 return Err(RobotError::DuplicateLink(l.name.clone()));
             }
-            let shapes = |role: &'static str,
-                          items: Vec<(&urdf_rs::Pose, &urdf_rs::Geometry)>|
-             -> Result<Vec<Shape>, RobotError> {
-                items
-                    .into_iter()
-                    .map(|(o, g)| {
-                        Ok(Shape {
-                            link_from_shape: checked_pose(&l.name, o)?,
-                            geometry: convert_geometry(&l.name, role, g, &meshes)?,
-                        })
-                    })
-                    .collect()
-            };
-            links.push(Link {
-                name: l.name.clone(),
-                parent_joint: None,
-                child_joints: Vec::new(),
-                collision: shapes(
-                    "collision",
-                    l.collision
-                        .iter()
-                        .map(|c| (&c.origin, &c.geometry))
-                        .collect(),
-                )?,
-                visual: shapes(
-                    "visual",
-                    l.visual.iter().map(|v| (&v.origin, &v.geometry)).collect(),
-                )?,
-                mass: {
-                    checked_pose(&l.name, &l.inertial.origin)?;
-                    checked_value(&l.name, "inertial mass", l.inertial.mass.value)?.max(0.0)
-                },
-            });
+            links.push(urdf::link_of(l, &meshes)?);
         }
         let mut joints: Vec<Joint> = Vec::with_capacity(robot.joints.len());
         let mut joint_index = HashMap::new();
@@ -227,171 +196,10 @@ impl RobotModel {
             if joint_index.insert(j.name.clone(), joints.len()).is_some() {
                 return Err(RobotError::DuplicateJoint(j.name.clone()));
             }
-            let find = |link: &str| {
-                link_index
-                    .get(link)
-                    .copied()
-                    .ok_or_else(|| RobotError::JointMissingLink {
-                        joint: j.name.clone(),
-                        link: link.to_string(),
-                    })
-            };
-            let parent = find(&j.parent.link)?;
-            let child = find(&j.child.link)?;
-            if parent == child {
-                return Err(RobotError::SelfLoop(j.name.clone()));
-            }
-            let kind = match j.joint_type {
-                urdf_rs::JointType::Revolute => JointKind::Revolute,
-                urdf_rs::JointType::Continuous => JointKind::Continuous,
-                urdf_rs::JointType::Prismatic => JointKind::Prismatic,
-                urdf_rs::JointType::Fixed => JointKind::Fixed,
-                urdf_rs::JointType::Floating => JointKind::MultiAxis("floating"),
-                urdf_rs::JointType::Planar => JointKind::MultiAxis("planar"),
-                urdf_rs::JointType::Spherical => JointKind::MultiAxis("spherical"),
-            };
-            let axis = Vec3::from_array(j.axis.xyz.0);
-            let non_finite = |field, value| RobotError::NonFinite {
-                joint: j.name.clone(),
-                field,
-                value,
-            };
-            if let Some(bad) = j.axis.xyz.0.iter().find(|v| !v.is_finite()) {
-                return Err(non_finite("axis", *bad));
-            }
-            let axis = if kind.is_single_axis() {
-                if axis.length() < 1e-12 {
-                    return Err(RobotError::ZeroAxis {
-                        joint: j.name.clone(),
-                    });
-                }
-                axis.normalize()
-            } else {
-                axis.try_normalize().unwrap_or(Vec3::X)
-            };
-            let (lower, upper) = match kind {
-                JointKind::Continuous => (f64::NEG_INFINITY, f64::INFINITY),
-                JointKind::Revolute | JointKind::Prismatic => {
-                    let lo = checked_value(&j.name, "lower limit", j.limit.lower)?;
-                    let hi = checked_value(&j.name, "upper limit", j.limit.upper)?;
-                    if lo > hi {
-                        return Err(RobotError::InvertedLimits {
-                            joint: j.name.clone(),
-                            lower: lo,
-                            upper: hi,
-                        });
-                    }
-                    if kind == JointKind::Revolute && lo == 0.0 && hi == 0.0 {
-                        // Limits left out (urdf-rs reads them as 0, 0): URDF 1.2 says
-                        // "no limit", and a revolute joint locked at 0 would be a fixed one.
-                        (f64::NEG_INFINITY, f64::INFINITY)
-                    } else {
-                        (lo, hi)
-                    }
-                }
-                _ => (0.0, 0.0),
-            };
-            let velocity = if j.limit.velocity.is_finite() && j.limit.velocity > 0.0 {
-                j.limit.velocity
-            } else {
-                f64::INFINITY
-            };
-            let effort = if j.limit.effort.is_finite() {
-                j.limit.effort.abs()
-            } else {
-                f64::INFINITY
-            };
-            joints.push(Joint {
-                name: j.name.clone(),
-                kind,
-                parent,
-                child,
-                parent_from_joint: checked_pose(&j.name, &j.origin)?,
-                axis,
-                limits: JointLimits {
-                    lower,
-                    upper,
-                    velocity,
-                    effort,
-                },
-                mimic: None,
-            });
+            joints.push(urdf::joint_of(j, &link_index)?);
         }
-        let mut ignored_mimics = Vec::new();
-        for (ji, j) in robot.joints.iter().enumerate() {
-            if let Some(m) = &j.mimic {
-                // A fixed joint cannot move, so its mimic says nothing (MotionBenchMaker's
-                // Panda fixes its fingers this way); a fixed master leaves the mimic still.
-                let fixed = |k: usize| joints[k].kind == JointKind::Fixed;
-                if fixed(ji) || joint_index.get(&m.joint).is_some_and(|&mi| fixed(mi)) {
-                    ignored_mimics.push(format!(
-                        "joint `{}`: <mimic joint=\"{}\"> ignored: {} is fixed",
-                        j.name,
-                        tabula_geom::input::clip(&m.joint, 80),
-                        if fixed(ji) { "the joint" } else { "its master" }
-                    ));
-                    continue;
-                }
-                let problem = match joint_index.get(&m.joint) {
-                    None => Some("not in the URDF"),
-                    Some(&mi) if mi == ji => Some("itself"),
-                    Some(&mi) if !joints[mi].kind.is_single_axis() => {
-                        Some("not a single-axis joint")
-                    }
-                    Some(&mi) if joints[mi].mimic.is_some() => Some("itself a mimic joint"),
-                    Some(_) => None,
-                };
-                if let Some(problem) = problem {
-                    return Err(RobotError::BadMimic {
-                        joint: j.name.clone(),
-                        master: m.joint.clone(),
-                        problem,
-                    });
-                }
-                let multiplier = m.multiplier.unwrap_or(1.0);
-                let offset = m.offset.unwrap_or(0.0);
-                if !multiplier.is_finite() || !offset.is_finite() {
-                    return Err(RobotError::NonFinite {
-                        joint: j.name.clone(),
-                        field: "mimic multiplier or offset",
-                        value: if multiplier.is_finite() {
-                            offset
-                        } else {
-                            multiplier
-                        },
-                    });
-                }
-                joints[ji].mimic = Some(Mimic {
-                    master: joint_index[&m.joint],
-                    multiplier,
-                    offset,
-                });
-            }
-        }
-        for (ji, j) in joints.iter().enumerate() {
-            if let Some(first) = links[j.child].parent_joint {
-                return Err(RobotError::MultipleParents {
-                    link: links[j.child].name.clone(),
-                    first: joints[first].name.clone(),
-                    second: j.name.clone(),
-                });
-            }
-            links[j.child].parent_joint = Some(ji);
-            links[j.parent].child_joints.push(ji);
-        }
-        let roots: Vec<usize> = (0..links.len())
-            .filter(|&l| links[l].parent_joint.is_none())
-            .collect();
-        // Every link must be reachable from a root; what is not sits on a cycle.
-        let mut seen = vec![false; links.len()];
-        let mut stack = roots.clone();
-        while let Some(l) = stack.pop() {
-            seen[l] = true;
-            stack.extend(links[l].child_joints.iter().map(|&j| joints[j].child));
-        }
-        if let Some(l) = seen.iter().position(|s| !s) {
-            return Err(RobotError::Cycle(links[l].name.clone()));
-        }
+        let ignored = urdf::resolve_mimics(&robot.joints, &mut joints, &joint_index)?;
+        let roots = urdf::connect(&mut links, &joints)?;
         Ok(Self {
             name: robot.name.clone(),
             links,
@@ -400,7 +208,7 @@ impl RobotModel {
             link_index,
             joint_index,
             unreadable_meshes: meshes.unreadable.into_inner(),
-            ignored: ignored_mimics,
+            ignored,
         })
     }
 
@@ -497,34 +305,6 @@ impl RobotModel {
         }
         Ok(root_from_link)
     }
-}
-
-/// `value` when finite and within the policy's ±1e6 (INPUT_POLICY.md).
-fn checked_value(owner: &str, field: &'static str, value: f64) -> Result<f64, RobotError> {
-    if !value.is_finite() {
-        return Err(RobotError::NonFinite {
-            joint: owner.to_string(),
-            field,
-            value,
-        });
-    }
-    if value.abs() > tabula_geom::input::MAX_MAGNITUDE {
-        return Err(RobotError::OutOfRange {
-            joint: owner.to_string(),
-            field,
-            value,
-        });
-    }
-    Ok(value)
-}
-
-fn checked_pose(owner: &str, p: &urdf_rs::Pose) -> Result<Pose, RobotError> {
-    for (field, v) in [("origin xyz", &p.xyz.0), ("origin rpy", &p.rpy.0)] {
-        for x in v {
-            checked_value(owner, field, *x)?;
-        }
-    }
-    Ok(pose_from_xyz_rpy(p.xyz.0, p.rpy.0))
 }
 
 #[cfg(test)]

@@ -4,13 +4,16 @@
 //! one height, shelves of a bookshelf) come out as separate surfaces, and each surface
 //! reports the area it really covers, not its hull's.
 
+mod split;
+
+pub(crate) use split::split;
+
 use crate::filters::{Neighbours, NormalParams, local_planes_at};
 use crate::plane::{Plane, RansacParams, ransac_plane, ransac_round};
 use tabula_geom::input::{
     Validate, check_count, check_in, check_non_negative, check_positive, nested,
 };
-use tabula_geom::polygon::{convex_hull_2d, polygon_area};
-use tabula_geom::{PointCloud, Vec2, Vec3};
+use tabula_geom::{PointCloud, Vec3};
 
 /// Parameters; defaults from SPEC §6 (seed 000's repository).
 #[derive(Debug, Clone, serde::Deserialize)]
@@ -457,213 +460,6 @@ fn refine(
         (plane, inliers) = (fit, more);
     }
     (plane, inliers, threshold, index)
-}
-
-/// Splits the points on a plane into connected pieces (grid cells) and keeps those
-/// with enough area. The (possibly downsampled) inliers only bound the grid;
-/// connectivity, membership and outline come from every finite point on the plane. Each cell remembers
-/// its extreme points in eight directions, so hulls come from a few points per cell.
-pub(crate) fn split(
-    points: &[Vec3],
-    plane: &Plane,
-    inliers: &[usize],
-    p: &SurfaceParams,
-) -> Vec<Surface> {
-    let (u, v) = plane_basis(plane.normal);
-    let to2 = |q: Vec3| Vec2::new(q.dot(u), q.dot(v));
-    let mut cell = p.cell.max(1e-4);
-    let (mut lo, mut hi) = (Vec2::splat(f64::INFINITY), Vec2::splat(f64::NEG_INFINITY));
-    for &i in inliers {
-        let q = to2(points[i]);
-        lo = lo.min(q);
-        hi = hi.max(q);
-    }
-    if lo.x.is_nan() || lo.x > hi.x {
-        return Vec::new();
-    }
-    // A dense grid over the inliers' extent (coarser if it would be huge), with a
-    // border of empty cells all round.
-    while ((hi - lo) / cell).element_product() > 4e6 {
-        cell *= 2.0;
-    }
-    lo -= Vec2::splat(cell);
-    hi += Vec2::splat(cell);
-    let nx = ((hi.x - lo.x) / cell).floor() as usize + 1;
-    let ny = ((hi.y - lo.y) / cell).floor() as usize + 1;
-    let inv = 1.0 / cell;
-    let cell_of = |q: Vec2| -> Option<usize> {
-        // Truncation is floor for the non-negative values that pass the test.
-        let (fx, fy) = ((q.x - lo.x) * inv, (q.y - lo.y) * inv);
-        (fx >= 0.0 && fy >= 0.0 && (fx as usize) < nx && (fy as usize) < ny)
-            .then(|| fy as usize * nx + fx as usize)
-    };
-    const EMPTY: u32 = u32::MAX;
-    const UNSET: u32 = u32::MAX - 1;
-    let mut comp = vec![EMPTY; nx * ny];
-    // Every finite point on the plane, with its cell; and the points just above and
-    // just below the plane, per cell.
-    let mut on_plane: Vec<(usize, usize)> = Vec::new();
-    let mut beside = vec![[0u32; 2]; nx * ny];
-    let (near, far) = (3.0 * p.ransac.threshold, 8.0 * p.ransac.threshold);
-    for (i, q) in points.iter().enumerate() {
-        let signed = plane.distance(*q);
-        let off = signed.abs();
-        let Some(c) = cell_of(to2(*q)) else {
-            continue;
-        };
-        if off <= p.ransac.threshold {
-            comp[c] = UNSET;
-            on_plane.push((i, c));
-        } else if off > near && off < far {
-            beside[c][usize::from(signed > 0.0)] += 1;
-        }
-    }
-    let mut n_comp = 0u32;
-    for start in 0..comp.len() {
-        if comp[start] != UNSET {
-            continue;
-        }
-        comp[start] = n_comp;
-        let mut stack = vec![start];
-        // Connectivity comes from every point on the plane, at full resolution (a far
-        // floor's rows are centimetres apart, more so on a downsampled grid); two
-        // cells' reach bridges the rows a grazing view leaves between its points.
-        while let Some(c) = stack.pop() {
-            let (cx, cy) = ((c % nx) as isize, (c / nx) as isize);
-            for dy in -2..=2 {
-                for dx in -2..=2 {
-                    let (x, y) = (cx + dx, cy + dy);
-                    if x >= 0 && y >= 0 && (x as usize) < nx && (y as usize) < ny {
-                        let n = y as usize * nx + x as usize;
-                        if comp[n] == UNSET {
-                            comp[n] = n_comp;
-                            stack.push(n);
-                        }
-                    }
-                }
-            }
-        }
-        n_comp += 1;
-    }
-    const DIRS: [(f64, f64); 8] = [
-        (1.0, 0.0),
-        (-1.0, 0.0),
-        (0.0, 1.0),
-        (0.0, -1.0),
-        (1.0, 1.0),
-        (1.0, -1.0),
-        (-1.0, 1.0),
-        (-1.0, -1.0),
-    ];
-    // Only cells on a component's border can hold hull points.
-    let border: Vec<bool> = (0..nx * ny)
-        .map(|c| {
-            let (cx, cy) = ((c % nx) as isize, (c / nx) as isize);
-            comp[c] < UNSET
-                && (-1..=1).any(|dy| {
-                    (-1..=1).any(|dx| {
-                        let (x, y) = (cx + dx, cy + dy);
-                        x < 0
-                            || y < 0
-                            || x as usize >= nx
-                            || y as usize >= ny
-                            || comp[y as usize * nx + x as usize] >= UNSET
-                    })
-                })
-        })
-        .collect();
-    let mut extremes = vec![[(f64::NEG_INFINITY, Vec2::ZERO); 8]; nx * ny];
-    let mut members: Vec<Vec<usize>> = vec![Vec::new(); n_comp as usize];
-    // Cells holding points, by piece.
-    let mut filled = vec![EMPTY; nx * ny];
-    for &(i, c) in &on_plane {
-        let owner = comp[c];
-        members[owner as usize].push(i);
-        filled[c] = owner;
-        if !border[c] {
-            continue;
-        }
-        let q2 = to2(points[i]);
-        for (k, d) in DIRS.iter().enumerate() {
-            let s = q2.x * d.0 + q2.y * d.1;
-            if s > extremes[c][k].0 {
-                extremes[c][k] = (s, q2);
-            }
-        }
-    }
-    // A far surface seen at a grazing angle has rows of points more than a cell apart:
-    // an empty cell between two cells of one piece (across, along or diagonally) is
-    // that piece's, so its area and its room inside are not those of a comb.
-    let filled: Vec<u32> = (0..nx * ny)
-        .map(|c| {
-            if filled[c] < UNSET {
-                return filled[c];
-            }
-            let (cx, cy) = ((c % nx) as isize, (c / nx) as isize);
-            let at = |x: isize, y: isize| {
-                if x >= 0 && y >= 0 && (x as usize) < nx && (y as usize) < ny {
-                    filled[y as usize * nx + x as usize]
-                } else {
-                    EMPTY
-                }
-            };
-            [(1, 0), (0, 1), (1, 1), (1, -1)]
-                .iter()
-                .map(|&(dx, dy)| (at(cx - dx, cy - dy), at(cx + dx, cy + dy)))
-                .find(|&(a, b)| a == b && a < UNSET)
-                .map_or(EMPTY, |(a, _)| a)
-        })
-        .collect();
-    // How far each cell is from the nearest empty one: thin pieces (the slice of a
-    // drum's side within the threshold of a table's plane) have no room inside.
-    let empty: Vec<bool> = filled.iter().map(|&c| c >= UNSET).collect();
-    let room = tabula_geom::raster::distance_transform(&empty, nx, ny);
-    let mut cells_of: Vec<Vec<usize>> = vec![Vec::new(); n_comp as usize];
-    for (c, &k) in filled.iter().enumerate() {
-        if k < UNSET {
-            cells_of[k as usize].push(c);
-        }
-    }
-    let mut out = Vec::new();
-    for (cells, idx) in cells_of.into_iter().zip(members) {
-        let area = cells.len() as f64 * cell * cell;
-        let core = cells.iter().map(|&c| room[c]).fold(0.0, f64::max).sqrt() * cell;
-        // Only cells with points on both sides: what stands on a surface is above it.
-        let sliced: u32 = cells
-            .iter()
-            .map(|&c| 2 * beside[c][0].min(beside[c][1]))
-            .sum();
-        if area < p.min_area
-            || idx.len() < 3
-            || core < p.min_inscribed_radius
-            || sliced as f64 > p.max_slice_ratio * idx.len() as f64
-        {
-            continue;
-        }
-        let candidates: Vec<Vec2> = cells
-            .iter()
-            .flat_map(|&c| extremes[c].iter())
-            .filter(|e| e.0.is_finite())
-            .map(|e| e.1)
-            .collect();
-        let hull2: Vec<Vec2> = convex_hull_2d(&candidates)
-            .into_iter()
-            .map(|i| candidates[i])
-            .collect();
-        let centroid = idx.iter().map(|&i| points[i]).sum::<Vec3>() / idx.len() as f64;
-        let lift = |q: Vec2| u * q.x + v * q.y - plane.normal * plane.d;
-        out.push(Surface {
-            plane: *plane,
-            hull_area: polygon_area(&hull2),
-            hull: hull2.iter().map(|&q| lift(q)).collect(),
-            inliers: idx,
-            area,
-            centroid,
-            threshold: p.ransac.threshold,
-        });
-    }
-    out.sort_by_key(|s| std::cmp::Reverse(s.inliers.len()));
-    out
 }
 
 impl Validate for SurfaceParams {

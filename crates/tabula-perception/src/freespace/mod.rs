@@ -5,11 +5,10 @@
 //! distance transform then answers "where does this footprint fit with this margin,
 //! nearest to that point?" in one scan.
 
-use crate::surfaces::{Surface, plane_basis};
+mod build;
+
 use tabula_geom::input::{Validate, check_count, check_positive};
-use tabula_geom::polygon::{
-    convex_hull_2d, distance_to_boundary, inside_convex, inside_polygon, polygon_area,
-};
+use tabula_geom::polygon::{convex_hull_2d, distance_to_boundary, inside_polygon};
 pub use tabula_geom::raster::distance_transform;
 use tabula_geom::{Pose, Quat, Vec2, Vec3};
 
@@ -93,159 +92,6 @@ pub struct FreeSpaceMap {
 }
 
 impl FreeSpaceMap {
-    /// Builds the map of `surface` from the cloud it was found in and the objects on it
-    /// (each as its points; their projections and convex footprints are occupied).
-    pub fn build(
-        surface: &Surface,
-        points: &[Vec3],
-        objects: &[Vec<Vec3>],
-        p: &FreeSpaceParams,
-    ) -> Result<Self, FreeSpaceError> {
-        if !(p.resolution.is_finite() && p.resolution > 0.0) {
-            return Err(FreeSpaceError::BadResolution);
-        }
-        let normal = surface.plane.normal;
-        let (u, v) = plane_basis(normal);
-        let to2 = |q: Vec3| Vec2::new(q.dot(u), q.dot(v));
-        let mut hull: Vec<Vec2> = surface.hull.iter().map(|&q| to2(q)).collect();
-        if hull.len() < 3 || polygon_area(&hull).abs() < 1e-9 {
-            return Err(FreeSpaceError::EmptySurface);
-        }
-        if polygon_area(&hull) < 0.0 {
-            hull.reverse();
-        }
-        let res = p.resolution;
-        let (mut lo, mut hi) = (Vec2::splat(f64::INFINITY), Vec2::splat(f64::NEG_INFINITY));
-        for q in &hull {
-            lo = lo.min(*q);
-            hi = hi.max(*q);
-        }
-        // One cell of border so the edge is always an obstacle.
-        lo -= Vec2::splat(res);
-        hi += Vec2::splat(res);
-        let nx = ((hi.x - lo.x) / res).ceil() as usize;
-        let ny = ((hi.y - lo.y) / res).ceil() as usize;
-        if nx.saturating_mul(ny) > 16_000_000 {
-            return Err(FreeSpaceError::TooLarge(nx, ny));
-        }
-        let centre =
-            |i: usize, j: usize| lo + Vec2::new((i as f64 + 0.5) * res, (j as f64 + 0.5) * res);
-        let mut cells: Vec<Cell> = (0..nx * ny)
-            .map(|k| {
-                if inside_convex(&hull, centre(k % nx, k / nx)) {
-                    Cell::Unknown
-                } else {
-                    Cell::Outside
-                }
-            })
-            .collect();
-        let cell_of = |q: Vec2| -> Option<usize> {
-            let c = ((q - lo) / res).floor();
-            (c.x >= 0.0 && c.y >= 0.0 && (c.x as usize) < nx && (c.y as usize) < ny)
-                .then(|| c.y as usize * nx + c.x as usize)
-        };
-        // Seen surface: the cells of the inliers, closed (grown by a cell, then shrunk by
-        // one): points are sparser than cells far from the camera, and the gaps between
-        // them fill in, but the surface's edge stays where its points end — growing
-        // alone moved every edge a cell outward, and spots near it over the edge.
-        let mut seen = vec![false; nx * ny];
-        for &i in &surface.inliers {
-            if let Some(q) = points.get(i)
-                && let Some(c) = cell_of(to2(*q))
-            {
-                seen[c] = true;
-            }
-        }
-        const AROUND: [(isize, isize); 8] = [
-            (-1, -1),
-            (0, -1),
-            (1, -1),
-            (-1, 0),
-            (1, 0),
-            (-1, 1),
-            (0, 1),
-            (1, 1),
-        ];
-        let neighbours = |c: usize| {
-            let (i, j) = ((c % nx) as isize, (c / nx) as isize);
-            AROUND.iter().map(move |(di, dj)| {
-                let (a, b) = (i + di, j + dj);
-                (a >= 0 && b >= 0 && (a as usize) < nx && (b as usize) < ny)
-                    .then(|| b as usize * nx + a as usize)
-            })
-        };
-        let mut dilated = seen.clone();
-        for c in (0..nx * ny).filter(|&c| seen[c]) {
-            for k in neighbours(c).flatten() {
-                dilated[k] = true;
-            }
-        }
-        let grown: Vec<bool> = (0..nx * ny)
-            .map(|c| {
-                seen[c] || (dilated[c] && neighbours(c).all(|k| k.is_some_and(|k| dilated[k])))
-            })
-            .collect();
-        for c in 0..nx * ny {
-            if cells[c] == Cell::Unknown && (grown[c] || p.unknown_is_free) {
-                cells[c] = Cell::Free;
-            }
-        }
-        // Objects: their convex footprint, plus every projected point.
-        for object in objects {
-            let flat: Vec<Vec2> = object
-                .iter()
-                .filter(|q| q.is_finite())
-                .map(|&q| to2(q))
-                .collect();
-            let h: Vec<Vec2> = convex_hull_2d(&flat).into_iter().map(|k| flat[k]).collect();
-            for q in &flat {
-                if let Some(c) = cell_of(*q) {
-                    cells[c] = Cell::Occupied;
-                }
-            }
-            if h.len() >= 3 {
-                let (mut a, mut b) = (Vec2::splat(f64::INFINITY), Vec2::splat(f64::NEG_INFINITY));
-                for q in &h {
-                    a = a.min(*q);
-                    b = b.max(*q);
-                }
-                let (Some(c0), Some(c1)) =
-                    (cell_of(a.max(lo)), cell_of(b.min(hi - Vec2::splat(1e-9))))
-                else {
-                    continue;
-                };
-                for j in c0 / nx..=c1 / nx {
-                    for i in c0 % nx..=c1 % nx {
-                        let k = j * nx + i;
-                        if inside_convex(&h, centre(i, j))
-                            || distance_to_boundary(&h, centre(i, j)) < res * 0.5
-                        {
-                            cells[k] = Cell::Occupied;
-                        }
-                    }
-                }
-            }
-        }
-        let blocked: Vec<bool> = cells.iter().map(|c| *c != Cell::Free).collect();
-        let clearance = distance_transform(&blocked, nx, ny)
-            .into_iter()
-            .map(|d2| d2.sqrt() * res)
-            .collect();
-        Ok(Self {
-            normal,
-            u,
-            v,
-            offset: -surface.plane.d,
-            resolution: res,
-            lo,
-            nx,
-            ny,
-            cells,
-            clearance,
-            yaw_samples: p.yaw_samples.max(1),
-        })
-    }
-
     /// The map of a tabletop result's table, with its objects on it.
     pub fn from_tabletop(
         tabletop: &crate::tabletop::Tabletop,
@@ -494,6 +340,7 @@ impl Validate for FreeSpaceParams {
 mod tests {
     use super::*;
     use crate::plane::Plane;
+    use crate::surfaces::{Surface, plane_basis};
     use proptest::prelude::*;
 
     fn square_table(size: f64) -> (Surface, Vec<Vec3>) {

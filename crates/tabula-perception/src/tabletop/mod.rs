@@ -5,16 +5,18 @@
 //!
 //! The segmentation itself lives in [`crate::segment`].
 
-use crate::filters::{local_planes_at, scatter, statistical_outliers};
+mod describe;
+mod prism;
+
+use describe::describe;
+
+use crate::filters::{local_planes_at, statistical_outliers};
 pub use crate::params::TabletopParams;
 use crate::plane::Plane;
 use crate::segment::{Locals, segment_organized, segment_unorganized};
 use crate::surfaces::{Surface, find_surfaces, plane_basis, surface_on};
 use std::time::Instant;
-use tabula_geom::polygon::{
-    Rectangle, convex_hull_2d, distance_to_boundary, inside_convex, min_area_rectangle,
-    min_area_rectangle_of_hull, polygon_area,
-};
+use tabula_geom::polygon::{convex_hull_2d, min_area_rectangle};
 use tabula_geom::{PointCloud, Pose, Vec2, Vec3, voxel_key};
 
 /// An oriented box.
@@ -199,144 +201,47 @@ fn extract_from(
     } else {
         table.plane
     };
-    let (u, v) = plane_basis(plane.normal);
-    let to2 = |q: Vec3| Vec2::new(q.dot(u), q.dot(v));
-    let mut poly: Vec<Vec2> = table.hull.iter().map(|&q| to2(q)).collect();
-    if polygon_area(&poly) < 0.0 {
-        poly.reverse();
-    }
     let threshold = table.threshold.max(p.surfaces.ransac.threshold);
     let floor = p.min_height.max(threshold);
-    // A support found without a world pose (a floor, often) is seen only where what
-    // stands on it does not hide it: its objects stand at the edge of its visible
-    // part as often as inside it.
     let reach = if known.is_some() {
         p.support_reach
     } else {
         0.0
     };
-    // Outlier removal decides what may seed an object, not what may belong to one:
-    // points it dropped join an object if they touch it (a real stray point touches
-    // nothing), so objects keep their edges.
-    let (mut lo, mut hi) = (Vec2::splat(f64::INFINITY), Vec2::splat(f64::NEG_INFINITY));
-    for q in &poly {
-        lo = lo.min(*q - Vec2::splat(reach));
-        hi = hi.max(*q + Vec2::splat(reach));
-    }
-    let above: Vec<bool> = (0..pts.len())
-        .map(|i| {
-            if !pts[i].is_finite() || plane.distance(pts[i]) <= floor {
-                return false;
-            }
-            let q = to2(pts[i]);
-            q.cmpge(lo).all()
-                && q.cmple(hi).all()
-                && (inside_convex(&poly, q)
-                    || reach > 0.0 && distance_to_boundary(&poly, q) <= reach)
-        })
-        .collect();
+    let above = prism::above(pts, (&plane, &table), (floor, reach));
     times.prism = ms(t);
 
     let t = Instant::now();
     let organized = cloud.is_organized();
     let prism: Vec<usize> = (0..pts.len()).filter(|&i| above[i]).collect();
-    // What carries a normal and is segmented: every prism point, or on an unorganized
-    // cloud one per `unorganized_leaf` voxel (the first in index order) standing for the
-    // others in it.
-    let voxels = if organized || p.unorganized_leaf <= 0.0 {
-        None
-    } else {
-        let mut first: rustc_hash::FxHashMap<[i64; 3], usize> = Default::default();
-        let mut carrier_of = vec![usize::MAX; pts.len()];
-        let mut carriers = Vec::new();
-        for &i in &prism {
-            let c = *first
-                .entry(voxel_key(pts[i], p.unorganized_leaf))
-                .or_insert_with(|| {
-                    carriers.push(i);
-                    i
-                });
-            carrier_of[i] = c;
-        }
-        Some((carriers, carrier_of))
-    };
+    let voxels = prism::voxel_carriers(pts, &prism, organized, p);
     let (carriers, carrier_of): (&[usize], Option<&Vec<usize>>) = match &voxels {
         Some((c, of)) => (c, Some(of)),
         None => (&prism, None),
     };
-    let mut slot = vec![u32::MAX; pts.len()];
-    for (k, &i) in carriers.iter().enumerate() {
-        slot[i] = k as u32;
-    }
-    if let Some(carrier_of) = carrier_of {
-        for &i in &prism {
-            slot[i] = slot[carrier_of[i]];
-        }
-    }
     let locals = Locals {
         planes: local_planes_at(cloud, viewpoint, &above, carriers, &p.normals),
-        slot,
+        slot: prism::slots(pts.len(), &prism, (carriers, carrier_of)),
     };
     times.normals = ms(t);
 
     let t = Instant::now();
+    let seen = Seen {
+        pts,
+        keep: &keep,
+        locals: &locals,
+        plane: &plane,
+    };
     let labels = match carrier_of {
         None if organized => segment_organized(cloud, viewpoint, &above, &keep, &locals, &plane, p),
         None => segment_unorganized(pts, &above, &prism, &keep, &locals, &plane, p),
-        Some(carrier_of) => {
-            let mut carries = vec![false; pts.len()];
-            for &i in carriers {
-                carries[i] = true;
-            }
-            // Sizes in carriers: the prism's points per carrier scale the minimum.
-            let per_carrier = prism.len() as f64 / carriers.len().max(1) as f64;
-            let scaled = TabletopParams {
-                min_object_points: ((p.min_object_points as f64 / per_carrier).ceil() as usize)
-                    .max(1),
-                ..p.clone()
-            };
-            let regions =
-                segment_unorganized(pts, &carries, carriers, &keep, &locals, &plane, &scaled);
-            let mut region_of = vec![usize::MAX; pts.len()];
-            for (r, members) in regions.iter().enumerate() {
-                for &i in members {
-                    region_of[i] = r;
-                }
-            }
-            let mut expanded = vec![Vec::new(); regions.len()];
-            for &i in &prism {
-                let r = region_of[carrier_of[i]];
-                if r != usize::MAX {
-                    expanded[r].push(i);
-                }
-            }
-            expanded
-        }
+        Some(carrier_of) => seen.segment_by_carriers(&prism, (carriers, carrier_of), p),
     };
     times.segmentation = ms(t);
 
     let t = Instant::now();
-    let mut regions: Vec<Vec<usize>> = labels
-        .into_iter()
-        .filter(|m| m.len() >= p.min_object_points)
-        .filter(|m| {
-            m.iter()
-                .any(|&i| plane.distance(pts[i]) >= p.min_object_height)
-        })
-        .collect();
-    if known.is_some() {
-        regions = standing(pts, &plane, regions, threshold, p);
-    }
-    claim_object_bases(pts, &plane, &mut table.inliers, &mut regions, threshold);
     let edge = organized.then(|| FrameEdge::of(cloud));
-    let (mut partial, mut objects): (Vec<TableObject>, Vec<TableObject>) = regions
-        .into_iter()
-        .map(|indices| describe(pts, &locals, &plane, indices, p))
-        .partition(|o| {
-            edge.as_ref()
-                .is_some_and(|e| o.indices.iter().any(|&i| e.near(i)))
-        });
-    set_apart_pieces_of_partial(pts, &mut objects, &mut partial, p.partial_gap);
+    let (objects, partial) = seen.objects(labels, (&mut table, threshold), (known, edge), p);
     times.objects = ms(t);
     Ok(Tabletop {
         table,
@@ -346,6 +251,87 @@ fn extract_from(
         kept,
         times,
     })
+}
+
+/// A frame's points as segmentation sees them: which passed outlier removal, their
+/// local planes, the table's plane.
+struct Seen<'a> {
+    pts: &'a [Vec3],
+    keep: &'a [bool],
+    locals: &'a Locals,
+    plane: &'a Plane,
+}
+
+impl Seen<'_> {
+    /// Segments the voxels' carriers, then gives every prism point its carrier's
+    /// region. Sizes count carriers: the prism's points per carrier scale the minimum.
+    fn segment_by_carriers(
+        &self,
+        prism: &[usize],
+        (carriers, carrier_of): (&[usize], &[usize]),
+        p: &TabletopParams,
+    ) -> Vec<Vec<usize>> {
+        let n = self.pts.len();
+        let mut carries = vec![false; n];
+        for &i in carriers {
+            carries[i] = true;
+        }
+        let per_carrier = prism.len() as f64 / carriers.len().max(1) as f64;
+        let scaled = TabletopParams {
+            min_object_points: ((p.min_object_points as f64 / per_carrier).ceil() as usize).max(1),
+            ..p.clone()
+        };
+        let (pts, keep, locals, plane) = (self.pts, self.keep, self.locals, self.plane);
+        let regions = segment_unorganized(pts, &carries, carriers, keep, locals, plane, &scaled);
+        let mut region_of = vec![usize::MAX; n];
+        for (r, members) in regions.iter().enumerate() {
+            for &i in members {
+                region_of[i] = r;
+            }
+        }
+        let mut expanded = vec![Vec::new(); regions.len()];
+        for &i in prism {
+            let r = region_of[carrier_of[i]];
+            if r != usize::MAX {
+                expanded[r].push(i);
+            }
+        }
+        expanded
+    }
+
+    /// The regions that are objects (big and tall enough; standing, around a support
+    /// found without a pose), their bases claimed from the table, described; those
+    /// touching the frame's edge set apart as partly seen.
+    fn objects(
+        &self,
+        labels: Vec<Vec<usize>>,
+        (table, threshold): (&mut Surface, f64),
+        (known, edge): (Option<Plane>, Option<FrameEdge>),
+        p: &TabletopParams,
+    ) -> (Vec<TableObject>, Vec<TableObject>) {
+        let (pts, plane) = (self.pts, self.plane);
+        let mut regions: Vec<Vec<usize>> = labels
+            .into_iter()
+            .filter(|m| m.len() >= p.min_object_points)
+            .filter(|m| {
+                m.iter()
+                    .any(|&i| plane.distance(pts[i]) >= p.min_object_height)
+            })
+            .collect();
+        if known.is_some() {
+            regions = standing(pts, plane, regions, threshold, p);
+        }
+        claim_object_bases(pts, plane, &mut table.inliers, &mut regions, threshold);
+        let (mut partial, mut objects): (Vec<TableObject>, Vec<TableObject>) = regions
+            .into_iter()
+            .map(|indices| describe(pts, self.locals, plane, indices, p))
+            .partition(|o| {
+                edge.as_ref()
+                    .is_some_and(|e| o.indices.iter().any(|&i| e.near(i)))
+            });
+        set_apart_pieces_of_partial(pts, &mut objects, &mut partial, p.partial_gap);
+        (objects, partial)
+    }
 }
 
 /// Around a support found without a world pose, the regions that are objects standing
@@ -593,170 +579,6 @@ fn claim_object_bases(
             r.sort_unstable();
         }
     }
-}
-
-/// Centroid, principal axes, table-aligned box, hull with the table projection, and
-/// top surface of one object.
-fn describe(
-    pts: &[Vec3],
-    locals: &Locals,
-    plane: &Plane,
-    indices: Vec<usize>,
-    p: &TabletopParams,
-) -> TableObject {
-    let points: Vec<Vec3> = indices.iter().map(|&i| pts[i]).collect();
-    let (centroid, m) = scatter(points.iter().copied()).unwrap_or((points[0], [0.0; 6]));
-    let axes = principal_axes(m);
-    let up = plane.normal;
-    let (u, v) = plane_basis(up);
-    // PCA of the projection onto the table: a 2×2 eigenproblem in the plane basis.
-    let (mut suu, mut suv, mut svv) = (0.0, 0.0, 0.0);
-    for q in &points {
-        let d = *q - centroid;
-        let (a, b) = (d.dot(u), d.dot(v));
-        suu += a * a;
-        suv += a * b;
-        svv += b * b;
-    }
-    let angle = 0.5 * (2.0 * suv).atan2(suu - svv);
-    let major = u * angle.cos() + v * angle.sin();
-    let minor = up.cross(major);
-    // Footprint and box in the (major, minor, up) frame.
-    let projected: Vec<Vec2> = points
-        .iter()
-        .map(|q| Vec2::new(q.dot(major), q.dot(minor)))
-        .collect();
-    let hull2: Vec<usize> = convex_hull_2d(&projected);
-    let heights: Vec<f64> = points.iter().map(|q| plane.distance(*q)).collect();
-    let height = heights.iter().copied().fold(0.0, f64::max);
-    let on_table = |q: Vec3| q - up * plane.distance(q);
-    // The box: the footprint's minimal-area rectangle (a PCA frame turns a square 45°
-    // and makes it √2 too big), its long side first.
-    let hull_flat: Vec<Vec2> = hull2.iter().map(|&k| projected[k]).collect();
-    let rect = min_area_rectangle_of_hull(&hull_flat).unwrap_or_else(|| {
-        let (mut lo, mut hi) = (Vec2::splat(f64::INFINITY), Vec2::splat(f64::NEG_INFINITY));
-        for q in &projected {
-            lo = lo.min(*q);
-            hi = hi.max(*q);
-        }
-        Rectangle {
-            center: (lo + hi) / 2.0,
-            axis: Vec2::X,
-            size: hi - lo,
-        }
-    });
-    // Extents from the 0.5 % and 99.5 % quantiles along the rectangle's sides: the
-    // extreme points are the sensor noise's tails (2–3 σ out on every side), not the
-    // object's edge.
-    let rect = {
-        let perp = rect.axis.perp();
-        let robust = |d: Vec2| {
-            let mut v: Vec<f64> = projected.iter().map(|q| q.dot(d)).collect();
-            let n = v.len();
-            let k = n / 200;
-            let lo = *v.select_nth_unstable_by(k, f64::total_cmp).1;
-            let hi = *v.select_nth_unstable_by(n - 1 - k, f64::total_cmp).1;
-            (lo, hi)
-        };
-        let ((a0, a1), (b0, b1)) = (robust(rect.axis), robust(perp));
-        Rectangle {
-            center: rect.axis * (a0 + a1) / 2.0 + perp * (b0 + b1) / 2.0,
-            axis: rect.axis,
-            size: Vec2::new(a1 - a0, b1 - b0),
-        }
-    };
-    let box_height = {
-        let mut h = heights.clone();
-        let k = h.len() - 1 - h.len() / 200;
-        *h.select_nth_unstable_by(k, f64::total_cmp).1
-    };
-    let along = |d: Vec2| major * d.x + minor * d.y;
-    let base = on_table(centroid);
-    let base = base
-        + major * (rect.center.x - base.dot(major))
-        + minor * (rect.center.y - base.dot(minor));
-    let (first, second) = (along(rect.axis), along(rect.axis.perp()));
-    let (size, box_axes) = if rect.size.x >= rect.size.y {
-        (
-            Vec3::new(rect.size.x / 2.0, rect.size.y / 2.0, box_height / 2.0),
-            [first, second, up],
-        )
-    } else {
-        (
-            Vec3::new(rect.size.y / 2.0, rect.size.x / 2.0, box_height / 2.0),
-            [second, -first, up],
-        )
-    };
-    let obb = Obb {
-        center: base + up * (box_height / 2.0),
-        axes: box_axes,
-        half_extents: size,
-    };
-    let footprint: Vec<Vec3> = hull2.iter().map(|&k| on_table(points[k])).collect();
-    // 3D hull of the points and their shadow on the table: the hull of the points'
-    // own hull vertices and the footprint is the same body, from far fewer points.
-    // Only the highest point of each 5 mm column can be a vertex of that body (the
-    // rest lie between it and its shadow), up to the column's width: tens of thousands
-    // of points become a few thousand.
-    let mut columns: rustc_hash::FxHashMap<[i64; 2], usize> = rustc_hash::FxHashMap::default();
-    for (k, q) in projected.iter().enumerate() {
-        let key = [(q.x / 0.005).floor() as i64, (q.y / 0.005).floor() as i64];
-        let top = columns.entry(key).or_insert(k);
-        if heights[k] > heights[*top] {
-            *top = k;
-        }
-    }
-    let mut body: Vec<Vec3> = footprint.clone();
-    body.extend(columns.values().map(|&k| points[k]));
-    let (hull_vertices, hull_triangles) =
-        tabula_geom::parry::transformation::try_convex_hull(&body).unwrap_or_default();
-    // Top: points near the highest level with table-parallel normals.
-    let cos_tilt = p.surfaces.max_tilt.max(0.2).cos();
-    let top_idx: Vec<usize> = (0..points.len())
-        .filter(|&k| {
-            heights[k] >= height - p.top_band && locals.get(indices[k]).0.dot(up).abs() >= cos_tilt
-        })
-        .collect();
-    let top = (top_idx.len() >= 10).then(|| {
-        let level = top_idx.iter().map(|&k| heights[k]).sum::<f64>() / top_idx.len() as f64;
-        let flat: Vec<Vec2> = top_idx.iter().map(|&k| projected[k]).collect();
-        let h: Vec<usize> = convex_hull_2d(&flat);
-        let outline: Vec<Vec2> = h.iter().map(|&k| flat[k]).collect();
-        let at_level = |k: usize| on_table(points[top_idx[k]]) + up * level;
-        TopSurface {
-            height: level,
-            centroid: top_idx.iter().map(|&k| points[k]).sum::<Vec3>() / top_idx.len() as f64,
-            hull: h.iter().map(|&k| at_level(k)).collect(),
-            area: polygon_area(&outline).abs(),
-        }
-    });
-    TableObject {
-        indices,
-        centroid,
-        axes,
-        table_axes: [major, minor],
-        obb,
-        hull_vertices,
-        hull_triangles,
-        footprint,
-        height,
-        top,
-    }
-}
-
-/// Unit principal directions of a scatter matrix, largest variance first,
-/// right-handed.
-fn principal_axes(m: [f64; 6]) -> [Vec3; 3] {
-    let a = nalgebra::Matrix3::new(m[0], m[1], m[2], m[1], m[3], m[4], m[2], m[4], m[5]);
-    let eig = nalgebra::SymmetricEigen::new(a);
-    let mut order = [0usize, 1, 2];
-    order.sort_by(|&x, &y| eig.eigenvalues[y].total_cmp(&eig.eigenvalues[x]));
-    let axis = |k: usize| {
-        let c = eig.eigenvectors.column(order[k]);
-        Vec3::new(c[0], c[1], c[2]).normalize_or(Vec3::X)
-    };
-    let (a0, a1) = (axis(0), axis(1));
-    [a0, a1, a0.cross(a1).normalize_or(Vec3::Z)]
 }
 
 /// Transforms a camera-frame cloud into the world frame, keeping its grid.
