@@ -88,8 +88,8 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
-    /// The main job: the three jobs end to end in the simulator (placing, clearing,
-    /// pick and place), then the capabilities they stand on; writes a report.
+    /// The main job: the four jobs end to end in the simulator (placing, clearing, pick
+    /// and place, tidying), then the capabilities they stand on; writes a report.
     Demo {
         /// Where the report goes (index.html with pictures, plots and 3D replays).
         #[arg(long, default_value = "tabula-demo")]

@@ -2,12 +2,12 @@
 //! object near a given position and the surface it stands on, and the occupancy that
 //! becomes the collision world.
 
+use crate::scene::SeenObject;
 pub use crate::scene::robot_solids;
 use rustc_hash::{FxHashMap, FxHashSet};
 use tabula_geom::input::{Validate, check_count, check_non_negative, check_positive, nested};
-use tabula_geom::parry::shape::SharedShape;
-use tabula_geom::polygon::{Rectangle, min_area_rectangle};
-use tabula_geom::{Pose, Vec2, Vec3};
+use tabula_geom::polygon::min_area_rectangle;
+use tabula_geom::{Vec2, Vec3};
 use tabula_perception::selffilter::{PlacedSolid, SelfFilterParams, self_filter};
 use tabula_robot::driver::CameraFrame;
 
@@ -191,83 +191,6 @@ pub fn support_under(
     })
 }
 
-/// An object as seen: its footprint rectangle on the support, its height, its points.
-#[derive(Debug, Clone)]
-pub struct SeenObject {
-    pub points: Vec<Vec3>,
-    /// Footprint (world xy): the smallest rectangle around it …
-    pub footprint: Rectangle,
-    /// … and its convex outline (a can's is round, its rectangle square).
-    pub outline: Vec<Vec2>,
-    /// Height of the support it stands on and of its top (m).
-    pub bottom: f64,
-    pub top: f64,
-}
-
-impl SeenObject {
-    /// The object's frame: footprint centre at the bottom, x along the footprint's first
-    /// side, z up.
-    pub fn world_from_object(&self) -> Pose {
-        let a = self.footprint.axis;
-        Pose::from_parts(
-            Vec3::new(
-                self.footprint.center.x,
-                self.footprint.center.y,
-                self.bottom,
-            ),
-            tabula_geom::Quat::from_rotation_z(a.y.atan2(a.x)),
-        )
-    }
-
-    /// Width of the outline across unit direction `d` (what the fingers must span).
-    pub fn width_along(&self, d: Vec2) -> f64 {
-        let proj = self.outline.iter().map(|p| p.dot(d));
-        let (lo, hi) = proj.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
-            (a.min(x), b.max(x))
-        });
-        if hi >= lo {
-            hi - lo
-        } else {
-            self.footprint.extent_along(d)
-        }
-    }
-
-    pub fn height(&self) -> f64 {
-        self.top - self.bottom
-    }
-
-    /// What a grasp planner sees of it, reached by an arm whose base is at `arm_base`
-    /// (world).
-    pub fn grasp_target(&self, arm_base: Option<Vec3>) -> crate::scene::GraspTarget<'_> {
-        crate::scene::GraspTarget {
-            points: &self.points,
-            outline: &self.outline,
-            rect: self.footprint,
-            bottom: self.bottom,
-            top: self.top,
-            arm_base,
-        }
-    }
-
-    /// A box of the footprint and height in the object's frame (origin at the bottom
-    /// centre): what the collision world carries for it.
-    pub fn collision_shape(&self) -> (SharedShape, Pose) {
-        self.shrunk_shape(0.0)
-    }
-
-    /// The collision box shrunk by `by` on every side (at least 2 mm thick): what a
-    /// hand that may touch the object must still not sweep through.
-    pub fn shrunk_shape(&self, by: f64) -> (SharedShape, Pose) {
-        let s = self.footprint.size;
-        let h = self.height().max(0.005);
-        let half = |v: f64| (v / 2.0 - by).max(0.001);
-        (
-            SharedShape::cuboid(half(s.x), half(s.y), half(h)),
-            Pose::from_translation(Vec3::new(0.0, 0.0, h / 2.0)),
-        )
-    }
-}
-
 /// The object standing nearest `at` (world; approximate): the support under it, the
 /// points above the support clustered, the cluster nearest `at`. Its footprint comes
 /// from its top face when the camera sees one (the whole top of a can or a box is
@@ -318,17 +241,11 @@ pub fn object_near(
         Some(r) if r.size.x * r.size.y >= 0.6 * whole.size.x * whole.size.y => (r, &top_xy),
         _ => (whole, &all_xy),
     };
-    let outline = tabula_geom::polygon::convex_hull_2d(outline_of)
+    let outline: Vec<Vec2> = tabula_geom::polygon::convex_hull_2d(outline_of)
         .iter()
         .map(|&i| outline_of[i])
         .collect();
-    Ok(SeenObject {
-        points: pts,
-        footprint,
-        outline,
-        bottom: support.z,
-        top,
-    })
+    SeenObject::standing(pts, (outline, footprint), (support.z, top)).ok_or_else(no_object)
 }
 
 /// Connected components of points closer than `gap` (a voxel hash of cell `gap`).

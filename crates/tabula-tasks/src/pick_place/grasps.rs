@@ -36,7 +36,7 @@ pub(super) fn grasp_candidates(
         .world_from_chain_base()
         .map_err(|e| PickPlaceError::Driver(e.to_string()))?;
     let planner = job.params.grasp_planner();
-    let target = job.scene.object.grasp_target(Some(base.translation));
+    let target = job.scene.object.grasp_target_from(Some(base.translation));
     let reachable = |grasp: &GraspCandidate| {
         let r = grasp.world_from_tool().rotation;
         let some_pre = pregrasp_offsets(grasp, job.params).into_iter().any(|back| {

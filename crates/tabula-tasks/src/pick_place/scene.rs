@@ -4,7 +4,8 @@
 
 use super::look::Views;
 use super::{ObjectReport, PickPlaceError, PickPlaceParams, PickPlaceReport, PickPlaceRequest};
-use crate::observe::{ObserveError, SeenObject, Support, object_near, support_under, voxel_keys};
+use crate::observe::{ObserveError, Support, object_near, support_under, voxel_keys};
+use crate::scene::SeenObject;
 use crate::skills::phase::{Clock, timed};
 use tabula_geom::parry::shape::SharedShape;
 use tabula_geom::{Pose, Vec2, Vec3};
@@ -103,11 +104,7 @@ pub(super) fn perceive(
     )?;
     report.object = Some(ObjectReport {
         position: object.world_from_object().translation.to_array(),
-        size: [
-            object.footprint.size.x,
-            object.footprint.size.y,
-            object.height(),
-        ],
+        size: [object.rect.size.x, object.rect.size.y, object.height()],
         points: object.points.len(),
     });
     let near_object = near(&object, obs.cluster_gap);
@@ -193,7 +190,7 @@ fn free_support(
             request.place.x, request.place.y, request.place.z
         ))
     })?;
-    let radius = object.footprint.size.length() / 2.0 + params.place_margin;
+    let radius = object.rect.size.length() / 2.0 + params.place_margin;
     let blocking: Vec<Vec3> = others
         .iter()
         .copied()
@@ -222,8 +219,8 @@ fn occupancy(
     solid: &[Vec3],
     request: &PickPlaceRequest,
 ) -> Occupancy {
-    let column_radius = object.footprint.size.length() / 2.0 + 0.04;
-    let pick_xy = object.footprint.center;
+    let column_radius = object.rect.size.length() / 2.0 + 0.04;
+    let pick_xy = object.rect.center;
     let place_xy = request.place.truncate();
     let in_pick = |q: &Vec3| in_column(*q, pick_xy, column_radius, object.bottom);
     let in_place = |q: &Vec3| in_column(*q, place_xy, column_radius, support.z);

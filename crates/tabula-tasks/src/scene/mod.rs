@@ -60,16 +60,78 @@ impl SeenObject {
         )
     }
 
+    /// A seen object standing at `bottom`: its hull is its points and their projection
+    /// (its outline `footprint`) onto what it stands on (SPEC §3.1: the camera sees
+    /// tops, the hull fills in the sides). `None` when the points span no volume.
+    pub fn standing(
+        points: Vec<Vec3>,
+        (footprint, rect): (Vec<Vec2>, Rectangle),
+        (bottom, top): (f64, f64),
+    ) -> Option<Self> {
+        let mut hull_points = points.clone();
+        hull_points.extend(footprint.iter().map(|p| Vec3::new(p.x, p.y, bottom)));
+        let hull = SharedShape::convex_hull(&hull_points)?;
+        let aabb = hull.compute_aabb(&Pose::IDENTITY);
+        Some(Self {
+            id: usize::MAX,
+            points,
+            footprint,
+            rect,
+            bottom,
+            top,
+            hull,
+            aabb,
+        })
+    }
+
     /// What a grasp planner sees of it.
     pub fn grasp_target(&self) -> GraspTarget<'_> {
+        self.grasp_target_from(None)
+    }
+
+    /// What a grasp planner sees of it, reached by an arm whose base is at `arm_base`
+    /// (world).
+    pub fn grasp_target_from(&self, arm_base: Option<Vec3>) -> GraspTarget<'_> {
         GraspTarget {
             points: &self.points,
             outline: &self.footprint,
             rect: self.rect,
             bottom: self.bottom,
             top: self.top,
-            arm_base: None,
+            arm_base,
         }
+    }
+
+    pub fn height(&self) -> f64 {
+        self.top - self.bottom
+    }
+
+    /// The object's frame: footprint centre at the bottom, x along the footprint
+    /// rectangle's first side, z up.
+    pub fn world_from_object(&self) -> Pose {
+        let a = self.rect.axis;
+        Pose::from_parts(
+            Vec3::new(self.rect.center.x, self.rect.center.y, self.bottom),
+            tabula_geom::Quat::from_rotation_z(a.y.atan2(a.x)),
+        )
+    }
+
+    /// A box of the footprint rectangle and height in the object's frame (origin at the
+    /// bottom centre): what a collision world carries for it when its hull is too fine.
+    pub fn collision_shape(&self) -> (SharedShape, Pose) {
+        self.shrunk_shape(0.0)
+    }
+
+    /// The collision box shrunk by `by` on every side (at least 2 mm thick): what a
+    /// hand that may touch the object must still not sweep through.
+    pub fn shrunk_shape(&self, by: f64) -> (SharedShape, Pose) {
+        let s = self.rect.size;
+        let h = self.height().max(0.005);
+        let half = |v: f64| (v / 2.0 - by).max(0.001);
+        (
+            SharedShape::cuboid(half(s.x), half(s.y), half(h)),
+            Pose::from_translation(Vec3::new(0.0, 0.0, h / 2.0)),
+        )
     }
 
     /// Push direction `k` (world, unit).

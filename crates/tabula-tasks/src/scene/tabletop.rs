@@ -3,7 +3,6 @@
 
 use super::robot_solids;
 use super::{SceneError, SeenObject, Table};
-use tabula_geom::parry::shape::SharedShape;
 use tabula_geom::polygon::{
     Rectangle, convex_hull_2d, distance_to_boundary, inside_convex, min_area_rectangle,
 };
@@ -144,24 +143,13 @@ fn standing_on(segments: &[Segment], i: usize, table_z: f64, min_object_height: 
     if under.is_finite() { under } else { table_z }
 }
 
-/// The object a segment standing at `bottom` is: its hull is its points and their
-/// projection onto what it stands on (SPEC §3.1: the camera sees tops, the hull fills
-/// in the sides). `None` when the points span no volume.
+/// The object a segment standing at `bottom` is (see [`SeenObject::standing`]).
 fn seen_object(s: &Segment, bottom: f64) -> Option<SeenObject> {
-    let mut hull_points = s.points.clone();
-    hull_points.extend(s.footprint.iter().map(|p| Vec3::new(p.x, p.y, bottom)));
-    let hull = SharedShape::convex_hull(&hull_points)?;
-    let aabb = hull.compute_aabb(&Pose::IDENTITY);
-    Some(SeenObject {
-        id: usize::MAX,
-        points: s.points.clone(),
-        footprint: s.footprint.clone(),
-        rect: s.rect,
-        bottom,
-        top: s.top,
-        hull,
-        aabb,
-    })
+    SeenObject::standing(
+        s.points.clone(),
+        (s.footprint.clone(), s.rect),
+        (bottom, s.top),
+    )
 }
 
 /// The tabletop pipeline's parameters for frames decimated by `decimate`: its point
