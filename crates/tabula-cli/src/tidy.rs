@@ -4,6 +4,7 @@
 use crate::tasks::{TaskRunArgs, load_params};
 use anyhow::{Result, bail};
 use clap::Args;
+use tabula_bench::report::{Recorded, Report};
 use tabula_bench::tidy::{BenchRow, TidyRun as TidyJson};
 use tabula_geom::Vec3;
 use tabula_tasks::tidy::{TidyParams, TidyRequest};
@@ -54,9 +55,31 @@ fn print_summary(out: &TidyJson) {
     }
 }
 
+/// One tidying run by the robot served at `--connect`, judged there against its
+/// furniture `--source`.
+#[cfg(feature = "ros")]
+fn tidy_remote(
+    a: &TidyArgs,
+    request: &TidyRequest,
+    params: &TidyParams,
+) -> Result<(TidyJson, String)> {
+    let world = a.run.world()?;
+    let (robot_name, robot) = crate::tasks::scene_robot_named(&world, a.run.robot.as_deref())?;
+    let mut driver = crate::remote::connect(&a.run, &robot_name)?;
+    let ground = tabula_ros::protocol::ground::Tidy {
+        source: a.source.clone(),
+    };
+    let task = tabula_ros::protocol::JudgedTask::new("tidy", a.run.seed, ground);
+    let session = crate::remote::begin(&driver, task)?;
+    let outcome = tabula_tasks::tidy::tidy(&mut driver, &robot, request, params);
+    let verdict = crate::remote::verdict(session, None)?;
+    let scene = crate::remote::scene(&driver)?;
+    Ok((TidyJson::of(outcome, verdict), scene))
+}
+
 pub fn run(a: TidyArgs) -> Result<()> {
-    if a.run.dry_run || !a.run.connect.is_empty() {
-        bail!("tidy runs in the simulator here (no --dry-run, no --connect yet)");
+    if a.run.dry_run {
+        bail!("tidying moves objects and a dry run moves none: run it in the simulator");
     }
     let params: TidyParams = load_params(a.run.params.as_deref())?;
     let request = TidyRequest {
@@ -64,24 +87,40 @@ pub fn run(a: TidyArgs) -> Result<()> {
         from: point(&a.from),
         to: point(&a.to),
     };
-    let (out, world) = tabula_bench::tidy::tidy_in(
-        a.run.world()?,
-        (a.run.robot.as_deref(), &a.source),
-        (&request, &params),
-        a.run.seed,
-        |_| {},
-    )?;
+    if !a.run.connect.is_empty() {
+        #[cfg(feature = "ros")]
+        {
+            let (out, scene) = tidy_remote(&a, &request, &params)?;
+            return a
+                .run
+                .finish(&scene, &out, out.success, print_summary, |r, o| {
+                    sections(r, o, None)
+                });
+        }
+        #[cfg(not(feature = "ros"))]
+        bail!("this tabula was built without ROS 2 support (feature `ros`)");
+    }
+    let (out, world, recorded) = tabula_bench::report::recorded(a.run.recording(), |start| {
+        tabula_bench::tidy::tidy_in(
+            a.run.world()?,
+            (a.run.robot.as_deref(), &a.source),
+            (&request, &params),
+            a.run.seed,
+            start,
+        )
+    })?;
     a.run
         .finish(&world, &out, out.success, print_summary, |report, out| {
-            report.title = "tabula tidy".into();
-            let mut s = tabula_bench::report::Section::new("Tidying a table");
-            s.number("objects on the table", out.objects)
-                .number("moved to another surface", out.moved)
-                .number("actions", out.actions)
-                .number("knocked over", out.verdict.knocked.len());
-            report.sections.push(s);
-            Ok(())
+            sections(report, out, recorded.as_ref())
         })
+}
+
+/// The report of a tidying run.
+fn sections(report: &mut Report, out: &TidyJson, recorded: Option<&Recorded>) -> Result<()> {
+    report.title = "tabula tidy".into();
+    let section = tabula_bench::report::tidy::section(report, out, recorded)?;
+    report.sections.push(section);
+    Ok(())
 }
 
 /// `tabula bench tidy`: the family's tasks `seed..seed + tasks`, both cores.
@@ -97,46 +136,12 @@ pub fn bench(
         .into_par_iter()
         .map(|s| tabula_bench::tidy::trial(s, &params, save_scenes))
         .collect::<Result<_>>()?;
-    let objects: usize = rows.iter().map(|r| r.objects).sum();
-    let moved: usize = rows.iter().map(|r| r.moved).sum();
-    let knocked: usize = rows.iter().map(|r| r.knocked).sum();
-    let decisions: Vec<f64> = rows.iter().map(|r| r.decision_ms).collect();
-    let spread = tabula_tasks::clear::Stats::of(&decisions);
     if json {
-        println!(
-            "{}",
-            serde_json::json!({
-                "tasks": rows.len(), "objects": objects, "moved": moved,
-                "knocked": knocked, "decision_ms": spread, "rows": rows,
-            })
-        );
+        println!("{}", tabula_bench::report::tidy::bench_json(&rows));
         return Ok(());
     }
-    for r in &rows {
-        println!(
-            "seed {:>4}: {} of {} moved, {} knocked, {} lost, {} actions, {:.0} ms decision, {:.1} s{}",
-            r.seed,
-            r.moved,
-            r.objects,
-            r.knocked,
-            r.lost,
-            r.actions,
-            r.decision_ms,
-            r.wall_s,
-            r.error
-                .as_ref()
-                .map(|e| format!(" ({e})"))
-                .unwrap_or_default()
-        );
+    for line in tabula_bench::report::tidy::bench_lines(&rows) {
+        println!("{line}");
     }
-    let (lo, hi) = tabula_bench::stats::wilson(moved, objects);
-    println!(
-        "tidy: {moved} of {objects} objects moved ({:.1} %, 95 % {:.1}–{:.1} %), {knocked} knocked over; decision median {:.0} ms, p95 {:.0} ms",
-        100.0 * moved as f64 / objects.max(1) as f64,
-        100.0 * lo,
-        100.0 * hi,
-        spread.median,
-        spread.p95
-    );
     Ok(())
 }

@@ -167,6 +167,20 @@ fn clearing_through_zenoh_ends_as_in_one_process() {
 }
 
 #[test]
+fn tidying_through_zenoh_ends_as_in_one_process() {
+    let file = scene("tidy.toml");
+    let served = Served::start(&file, &tmp("tidy_served_end.toml"));
+    let (status, remote) = run_json(&["tidy", "--scene", &file, "--connect", &served.endpoint]);
+    assert_eq!(status, Some(0), "{remote}");
+    let (_, local) = run_json(&["tidy", "--scene", &file]);
+    for key in ["success", "objects", "moved", "actions"] {
+        assert_eq!(remote[key], local[key], "{key}");
+    }
+    assert_eq!(remote["objects"], remote["moved"]);
+    assert_eq!(remote["verdict"]["knocked"], serde_json::json!([]));
+}
+
+#[test]
 fn connecting_to_nothing_is_a_clear_error() {
     let out = Command::new(env!("CARGO_BIN_EXE_tabula"))
         .args(["place", "--scene", &scene("pr2_holding.toml"), "--connect"])

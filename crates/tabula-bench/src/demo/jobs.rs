@@ -135,7 +135,7 @@ pub fn clearing(tour: &mut Tour, report: &mut Report) -> Result<Job> {
 
 /// The fourth task, from the other three's skills: the PR2 takes every object off a
 /// table and stands each on another table it finds; physics judges it.
-pub fn tidying(tour: &mut Tour) -> Result<Job> {
+pub fn tidying(tour: &mut Tour, report: &mut Report) -> Result<Job> {
     use tabula_tasks::tidy::{TidyParams, TidyRequest};
     tell!(
         tour,
@@ -147,13 +147,10 @@ pub fn tidying(tour: &mut Tour) -> Result<Job> {
     )?;
     let world = tabula_sim::SimWorld::from_scene(&scene, Default::default())?;
     let t0 = Instant::now();
-    let (out, _) = crate::tidy::tidy_in(
-        world,
-        (None, "table"),
-        (&TidyRequest::default(), &TidyParams::default()),
-        1,
-        |_| {},
-    )?;
+    let (request, params) = (TidyRequest::default(), TidyParams::default());
+    let (out, _, recorded) = recorded(true, |start| {
+        crate::tidy::tidy_in(world, (None, "table"), (&request, &params), 1, start)
+    })?;
     let wall = t0.elapsed().as_secs_f64();
     for f in &out.failed {
         tell!(
@@ -178,12 +175,7 @@ pub fn tidying(tour: &mut Tour) -> Result<Job> {
         tour,
         "\n  run it: cargo run --release -- tidy --scene scenes/tidy.toml --report DIR\n"
     );
-    let mut section = Section::new("Tidying a table (from the shared skills)");
-    section
-        .number("objects on the table", out.objects)
-        .number("moved to another table", out.moved)
-        .number("actions", out.actions)
-        .number("knocked over", out.verdict.knocked.len());
+    let mut section = crate::report::tidy::section(report, &out, recorded.as_ref())?;
     section.text("Run it: cargo run --release -- tidy --scene scenes/tidy.toml --report DIR");
     Ok((section, serde_json::to_value(&out)?, line))
 }

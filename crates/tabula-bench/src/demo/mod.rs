@@ -75,7 +75,7 @@ pub fn run(
     jobs.push(section);
     summary.push(("pick_place", json, line));
     step("tidying a table");
-    let (section, json, line) = jobs::tidying(&mut tour)?;
+    let (section, json, line) = jobs::tidying(&mut tour, &mut report)?;
     jobs.push(section);
     summary.push(("tidying", json, line));
     step("kinematics");

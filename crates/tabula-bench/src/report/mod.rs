@@ -14,6 +14,7 @@ pub mod place;
 pub mod plan;
 pub mod plots;
 pub mod stable;
+pub mod tidy;
 
 use anyhow::{Context, Result};
 use serde::Serialize;
