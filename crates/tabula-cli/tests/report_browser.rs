@@ -70,7 +70,7 @@ fn self_test(chrome: &Path, page: &Path, scratch: &Path) -> serde_json::Value {
 }
 
 #[test]
-fn the_demo_runs_the_three_jobs_and_its_report_loads_draws_and_shows_every_image() {
+fn the_demo_runs_the_four_jobs_and_its_report_loads_draws_and_shows_every_image() {
     let scratch = Path::new(env!("CARGO_TARGET_TMPDIR")).join("report-browser");
     let _ = std::fs::remove_dir_all(&scratch);
     std::fs::create_dir_all(&scratch).unwrap();
@@ -110,7 +110,7 @@ fn the_demo_runs_the_three_jobs_and_its_report_loads_draws_and_shows_every_image
                 .contains("replay-")
         })
         .count();
-    assert_eq!(replays, 3, "one replay per seed job (tidying records none)");
+    assert_eq!(replays, 4, "one replay per job");
 
     let Some(chrome) = chromium() else {
         assert!(
