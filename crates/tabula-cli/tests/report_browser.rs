@@ -126,7 +126,7 @@ fn the_demo_runs_the_four_jobs_and_its_report_loads_draws_and_shows_every_image(
     assert_eq!(verdict["ok"], true, "the page's self-test: {verdict}");
     assert_eq!(verdict["errors"].as_array().unwrap().len(), 0, "{verdict}");
     let replays = verdict["replays"].as_array().unwrap();
-    assert_eq!(replays.len(), 3, "one replay per job: {verdict}");
+    assert_eq!(replays.len(), 4, "one replay per job: {verdict}");
     for r in replays {
         assert!(r["colours"].as_u64().unwrap() > 8, "a blank replay: {r}");
     }
