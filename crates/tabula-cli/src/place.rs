@@ -48,7 +48,7 @@ pub fn run(a: PlaceArgs) -> Result<()> {
     crate::tasks::check_arm(&world, &robot, &a.arm)?;
     let request = PlaceRequest {
         arm: if a.arm == "auto" {
-            held_by(&world, &robot)
+            tabula_bench::place::held_by(&world, &robot)
         } else {
             Some(a.arm.clone())
         },
@@ -150,28 +150,6 @@ fn print_summary(out: &PlaceJson) {
         v.disturbed.len(),
         v.furniture_contacts.len()
     );
-}
-
-/// The arm holding the scene's held object (the scene's `hold` says which gripper):
-/// the task's precondition, as a user would state it.
-fn held_by(world: &SimWorld, robot: &str) -> Option<String> {
-    let r = world.robot(robot).ok()?;
-    let object = world.held_objects(robot).into_iter().next()?;
-    let at = world.pose(&object).ok()?.translation;
-    r.description
-        .arms
-        .iter()
-        .filter_map(|a| {
-            let g = r
-                .description
-                .grippers
-                .iter()
-                .find(|g| Some(&g.name) == a.gripper.as_ref())?;
-            let tool = world.link_pose(robot, &g.tool_link).ok()?;
-            Some((tool.translation.distance(at), a.name.clone()))
-        })
-        .min_by(|a, b| a.0.total_cmp(&b.0))
-        .map(|(_, n)| n)
 }
 
 /// `tabula bench place`: the generated suite, each task placed in the simulator (both

@@ -80,3 +80,25 @@ pub fn place_in(
         run_in::<Place>(world, robot, (request, params, &()), seed, on_start)?;
     Ok((PlaceRun::of(outcome, verdict, dry_run), world))
 }
+
+/// The arm holding the scene's held object (the scene's `hold` says which gripper):
+/// the task's precondition, as a user would state it.
+pub fn held_by(world: &SimWorld, robot: &str) -> Option<String> {
+    let r = world.robot(robot).ok()?;
+    let object = world.held_objects(robot).into_iter().next()?;
+    let at = world.pose(&object).ok()?.translation;
+    r.description
+        .arms
+        .iter()
+        .filter_map(|a| {
+            let g = r
+                .description
+                .grippers
+                .iter()
+                .find(|g| Some(&g.name) == a.gripper.as_ref())?;
+            let tool = world.link_pose(robot, &g.tool_link).ok()?;
+            Some((tool.translation.distance(at), a.name.clone()))
+        })
+        .min_by(|a, b| a.0.total_cmp(&b.0))
+        .map(|(_, n)| n)
+}

@@ -1,0 +1,200 @@
+//! `tabula.Robot`: a robot from a built-in name, a URDF or a xacro file (with its SRDF),
+//! and its kinematics on any chain: joint names, FK, IK (every solution found, nearest
+//! to the seed first) and the geometric Jacobian.
+
+use crate::{finite, runtime_error, value_error};
+use numpy::{IntoPyArray, PyArray1, PyArray2};
+use pyo3::prelude::*;
+use std::path::PathBuf;
+use tabula_geom::{Mat4, Pose};
+use tabula_robot::Chain;
+use tabula_robot::ik::{AutoIk, IkError, IkMode, IkSolver, NumericIk, NumericIkParams};
+use tabula_robot::packages::PackagePaths;
+use tabula_robot::robots::{LoadOptions, NamedRobot, load_with};
+
+/// A robot model with its description (arms, grippers, named states).
+#[pyclass(module = "tabula._tabula", frozen)]
+pub struct Robot {
+    robot: NamedRobot,
+}
+
+impl Robot {
+    /// The chain from `base` to `tip` (the first arm's by default).
+    fn chain(&self, base: Option<&str>, tip: Option<&str>) -> PyResult<Chain> {
+        let base = base.unwrap_or(&self.robot.default_base);
+        let tip = tip.unwrap_or(&self.robot.default_tip);
+        Chain::new(&self.robot.model, base, tip).map_err(value_error)
+    }
+
+    /// The solver of the arm whose chain this is (its description's: closed form where
+    /// one applies), or a closed form / numeric solver for any other chain.
+    fn solver(&self, chain: Chain) -> PyResult<Box<dyn IkSolver + Send + Sync>> {
+        let arm = self
+            .robot
+            .description
+            .arms
+            .iter()
+            .find(|a| a.base == chain.base_link && a.tip == chain.tip_link);
+        match arm {
+            Some(a) => a
+                .ik_solver(&self.robot.model, NumericIkParams::default())
+                .map_err(value_error),
+            None => Ok(Box::new(AutoIk::new(NumericIk::new(
+                chain,
+                NumericIkParams::default(),
+            )))),
+        }
+    }
+
+    fn joints(&self, chain: &Chain, q: Vec<f64>) -> PyResult<Vec<f64>> {
+        if q.len() != chain.dof() {
+            return Err(value_error(format!(
+                "the chain {} → {} has {} joints ({}), {} values given",
+                chain.base_link,
+                chain.tip_link,
+                chain.dof(),
+                chain.joint_names.join(", "),
+                q.len()
+            )));
+        }
+        finite(&q, "joint values")?;
+        Ok(q)
+    }
+}
+
+fn matrix(p: &Pose) -> Vec<Vec<f64>> {
+    let m = Mat4::from_rotation_translation(p.rotation, p.translation);
+    (0..4)
+        .map(|r| (0..4).map(|c| m.col(c)[r]).collect())
+        .collect()
+}
+
+#[pymethods]
+impl Robot {
+    /// `Robot(path_or_name, srdf=None, xacro_args=None, package_paths=None)`.
+    #[new]
+    #[pyo3(signature = (path_or_name, srdf=None, xacro_args=None, package_paths=None))]
+    fn new(
+        py: Python<'_>,
+        path_or_name: &str,
+        srdf: Option<PathBuf>,
+        xacro_args: Option<Vec<(String, String)>>,
+        package_paths: Option<Vec<PathBuf>>,
+    ) -> PyResult<Self> {
+        let options = LoadOptions {
+            xacro_args: xacro_args.unwrap_or_default(),
+            packages: PackagePaths::new(package_paths.unwrap_or_default()),
+            srdf,
+        };
+        let robot = py
+            .detach(|| load_with(path_or_name, &options))
+            .map_err(value_error)?;
+        Ok(Self { robot })
+    }
+
+    /// The robot's name as loaded.
+    #[getter]
+    fn name(&self) -> String {
+        self.robot.label.clone()
+    }
+
+    /// The arms the description names, with their chains' base and tip links.
+    fn arms(&self) -> Vec<(String, String, String)> {
+        let arms = &self.robot.description.arms;
+        arms.iter()
+            .map(|a| (a.name.clone(), a.base.clone(), a.tip.clone()))
+            .collect()
+    }
+
+    /// The moving joints from `base` to `tip`, in the order `q` lists them.
+    #[pyo3(signature = (base=None, tip=None))]
+    fn joint_names(&self, base: Option<&str>, tip: Option<&str>) -> PyResult<Vec<String>> {
+        Ok(self.chain(base, tip)?.joint_names)
+    }
+
+    /// Joint limits `(lower, upper)` of the chain, one row per joint.
+    #[pyo3(signature = (base=None, tip=None))]
+    fn limits<'py>(
+        &self,
+        py: Python<'py>,
+        base: Option<&str>,
+        tip: Option<&str>,
+    ) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let c = self.chain(base, tip)?;
+        let rows: Vec<Vec<f64>> = c
+            .lower
+            .iter()
+            .zip(&c.upper)
+            .map(|(l, u)| vec![*l, *u])
+            .collect();
+        PyArray2::from_vec2(py, &rows).map_err(runtime_error)
+    }
+
+    /// `base_from_tip` at joint values `q`: a (4, 4) matrix.
+    #[pyo3(signature = (q, base=None, tip=None))]
+    fn fk<'py>(
+        &self,
+        py: Python<'py>,
+        q: Vec<f64>,
+        base: Option<&str>,
+        tip: Option<&str>,
+    ) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let chain = self.chain(base, tip)?;
+        let q = self.joints(&chain, q)?;
+        let p = chain.fk(&q).map_err(value_error)?;
+        PyArray2::from_vec2(py, &matrix(&p)).map_err(runtime_error)
+    }
+
+    /// The geometric Jacobian at `q` (6 × n: linear rows first, in the base frame).
+    #[pyo3(signature = (q, base=None, tip=None))]
+    fn jacobian<'py>(
+        &self,
+        py: Python<'py>,
+        q: Vec<f64>,
+        base: Option<&str>,
+        tip: Option<&str>,
+    ) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let chain = self.chain(base, tip)?;
+        let q = self.joints(&chain, q)?;
+        let j = chain.jacobian(&q).map_err(value_error)?;
+        let rows: Vec<Vec<f64>> = (0..j.nrows())
+            .map(|r| j.row(r).iter().copied().collect())
+            .collect();
+        PyArray2::from_vec2(py, &rows).map_err(runtime_error)
+    }
+
+    /// Every solution for `base_from_tip` = `T` (4 × 4) found, nearest to `seed` first;
+    /// an empty list when there is none. `position_only` ignores the orientation.
+    #[pyo3(signature = (t, base=None, tip=None, seed=None, position_only=false))]
+    fn ik<'py>(
+        &self,
+        py: Python<'py>,
+        t: Vec<Vec<f64>>,
+        base: Option<&str>,
+        tip: Option<&str>,
+        seed: Option<Vec<f64>>,
+        position_only: bool,
+    ) -> PyResult<Vec<Bound<'py, PyArray1<f64>>>> {
+        let target = crate::cloud::pose_of_rows(&t)?;
+        let chain = self.chain(base, tip)?;
+        let seed = match seed {
+            Some(s) => self.joints(&chain, s)?,
+            None => chain.mid_configuration(),
+        };
+        let solver = self.solver(chain)?;
+        let mode = if position_only {
+            IkMode::PositionOnly
+        } else {
+            IkMode::Full
+        };
+        let solutions = match py.detach(|| solver.solve(&target, mode, &seed)) {
+            Ok(s) => s,
+            Err(IkError::NoSolution | IkError::NotFound { .. }) => Vec::new(),
+            Err(e) => return Err(value_error(e)),
+        };
+        Ok(solutions
+            .into_iter()
+            .map(|s| s.joints.into_pyarray(py))
+            .collect())
+    }
+}

@@ -1,0 +1,113 @@
+"""The package against the library it binds: kinematics round trips, stable poses of a
+box, cloud files, perception of a simulated frame, PDDL, a job in the simulator, and bad
+input as exceptions."""
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import tabula
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def test_fk_ik_round_trip_on_every_builtin_arm():
+    for name in ["wam", "pr2", "golem3"]:
+        robot = tabula.Robot(name)
+        n = len(robot.joint_names())
+        lo, hi = robot.limits().T
+        lo = np.where(np.isfinite(lo), lo, -1.0)
+        hi = np.where(np.isfinite(hi), hi, 1.0)
+        q = lo + (hi - lo) * np.random.default_rng(3).uniform(0.3, 0.7, n)
+        T = robot.fk(q)
+        assert T.shape == (4, 4) and np.allclose(T[3], [0, 0, 0, 1])
+        solutions = robot.ik(T, seed=q)
+        assert solutions, name
+        for s in solutions:
+            assert np.allclose(robot.fk(s), T, atol=1e-4), name
+
+
+def test_jacobian_matches_finite_differences():
+    robot = tabula.Robot("wam")
+    q = np.full(len(robot.joint_names()), 0.3)
+    J = robot.jacobian(q)
+    eps = 1e-6
+    for k in range(len(q)):
+        dq = q.copy()
+        dq[k] += eps
+        d = (robot.fk(dq)[:3, 3] - robot.fk(q)[:3, 3]) / eps
+        assert np.allclose(J[:3, k], d, atol=1e-5)
+
+
+def test_unreachable_targets_give_no_solution_and_bad_input_raises():
+    robot = tabula.Robot("golem3")
+    far = np.eye(4)
+    far[:3, 3] = [5.0, 0.0, 0.0]
+    assert robot.ik(far) == []
+    with pytest.raises(ValueError, match="joints"):
+        robot.fk([0.0, 1.0])
+    with pytest.raises(ValueError, match="finite"):
+        robot.fk([np.nan] * len(robot.joint_names()))
+    with pytest.raises(ValueError, match="shape"):
+        robot.ik(np.eye(3))
+    with pytest.raises(ValueError):
+        tabula.Robot("no_such_robot")
+
+
+def test_stable_poses_of_a_box_rest_on_their_faces():
+    x, y, z = 0.1, 0.06, 0.02
+    v = np.array([[i * x, j * y, k * z] for i in (-1, 1) for j in (-1, 1) for k in (-1, 1)])
+    f = np.array([
+        [0, 2, 1], [1, 2, 3], [4, 5, 6], [5, 7, 6], [0, 1, 4], [1, 5, 4],
+        [2, 6, 3], [3, 6, 7], [0, 4, 2], [2, 4, 6], [1, 3, 5], [3, 7, 5],
+    ])
+    T, p, m = tabula.stable_poses(v, f)
+    assert T.shape[1:] == (4, 4) and len(p) == len(T) == len(m) == 6
+    assert np.isclose(p.sum(), 1.0, atol=1e-6) and np.all(np.diff(p) <= 1e-12)
+    for t in T:
+        rested = v @ t[:3, :3].T + t[:3, 3]
+        assert np.isclose(rested[:, 2].min(), 0.0, atol=1e-9)
+        assert np.allclose(rested.mean(axis=0)[:2], 0.0, atol=1e-9)
+    # The likeliest poses lie on the largest faces (z = ±0.02).
+    assert np.isclose(abs((T[0] @ [0, 0, 1, 0])[2]), 1.0)
+    with pytest.raises(ValueError, match="shape"):
+        tabula.stable_poses(v[:, :2], f)
+    with pytest.raises(ValueError, match="outside"):
+        tabula.stable_poses(v, f + 10)
+
+
+def test_cloud_files_and_perception_of_a_simulated_table(tmp_path):
+    scene = tabula.Scene(ROOT / "scenes" / "clutter.toml")
+    scene.settle()
+    points, world_from_camera = scene.capture()
+    assert points.ndim == 3 and points.shape[2] == 3
+    out = tabula.perceive(points, world_from_camera=world_from_camera)
+    assert out["objects"] and out["table"]["points"] > 1000
+    assert out["labels"].shape == points.shape[:2]
+    assert (out["labels"] == 0).sum() == out["table"]["points"]
+    cloud, colors, viewpoint = tabula.read_cloud(ROOT / "data" / "real" / "kinect_laptop_box.pcd")
+    assert cloud.shape == (480, 640, 3) and viewpoint.shape == (4, 4)
+    assert np.isnan(cloud).any() and np.isfinite(cloud).any()
+    with pytest.raises(ValueError, match="shape"):
+        tabula.perceive(np.zeros((10, 2)))
+    with pytest.raises(ValueError):
+        tabula.read_pcd(tmp_path / "missing.pcd")
+
+
+def test_plan_pddl_plans_and_says_when_there_is_none():
+    domain = (ROOT / "pddl" / "tablewclear-domain.pddl").read_text()
+    problem = (ROOT / "pddl" / "thesis6-a.pddl").read_text()
+    plan = tabula.plan_pddl(domain, problem)
+    assert plan and all(a.startswith("(") for a in plan)
+    with pytest.raises(ValueError):
+        tabula.plan_pddl(domain, "(define (problem p) (:domain other))")
+
+
+def test_a_table_cleared_from_python_is_judged_by_physics():
+    scene = tabula.Scene(ROOT / "scenes" / "clutter.toml")
+    out = scene.clear()
+    assert out["success"] and out["verdict"]["in_bin"] == out["verdict"]["objects"]
+    # The scene moved on: the table is empty now.
+    again = scene.clear()
+    assert again["verdict"]["objects"] == 0
