@@ -3,7 +3,8 @@
 //! to the seed first) and the geometric Jacobian.
 
 use crate::{finite, runtime_error, value_error};
-use numpy::{IntoPyArray, PyArray1, PyArray2};
+use numpy::ndarray::Array2;
+use numpy::{IntoPyArray, PyArray1, PyArray2, PyReadonlyArray1};
 use pyo3::prelude::*;
 use std::path::PathBuf;
 use tabula_geom::{Mat4, Pose};
@@ -16,14 +17,25 @@ use tabula_robot::robots::{LoadOptions, NamedRobot, load_with};
 #[pyclass(module = "tabula._tabula", frozen)]
 pub struct Robot {
     robot: NamedRobot,
+    /// The first arm's chain, built once: most calls use it.
+    default_chain: Option<Chain>,
 }
 
 impl Robot {
     /// The chain from `base` to `tip` (the first arm's by default).
-    fn chain(&self, base: Option<&str>, tip: Option<&str>) -> PyResult<Chain> {
+    fn chain(
+        &self,
+        base: Option<&str>,
+        tip: Option<&str>,
+    ) -> PyResult<std::borrow::Cow<'_, Chain>> {
+        if let (None, None, Some(c)) = (base, tip, &self.default_chain) {
+            return Ok(std::borrow::Cow::Borrowed(c));
+        }
         let base = base.unwrap_or(&self.robot.default_base);
         let tip = tip.unwrap_or(&self.robot.default_tip);
-        Chain::new(&self.robot.model, base, tip).map_err(value_error)
+        Chain::new(&self.robot.model, base, tip)
+            .map(std::borrow::Cow::Owned)
+            .map_err(value_error)
     }
 
     /// The solver of the arm whose chain this is (its description's: closed form where
@@ -46,7 +58,7 @@ impl Robot {
         }
     }
 
-    fn joints(&self, chain: &Chain, q: Vec<f64>) -> PyResult<Vec<f64>> {
+    fn joints<'a>(&self, chain: &Chain, q: &'a [f64]) -> PyResult<&'a [f64]> {
         if q.len() != chain.dof() {
             return Err(value_error(format!(
                 "the chain {} → {} has {} joints ({}), {} values given",
@@ -57,16 +69,14 @@ impl Robot {
                 q.len()
             )));
         }
-        finite(&q, "joint values")?;
-        Ok(q)
+        finite(q, "joint values")
     }
 }
 
-fn matrix(p: &Pose) -> Vec<Vec<f64>> {
+/// A pose as a (4, 4) numpy matrix.
+fn matrix<'py>(py: Python<'py>, p: &Pose) -> Bound<'py, PyArray2<f64>> {
     let m = Mat4::from_rotation_translation(p.rotation, p.translation);
-    (0..4)
-        .map(|r| (0..4).map(|c| m.col(c)[r]).collect())
-        .collect()
+    Array2::from_shape_fn((4, 4), |(r, c)| m.col(c)[r]).into_pyarray(py)
 }
 
 #[pymethods]
@@ -89,7 +99,11 @@ impl Robot {
         let robot = py
             .detach(|| load_with(path_or_name, &options))
             .map_err(value_error)?;
-        Ok(Self { robot })
+        let default_chain = Chain::new(&robot.model, &robot.default_base, &robot.default_tip).ok();
+        Ok(Self {
+            robot,
+            default_chain,
+        })
     }
 
     /// The robot's name as loaded.
@@ -109,7 +123,7 @@ impl Robot {
     /// The moving joints from `base` to `tip`, in the order `q` lists them.
     #[pyo3(signature = (base=None, tip=None))]
     fn joint_names(&self, base: Option<&str>, tip: Option<&str>) -> PyResult<Vec<String>> {
-        Ok(self.chain(base, tip)?.joint_names)
+        Ok(self.chain(base, tip)?.joint_names.clone())
     }
 
     /// Joint limits `(lower, upper)` of the chain, one row per joint.
@@ -135,14 +149,14 @@ impl Robot {
     fn fk<'py>(
         &self,
         py: Python<'py>,
-        q: Vec<f64>,
+        q: PyReadonlyArray1<'py, f64>,
         base: Option<&str>,
         tip: Option<&str>,
     ) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let chain = self.chain(base, tip)?;
-        let q = self.joints(&chain, q)?;
-        let p = chain.fk(&q).map_err(value_error)?;
-        PyArray2::from_vec2(py, &matrix(&p)).map_err(runtime_error)
+        let q = self.joints(&chain, q.as_slice().map_err(value_error)?)?;
+        let p = chain.fk(q).map_err(value_error)?;
+        Ok(matrix(py, &p))
     }
 
     /// The geometric Jacobian at `q` (6 × n: linear rows first, in the base frame).
@@ -150,17 +164,14 @@ impl Robot {
     fn jacobian<'py>(
         &self,
         py: Python<'py>,
-        q: Vec<f64>,
+        q: PyReadonlyArray1<'py, f64>,
         base: Option<&str>,
         tip: Option<&str>,
     ) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let chain = self.chain(base, tip)?;
-        let q = self.joints(&chain, q)?;
-        let j = chain.jacobian(&q).map_err(value_error)?;
-        let rows: Vec<Vec<f64>> = (0..j.nrows())
-            .map(|r| j.row(r).iter().copied().collect())
-            .collect();
-        PyArray2::from_vec2(py, &rows).map_err(runtime_error)
+        let q = self.joints(&chain, q.as_slice().map_err(value_error)?)?;
+        let j = chain.jacobian(q).map_err(value_error)?;
+        Ok(Array2::from_shape_fn((j.nrows(), j.ncols()), |(r, c)| j[(r, c)]).into_pyarray(py))
     }
 
     /// Every solution for `base_from_tip` = `T` (4 × 4) found, nearest to `seed` first;
@@ -178,10 +189,10 @@ impl Robot {
         let target = crate::cloud::pose_of_rows(&t)?;
         let chain = self.chain(base, tip)?;
         let seed = match seed {
-            Some(s) => self.joints(&chain, s)?,
+            Some(s) => self.joints(&chain, &s)?.to_vec(),
             None => chain.mid_configuration(),
         };
-        let solver = self.solver(chain)?;
+        let solver = self.solver(chain.into_owned())?;
         let mode = if position_only {
             IkMode::PositionOnly
         } else {

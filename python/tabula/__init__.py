@@ -43,11 +43,11 @@ def _array(a, name: str, shape: Tuple[Optional[int], ...], dtype=np.float64) -> 
     return arr
 
 
-def _vector(q, name: str) -> list:
-    arr = _array(q, name, (None,))
-    if not np.all(np.isfinite(arr)):
-        raise ValueError(f"{name} must be finite")
-    return arr.tolist()
+def _vector(q, name: str) -> np.ndarray:
+    """``q`` as a contiguous float64 vector (checked for finiteness natively)."""
+    if type(q) is np.ndarray and q.dtype == np.float64 and q.ndim == 1 and q.flags.c_contiguous:
+        return q
+    return _array(q, name, (None,))
 
 
 def _pose(t, name: str = "T") -> list:
@@ -112,7 +112,7 @@ class Robot:
     ) -> list:
         """Every joint solution found for ``base_from_tip = T`` (4, 4), nearest to
         ``seed`` (default: mid-range) first; an empty list when there is none."""
-        seed = None if seed is None else _vector(seed, "seed")
+        seed = None if seed is None else _vector(seed, "seed").tolist()
         return self._robot.ik(_pose(T), base, tip, seed, bool(position_only))
 
     def __repr__(self) -> str:
@@ -160,7 +160,7 @@ def perceive(points, up=None, world_from_camera=None) -> dict:
     if not (arr.ndim == 3 and arr.shape[2] == 3) and not (arr.ndim == 2 and arr.shape[1] == 3):
         raise ValueError(f"points must have shape (h, w, 3) or (n, 3), not {arr.shape}")
     pose = None if world_from_camera is None else _pose(world_from_camera, "world_from_camera")
-    up = None if up is None else _vector(up, "up")
+    up = None if up is None else _vector(up, "up").tolist()
     if up is not None and len(up) != 3:
         raise ValueError("up must have 3 values")
     text, labels = _tabula.perceive(arr, pose, up)
@@ -215,8 +215,8 @@ class Scene:
 
     def pick_place(self, pick, place, arm: Optional[str] = None, seed: int = 1) -> dict:
         """Picks the object near ``pick`` and puts it at ``place`` (world, m)."""
-        p = _vector(pick, "pick")
-        q = _vector(place, "place")
+        p = _vector(pick, "pick").tolist()
+        q = _vector(place, "place").tolist()
         if len(p) != 3 or len(q) != 3:
             raise ValueError("pick and place are (x, y, z) points")
         return json.loads(self._scene.pick_place(p, q, arm, int(seed)))
