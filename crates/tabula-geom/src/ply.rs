@@ -214,6 +214,15 @@ fn parse_format(f: &str) -> Result<Format, PlyError> {
     })
 }
 
+/// The next `n` bytes of a binary body at `offset`, which moves past them.
+fn take<'a>(bytes: &'a [u8], offset: &mut usize, n: usize) -> Result<&'a [u8], PlyError> {
+    let b = bytes
+        .get(*offset..*offset + n)
+        .ok_or(PlyError("binary body ends early".into()))?;
+    *offset += n;
+    Ok(b)
+}
+
 /// The body, read one value at a time: ASCII tokens or binary bytes.
 enum Body<'a> {
     Ascii(std::str::SplitAsciiWhitespace<'a>),
@@ -255,10 +264,7 @@ impl<'a> Body<'a> {
                 offset,
                 little,
             } => {
-                let b = bytes
-                    .get(*offset..*offset + t.size())
-                    .ok_or(PlyError("binary body ends early".into()))?;
-                *offset += t.size();
+                let b = take(bytes, offset, t.size())?;
                 Ok(t.read(b, *little))
             }
         }
@@ -293,10 +299,7 @@ impl<'a> Body<'a> {
                 offset,
                 little,
             } => {
-                let b = bytes
-                    .get(*offset..*offset + c.size())
-                    .ok_or(PlyError("binary body ends early".into()))?;
-                *offset += c.size();
+                let b = take(bytes, offset, c.size())?;
                 let n = c.read(b, *little);
                 if !(n >= 0.0 && n.fract() == 0.0) {
                     return err("bad list length");
