@@ -111,3 +111,25 @@ def test_a_table_cleared_from_python_is_judged_by_physics():
     # The scene moved on: the table is empty now.
     again = scene.clear()
     assert again["verdict"]["objects"] == 0
+
+
+def test_the_other_jobs_from_python():
+    placed = tabula.Scene(ROOT / "scenes" / "pr2_holding.toml").place()
+    assert placed["success"] and placed["verdict"]["surface"] == "table"
+    shelves = tabula.Scene(ROOT / "scenes" / "golem_shelves.toml")
+    moved = shelves.pick_place([0.556, -0.663, 1.07], [0.82, -0.2, 1.01])
+    assert moved["success"] and moved["verdict"]["target_error"] < 0.03
+    tidied = tabula.Scene(ROOT / "scenes" / "tidy.toml").tidy()
+    assert tidied["moved"] == tidied["objects"] > 0 and not tidied["verdict"]["knocked"]
+    with pytest.raises(ValueError, match="pick"):
+        shelves.pick_place([0.5, np.nan, 1.0], [0.8, -0.2, 1.0])
+
+
+def test_a_urdf_file_with_its_srdf():
+    urdf = ROOT / "data" / "mbm" / "panda" / "panda.urdf"
+    if not urdf.exists():
+        pytest.skip("no Panda in data/mbm")
+    robot = tabula.Robot(urdf)
+    q = np.array([0.1, -0.4, 0.2, -2.0, 0.1, 1.8, 0.6])[: len(robot.joint_names())]
+    T = robot.fk(q)
+    assert any(np.allclose(robot.fk(s), T, atol=1e-4) for s in robot.ik(T, seed=q))
