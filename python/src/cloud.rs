@@ -2,12 +2,12 @@
 //! (the table, its objects, every surface, the free space) — `tabula perceive`'s JSON
 //! with a label per point.
 
-use crate::{finite, value_error};
+use crate::{finite, pose_of_rows, rows, value_error};
 use numpy::ndarray::ArrayD;
 use numpy::{IntoPyArray, PyArrayDyn, PyReadonlyArrayDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use std::path::PathBuf;
-use tabula_geom::{CloudFile, Mat4, PointCloud, Pose, Vec3};
+use tabula_geom::{CloudFile, PointCloud, Vec3};
 use tabula_perception::TabletopParams;
 use tabula_perception::frame::{Perceived, perceive as perceive_frame, read_cloud_file};
 
@@ -44,11 +44,7 @@ pub fn read_cloud<'py>(
         }
         None => None,
     };
-    let m = Mat4::from_rotation_translation(file.viewpoint.rotation, file.viewpoint.translation);
-    let viewpoint = (0..4)
-        .map(|r| (0..4).map(|k| m.col(k)[r]).collect())
-        .collect();
-    Ok((points.into_pyarray(py), colors, viewpoint))
+    Ok((points.into_pyarray(py), colors, rows(&file.viewpoint)))
 }
 
 /// A cloud from a `(h, w, 3)` (organized) or `(n, 3)` float64 array; NaN marks no point.
@@ -126,24 +122,4 @@ pub fn perceive<'py>(
     let json = perceived.to_json(None, None).to_string();
     let labels = ArrayD::from_shape_vec(shape, labels(&perceived, n)).map_err(value_error)?;
     Ok((json, labels.into_pyarray(py)))
-}
-
-/// A pose from a (4, 4) matrix given as rows.
-pub(crate) fn pose_of_rows(rows: &[Vec<f64>]) -> PyResult<Pose> {
-    if rows.len() != 4 || rows.iter().any(|r| r.len() != 4) {
-        return Err(value_error("a pose must be a (4, 4) matrix"));
-    }
-    let cols: Vec<f64> = (0..4)
-        .flat_map(|c| (0..4).map(move |r| (r, c)))
-        .map(|(r, c)| rows[r][c])
-        .collect();
-    finite(&cols, "the pose")?;
-    let (scale, rotation, translation) =
-        Mat4::from_cols_slice(&cols).to_scale_rotation_translation();
-    if (scale - Vec3::ONE).abs().max_element() > 1e-6 || rows[3] != [0.0, 0.0, 0.0, 1.0] {
-        return Err(value_error(
-            "a pose's rotation must be a rotation and its last row 0 0 0 1",
-        ));
-    }
-    Ok(Pose::from_parts(translation, rotation))
 }

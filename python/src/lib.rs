@@ -32,6 +32,36 @@ pub(crate) fn finite<'a>(values: &'a [f64], what: &str) -> PyResult<&'a [f64]> {
     }
 }
 
+/// A pose as the rows of its (4, 4) homogeneous matrix.
+pub(crate) fn rows(p: &tabula_geom::Pose) -> Vec<Vec<f64>> {
+    let m = tabula_geom::Mat4::from_rotation_translation(p.rotation, p.translation);
+    (0..4)
+        .map(|r| (0..4).map(|c| m.col(c)[r]).collect())
+        .collect()
+}
+
+/// A pose from a (4, 4) matrix given as rows.
+pub(crate) fn pose_of_rows(rows: &[Vec<f64>]) -> PyResult<tabula_geom::Pose> {
+    if rows.len() != 4 || rows.iter().any(|r| r.len() != 4) {
+        return Err(value_error("a pose must be a (4, 4) matrix"));
+    }
+    let cols: Vec<f64> = (0..4)
+        .flat_map(|c| (0..4).map(move |r| (r, c)))
+        .map(|(r, c)| rows[r][c])
+        .collect();
+    finite(&cols, "the pose")?;
+    let (scale, rotation, translation) =
+        tabula_geom::Mat4::from_cols_slice(&cols).to_scale_rotation_translation();
+    if (scale - tabula_geom::Vec3::ONE).abs().max_element() > 1e-6
+        || rows[3] != [0.0, 0.0, 0.0, 1.0]
+    {
+        return Err(value_error(
+            "a pose's rotation must be a rotation and its last row 0 0 0 1",
+        ));
+    }
+    Ok(tabula_geom::Pose::from_parts(translation, rotation))
+}
+
 #[pymodule]
 fn _tabula(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;

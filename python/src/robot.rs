@@ -186,7 +186,7 @@ impl Robot {
         seed: Option<Vec<f64>>,
         position_only: bool,
     ) -> PyResult<Vec<Bound<'py, PyArray1<f64>>>> {
-        let target = crate::cloud::pose_of_rows(&t)?;
+        let target = crate::pose_of_rows(&t)?;
         let chain = self.chain(base, tip)?;
         let seed = match seed {
             Some(s) => self.joints(&chain, &s)?.to_vec(),

@@ -119,12 +119,10 @@ impl Scene {
             .collect();
         let points =
             Array3::from_shape_vec((frame.height, frame.width, 3), flat).map_err(runtime_error)?;
-        let p = frame.world_from_camera;
-        let m = tabula_geom::Mat4::from_rotation_translation(p.rotation, p.translation);
-        let pose = (0..4)
-            .map(|r| (0..4).map(|c| m.col(c)[r]).collect())
-            .collect();
-        Ok((points.into_pyarray(py), pose))
+        Ok((
+            points.into_pyarray(py),
+            crate::rows(&frame.world_from_camera),
+        ))
     }
 
     /// The world now, as a scene file's text.

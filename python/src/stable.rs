@@ -5,12 +5,12 @@
 use crate::{finite, value_error};
 use numpy::{PyArray1, PyArray3, PyReadonlyArray2, PyUntypedArrayMethods};
 use pyo3::prelude::*;
-use tabula_geom::{Mat4, Pose, Vec3};
+use tabula_geom::{Pose, Vec3};
 use tabula_tasks::stable::{StableParams, StablePose, of_mesh};
 
 /// The transform that rests the mesh on `pose`'s face: the support normal turned onto
 /// −z, the centre of mass over the origin, the lowest vertex on z = 0.
-fn resting(pose: &StablePose, vertices: &[Vec3], com: Vec3) -> Mat4 {
+fn resting(pose: &StablePose, vertices: &[Vec3], com: Vec3) -> Pose {
     let r = pose.resting_rotation(0.0);
     let c = r * com;
     let lowest = vertices
@@ -18,8 +18,7 @@ fn resting(pose: &StablePose, vertices: &[Vec3], com: Vec3) -> Mat4 {
         .map(|v| (r * *v).z)
         .fold(f64::INFINITY, f64::min);
     let t = Vec3::new(-c.x, -c.y, -lowest);
-    let p = Pose::from_parts(t, r);
-    Mat4::from_rotation_translation(p.rotation, p.translation)
+    Pose::from_parts(t, r)
 }
 
 /// `(transforms (k, 4, 4), probabilities (k,), margins (k,))` of a triangle mesh, most
@@ -66,12 +65,7 @@ pub fn stable_poses<'py>(
     });
     let transforms: Vec<Vec<Vec<f64>>> = order
         .iter()
-        .map(|&k| {
-            let m = resting(&poses.poses[k], &points, com);
-            (0..4)
-                .map(|r| (0..4).map(|c| m.col(c)[r]).collect())
-                .collect()
-        })
+        .map(|&k| crate::rows(&resting(&poses.poses[k], &points, com)))
         .collect();
     let probabilities: Vec<f64> = order.iter().map(|&k| poses.poses[k].probability).collect();
     let margins: Vec<f64> = order.iter().map(|&k| poses.poses[k].margin_m).collect();
