@@ -90,6 +90,9 @@ pub struct BenchRow {
     pub push_loops: usize,
     pub collisions: usize,
     pub disturbed: usize,
+    /// Objects knocked or dropped off the table (neither in the bin nor on it).
+    #[serde(default)]
+    pub off_table: usize,
     pub decision_median_ms: f64,
     pub stop: String,
     /// Cleared without error (every object on the table in the bin).
@@ -138,6 +141,7 @@ pub fn trial(suite: ClearSuite, s: u64, params: &ClearParams) -> Result<Trial> {
         push_loops: r.push_loops,
         collisions: out.collisions,
         disturbed: v.disturbed.len(),
+        off_table: v.off_table,
         decision_median_ms: r.decision_ms.median,
         stop: match &out.error_message {
             Some(e) => e.clone(),
@@ -178,6 +182,7 @@ pub struct Summary<'a> {
     pub no_plan_frames: usize,
     pub objects: usize,
     pub objects_per_action: f64,
+    pub off_table: usize,
     pub perception_ms: f64,
     pub planning_ms: f64,
     pub predicates_ms: f64,
@@ -215,6 +220,7 @@ impl<'a> Summary<'a> {
             no_plan_frames: sum(|r| r.no_plan_frames),
             objects,
             objects_per_action: removed as f64 / actions.max(1) as f64,
+            off_table: sum(|r| r.off_table),
             perception_ms: col(1).median,
             planning_ms: col(3).median,
             predicates_ms: col(2).median,

@@ -244,7 +244,7 @@ pub fn check_toml_numbers(text: &str) -> Result<(), String> {
     fn walk(key: &str, v: &toml::Value) -> Result<(), String> {
         match v {
             toml::Value::Float(x) if !x.is_finite() || x.abs() > MAX_MAGNITUDE => Err(format!(
-                "`{key}` = {x}: numbers must be finite and at most {MAX_MAGNITUDE:e} in size"
+                "`{key}` = {x:e}: numbers must be finite and at most {MAX_MAGNITUDE:e} in size"
             )),
             toml::Value::Integer(i)
                 if !key.ends_with("seed") && !(-MAX_COUNT..=MAX_COUNT).contains(i) =>

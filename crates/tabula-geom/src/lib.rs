@@ -15,6 +15,7 @@ pub use parry3d_f64::glamx::{DVec2 as Vec2, DVec3 as Vec3};
 mod angles;
 mod cloud;
 pub mod collada;
+pub mod convex_pieces;
 pub mod guard;
 pub mod input;
 pub mod mesh;

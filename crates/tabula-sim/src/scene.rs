@@ -42,6 +42,14 @@ pub enum ShapeSpec {
         radius: f64,
         height: f64,
     },
+    /// The polygon `outline` (x y, m; convex or not, either way round) drawn in the
+    /// object's x–y plane and extruded `length` along z, centred on z = 0: wedges,
+    /// triangular prisms, arches, half-cylinders, L- and T-blocks. Exact convex pieces,
+    /// so an arch's notch stays open.
+    Prism {
+        outline: Vec<[f64; 2]>,
+        length: f64,
+    },
     /// An OBJ or STL file (relative to the scene file), as its convex hull.
     Mesh {
         path: String,
@@ -459,6 +467,10 @@ fn check_object(o: &ObjectSpec) -> Result<(), FieldError> {
         ShapeSpec::Capsule { radius, height } => vec![*radius, height + 1e-9],
         ShapeSpec::Sphere { radius } => vec![*radius],
         ShapeSpec::Mesh { scale, .. } => scale.to_vec(),
+        ShapeSpec::Prism { outline, length } => {
+            check_outline(outline)?;
+            vec![*length]
+        }
     };
     if dims.iter().any(|d| !(MIN_SIZE..=MAX_SIZE).contains(d)) {
         return Err((
@@ -486,6 +498,51 @@ fn check_object(o: &ObjectSpec) -> Result<(), FieldError> {
     }
     if !(o.friction.is_finite() && o.friction >= 0.0) {
         return Err(("friction", "friction must be a non-negative number".into()));
+    }
+    Ok(())
+}
+
+/// Most vertices a prism's outline may have.
+pub const MAX_OUTLINE: usize = 256;
+
+/// A prism's outline: a bounded simple polygon within the size limits.
+fn check_outline(outline: &[[f64; 2]]) -> Result<(), FieldError> {
+    if outline.len() > MAX_OUTLINE {
+        return Err((
+            "shape",
+            format!(
+                "a prism's outline has at most {MAX_OUTLINE} vertices, got {}",
+                outline.len()
+            ),
+        ));
+    }
+    let points: Vec<tabula_geom::Vec2> = outline
+        .iter()
+        .map(|&[x, y]| tabula_geom::Vec2::new(x, y))
+        .collect();
+    if points
+        .iter()
+        .any(|p| !(p.x.abs() <= MAX_SIZE && p.y.abs() <= MAX_SIZE))
+    {
+        return Err((
+            "shape",
+            format!("a prism's outline coordinates must be finite and within ±{MAX_SIZE} m"),
+        ));
+    }
+    tabula_geom::convex_pieces::convex_pieces(&points)
+        .map_err(|e| ("shape", format!("a prism's outline: {e}")))?;
+    let (lo, hi) = points.iter().fold(
+        (
+            tabula_geom::Vec2::splat(f64::INFINITY),
+            tabula_geom::Vec2::splat(f64::NEG_INFINITY),
+        ),
+        |(lo, hi), &p| (lo.min(p), hi.max(p)),
+    );
+    if (hi - lo).min_element() < MIN_SIZE {
+        return Err((
+            "shape",
+            format!("a prism's outline must be at least {MIN_SIZE} m across both ways"),
+        ));
     }
     Ok(())
 }

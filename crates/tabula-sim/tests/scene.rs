@@ -135,3 +135,69 @@ proptest! {
         }
     }
 }
+
+/// An arch 6 cm wide with a half-round notch of 1.5 cm radius, laid down over z = 0
+/// with the notch open below (outline upright, length along y).
+const ARCH: &str = r#"
+[floor]
+
+[[object]]
+name = "arch"
+shape = { prism = { outline = [[0.03, 0.0], [0.03, 0.04], [-0.03, 0.04], [-0.03, 0.0], [-0.015, 0.0], [-0.0106, 0.0106], [0.0, 0.015], [0.0106, 0.0106], [0.015, 0.0]], length = 0.08 } }
+pose = { xyz = [0.0, 0.0, 0.0005], rpy = [1.5708, 0.0, 0.0] }
+"#;
+
+#[test]
+fn a_prism_keeps_its_notch_open_and_rests_where_it_is_put() {
+    let scene = Scene::parse(ARCH, "arch.toml").unwrap();
+    let mut world = SimWorld::from_scene(&scene, PhysicsParams::default()).unwrap();
+    assert!(world.settle().all_asleep);
+    let p = world.pose("arch").unwrap();
+    assert!(p.translation.length() < 2e-3, "{p:?}");
+    // A 1.6 cm cube fits under the arch: a convex hull would have filled the notch.
+    let under = "[[object]]\nname = \"cube\"\nshape = { box = [0.016, 0.016, 0.016] }\npose = { xyz = [0.0, 0.0, 0.0085] }\n";
+    let both = Scene::parse(&format!("{ARCH}{under}"), "arch.toml").unwrap();
+    SimWorld::from_scene(&both, PhysicsParams::default()).expect("the notch is free");
+    // Bounds: 6 cm across, 4 cm high, 8 cm long.
+    let b = world.entity_bounds("arch").unwrap();
+    let size = b.maxs - b.mins;
+    assert!(
+        (size.x - 0.06).abs() < 1e-3
+            && (size.z - 0.04).abs() < 2e-3
+            && (size.y - 0.08).abs() < 1e-3,
+        "{size:?}"
+    );
+}
+
+#[test]
+fn bad_prism_outlines_are_refused_by_name() {
+    for (outline, why) in [
+        ("[[0.0, 0.0], [0.1, 0.0]]", "at least 3 vertices"),
+        ("[[0.0, 0.0], [0.1, 0.1], [0.1, 0.0], [0.0, 0.05]]", "cross"),
+        (
+            "[[0.0, 0.0], [0.1, 0.0], [0.2, 0.0]]",
+            "at least 3 vertices",
+        ),
+        ("[[0.0, 0.0], [1e300, 0.0], [0.0, 0.1]]", "= 1e300"),
+        ("[[0.0, 0.0], [200.0, 0.0], [0.0, 0.1]]", "within"),
+        ("[[0.0, 0.0], [0.1, 0.0], [0.0, 1e-9]]", "at least"),
+    ] {
+        let text = format!(
+            "[[object]]\nname = \"p\"\nshape = {{ prism = {{ outline = {outline}, length = 0.05 }} }}\n"
+        );
+        let e = Scene::parse(&text, "p.toml").unwrap_err();
+        assert!(e.to_string().contains(why), "{outline}: {e}");
+    }
+    let many: Vec<String> = (0..300)
+        .map(|k| {
+            let t = std::f64::consts::TAU * k as f64 / 300.0;
+            format!("[{}, {}]", 0.05 * t.cos(), 0.05 * t.sin())
+        })
+        .collect();
+    let text = format!(
+        "[[object]]\nname = \"p\"\nshape = {{ prism = {{ outline = [{}], length = 0.05 }} }}\n",
+        many.join(", ")
+    );
+    let e = Scene::parse(&text, "p.toml").unwrap_err();
+    assert!(e.to_string().contains("at most 256"), "{e}");
+}

@@ -74,11 +74,12 @@ pub fn summary_lines(out: &ClearRun) -> Vec<String> {
     let v = &out.verdict;
     let mut lines = Vec::new();
     lines.push(format!(
-        "clear: {} — {} of {} objects in the bin, {} left on the table ({})",
+        "clear: {} — {} of {} objects in the bin, {} left on the table, {} off it ({})",
         if out.success { "success" } else { "INCOMPLETE" },
         v.in_bin,
         v.objects,
         v.left_on_table,
+        v.off_table,
         if r.stop.is_empty() { "-" } else { &r.stop }
     ));
     if let Some(e) = &out.error_message {
@@ -225,7 +226,7 @@ pub fn bench_lines(rows: &[BenchRow], s: &Summary) -> Vec<String> {
         ));
     }
     lines.push(format!(
-        "\n{suite}: {} scenes, completion {}/{} = {:.1} % (95 %: {:.1}–{:.1} %), {} scenes cleared; {:.2} objects per action; grasp success {:.1} % ({} of {}); push loops {}; collisions {}; moved by accident {}",
+        "\n{suite}: {} scenes, completion {}/{} = {:.1} % (95 %: {:.1}–{:.1} %), {} scenes cleared; {:.2} objects per action; grasp success {:.1} % ({} of {}); push loops {}; collisions {}; moved by accident {}; off the table {}",
         s.scenes,
         s.removed,
         s.objects,
@@ -239,7 +240,8 @@ pub fn bench_lines(rows: &[BenchRow], s: &Summary) -> Vec<String> {
         s.grasps,
         s.push_loops,
         s.collisions,
-        s.disturbed
+        s.disturbed,
+        s.off_table
     ));
     lines.push(format!(
         "decision CPU per frame ({} frames): median {:.1} ms, p95 {:.1}, max {:.1}; medians: perception {:.1}, predicates {:.1}, planning {:.1}, IK {:.1}",

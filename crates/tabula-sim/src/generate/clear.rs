@@ -1,5 +1,7 @@
-//! The clearing suites: random, packed grids and settled piles in the clearing cell.
+//! The clearing suites: random, packed grids, settled piles and the wider families of
+//! [`super::blocks`] in the clearing cell.
 
+use super::blocks::{self, Area, Written};
 use super::tabletop::*;
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -17,6 +19,13 @@ pub enum ClearSuite {
     Packed,
     /// 20–30 graspable objects dropped onto the table from above (VPG-style).
     Pile,
+    /// Blocks that are not boxes or cylinders — triangular prisms lying and standing,
+    /// arches, half-cylinders, tiles on edge, bars — packed 1–4 mm apart or boxed in.
+    Blocks,
+    /// Boxes and cylinders in grids spaced anything from touching to a finger's width.
+    Grid,
+    /// Objects at the grip's limits: thin and tall, short and wide.
+    Limits,
 }
 
 impl std::str::FromStr for ClearSuite {
@@ -27,11 +36,20 @@ impl std::str::FromStr for ClearSuite {
             "random" => Ok(Self::Random),
             "packed" => Ok(Self::Packed),
             "pile" => Ok(Self::Pile),
+            "blocks" => Ok(Self::Blocks),
+            "grid" => Ok(Self::Grid),
+            "limits" => Ok(Self::Limits),
             other => Err(format!(
-                "unknown suite `{other}`: seed, random, packed or pile"
+                "unknown suite `{other}`: seed, random, packed, pile, blocks, grid or limits"
             )),
         }
     }
+}
+
+/// A scene's objects: drawn by the tabletop generator's shapes, or written directly.
+enum Objects {
+    Placed(Vec<Placed>),
+    Written(Vec<Written>),
 }
 
 /// The clearing cell: table centre and size, the region objects are put in (every point
@@ -50,6 +68,11 @@ pub fn clearing_scene(suite: ClearSuite, seed: u64) -> String {
         return include_str!("../../../../scenes/clutter.toml").to_string();
     }
     let mut rng = ChaCha8Rng::seed_from_u64(seed ^ 0xC1EA_7AB1);
+    let area = Area {
+        center: CLEAR_REGION_CENTER,
+        half: CLEAR_REGION_HALF,
+        top: TABLE_TOP,
+    };
     let placed = match suite {
         ClearSuite::Random => {
             let objects = rng.random_range(3..=12usize);
@@ -66,10 +89,13 @@ pub fn clearing_scene(suite: ClearSuite, seed: u64) -> String {
                 gap: 0.03,
                 grip: Some(CLEAR_GRIP),
             };
-            place_groups(&mut rng, &layout, &region)
+            Objects::Placed(place_groups(&mut rng, &layout, &region))
         }
-        ClearSuite::Packed => packed_grid(&mut rng),
-        _ => pile(&mut rng),
+        ClearSuite::Packed => Objects::Placed(packed_grid(&mut rng)),
+        ClearSuite::Blocks => Objects::Written(blocks::blocks(&mut rng, &area)),
+        ClearSuite::Grid => Objects::Written(blocks::spaced_grid(&mut rng, &area)),
+        ClearSuite::Limits => Objects::Written(blocks::limits(&mut rng, &area)),
+        _ => Objects::Placed(pile(&mut rng)),
     };
     let mut s = String::new();
     let _ = writeln!(
@@ -85,7 +111,14 @@ pub fn clearing_scene(suite: ClearSuite, seed: u64) -> String {
         s,
         "[[furniture]]\nname = \"stand\"\nkind = \"table\"\nsize = [0.3, 0.3, 0.6]\n\n[[furniture]]\nname = \"bin\"\nkind = \"bin\"\npose = {{ xyz = [0.0, 0.6, 0.0] }}\nsize = [0.4, 0.4, 0.45]\n"
     );
-    write_objects(&mut s, &mut rng, &placed);
+    match placed {
+        Objects::Placed(placed) => write_objects(&mut s, &mut rng, &placed),
+        Objects::Written(written) => {
+            for (i, (shape, xyz, rpy)) in written.iter().enumerate() {
+                write_object(&mut s, &mut rng, i, shape, (*xyz, *rpy));
+            }
+        }
+    }
     let _ = writeln!(
         s,
         "[[robot]]\nname = \"wam\"\nurdf = \"wam\"\npose = {{ xyz = [0.0, 0.0, 0.6] }}\njoints = {{ wam_joint2 = -1.9, wam_joint4 = 2.6 }}\n\n[[camera]]\nname = \"overhead\"\nlook_at = {{ eye = [{0}, {1}, 1.75], target = [{0}, {1}, {TABLE_TOP}] }}",

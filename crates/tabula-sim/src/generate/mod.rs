@@ -2,6 +2,7 @@
 //! some touching, some stacked, seen by a head-height Kinect-like camera that also sees
 //! the floor and a wall. The perception benchmark and its test suite are made of these.
 
+mod blocks;
 pub mod clear;
 pub mod place;
 pub mod shelf;

@@ -204,26 +204,29 @@ pub fn tabletop_scene(seed: u64, layout: &TabletopLayout) -> String {
 /// Objects as `[[object]]` tables named `object0`, `object1`, … with random colours.
 pub(super) fn write_objects(s: &mut String, rng: &mut ChaCha8Rng, placed: &[Placed]) {
     for (i, p) in placed.iter().enumerate() {
-        let color = [
-            rng.random_range(0.2..0.95),
-            rng.random_range(0.2..0.95),
-            rng.random_range(0.2..0.95),
-        ];
-        let _ = writeln!(
-            s,
-            "[[object]]\nname = \"object{i}\"\nshape = {}\npose = {{ xyz = [{:.4}, {:.4}, {:.4}], rpy = [{:.4}, {:.4}, {:.4}] }}\ndensity = 400.0\ncolor = [{:.2}, {:.2}, {:.2}]\n",
-            p.shape.toml(),
-            p.xyz[0],
-            p.xyz[1],
-            p.xyz[2],
-            p.rpy[0],
-            p.rpy[1],
-            p.rpy[2],
-            color[0],
-            color[1],
-            color[2]
-        );
+        write_object(s, rng, i, &p.shape.toml(), (p.xyz, p.rpy));
     }
+}
+
+/// One `[[object]]` entry named `object{i}`, of shape `shape` (TOML), at `(xyz, rpy)`,
+/// in a colour drawn from `rng`.
+pub(super) fn write_object(
+    s: &mut String,
+    rng: &mut ChaCha8Rng,
+    i: usize,
+    shape: &str,
+    (xyz, rpy): ([f64; 3], [f64; 3]),
+) {
+    let color = [
+        rng.random_range(0.2..0.95),
+        rng.random_range(0.2..0.95),
+        rng.random_range(0.2..0.95),
+    ];
+    let _ = writeln!(
+        s,
+        "[[object]]\nname = \"object{i}\"\nshape = {shape}\npose = {{ xyz = [{:.4}, {:.4}, {:.4}], rpy = [{:.4}, {:.4}, {:.4}] }}\ndensity = 400.0\ncolor = [{:.2}, {:.2}, {:.2}]\n",
+        xyz[0], xyz[1], xyz[2], rpy[0], rpy[1], rpy[2], color[0], color[1], color[2]
+    );
 }
 
 /// Where a layout's groups go: inside the rectangle `center ± half` on a surface at

@@ -27,21 +27,25 @@ pub struct ClearJudge {
     shoved: Vec<String>,
     /// Objects (other than the target) moved more than 2 cm by an action, per action.
     pub disturbed: Vec<String>,
-    /// The robot watched, every object's pose at the start and the bin to end in.
+    /// The robot watched, the objects on the table at the start and the bin to end in.
     robot: String,
-    start: Vec<(String, Pose)>,
+    start: Vec<String>,
     bin: String,
 }
 
 /// The judged outcome of a clearing run.
 #[derive(Debug, Clone, Default, serde::Serialize, serde::Deserialize)]
 pub struct ClearVerdict {
-    /// Objects on the table at the start (above the table top, inside its outline).
+    /// Objects on the table at the start (above the table top, over its outline: an
+    /// object overhanging the edge counts).
     pub objects: usize,
     /// Of those, how many rest inside the bin at the end.
     pub in_bin: usize,
     /// Of those, how many are still on the table.
     pub left_on_table: usize,
+    /// Of those, how many are neither: knocked or dropped off the table.
+    #[serde(default)]
+    pub off_table: usize,
     /// Arm–object contacts with objects other than the target, as (link, object).
     pub collisions: Vec<(String, String)>,
     /// Objects moved more than 2 cm by an action not meant for them.
@@ -56,12 +60,13 @@ impl ClearJudge {
         (table, bin): (&str, &str),
     ) -> Result<Self, SimError> {
         furniture_bounds(world, bin).ok_or_else(|| SimError::UnknownEntity(bin.into()))?;
+        let table =
+            furniture_bounds(world, table).ok_or_else(|| SimError::UnknownEntity(table.into()))?;
         Ok(Self {
             robot: robot.into(),
-            start: world.object_poses(),
+            start: objects_on(world, &table),
             bin: bin.into(),
-            table: furniture_bounds(world, table)
-                .ok_or_else(|| SimError::UnknownEntity(table.into()))?,
+            table,
             target: Arc::default(),
             contacts: Arc::default(),
             action_start: Arc::default(),
@@ -184,8 +189,6 @@ impl ClearJudge {
         let Some(b) = furniture_bounds(world, &self.bin) else {
             return ClearVerdict::default();
         };
-        let t = self.table;
-        let on_table = |p: Vec3| above(&t, p);
         let in_bin = |p: Vec3| {
             p.x >= b.mins.x
                 && p.x <= b.maxs.x
@@ -193,24 +196,41 @@ impl ClearJudge {
                 && p.y <= b.maxs.y
                 && p.z > b.mins.z
         };
+        let on_table = objects_on(world, &self.table);
         let mut v = ClearVerdict {
+            objects: self.start.len(),
             collisions: self.contacts.lock().map(|c| c.clone()).unwrap_or_default(),
             disturbed: self.disturbed.clone(),
             ..ClearVerdict::default()
         };
-        for (name, p0) in &self.start {
-            if !on_table(p0.translation) {
-                continue;
-            }
-            v.objects += 1;
+        for name in &self.start {
             match world.pose(name) {
                 Ok(p) if in_bin(p.translation) => v.in_bin += 1,
-                Ok(p) if on_table(p.translation) => v.left_on_table += 1,
-                _ => {}
+                Ok(_) if on_table.contains(name) => v.left_on_table += 1,
+                _ => v.off_table += 1,
             }
         }
         v
     }
+}
+
+/// The objects standing on a table: the middle of their bounds above its top, the
+/// bounds over its outline (a prism's own origin may lie on its base).
+fn objects_on(world: &SimWorld, table: &Aabb) -> Vec<String> {
+    world
+        .object_poses()
+        .into_iter()
+        .filter(|(name, _)| {
+            world.entity_bounds(name).is_some_and(|o| {
+                o.center().z > table.maxs.z
+                    && o.maxs.x >= table.mins.x
+                    && o.mins.x <= table.maxs.x
+                    && o.maxs.y >= table.mins.y
+                    && o.mins.y <= table.maxs.y
+            })
+        })
+        .map(|(name, _)| name)
+        .collect()
 }
 
 impl Judge for ClearJudge {

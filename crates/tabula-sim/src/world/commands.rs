@@ -138,9 +138,15 @@ impl SimWorld {
             xyz: p.translation.to_array(),
             rpy: tabula_geom::rpy_from_quat(p.rotation),
         };
+        let held: Vec<String> = self
+            .robots
+            .iter()
+            .flat_map(|r| self.held_objects(&r.name))
+            .collect();
+        let saved = self.saved_object_poses(&held);
         for o in &mut scene.objects {
-            if let Ok(p) = self.pose(o.name.get_ref()) {
-                o.pose = pose_spec(p);
+            if let Some((_, p)) = saved.iter().find(|(n, _)| n == o.name.get_ref()) {
+                o.pose = pose_spec(*p);
             }
             if let ShapeSpec::Mesh { path, .. } = &mut o.shape {
                 absolute(path);

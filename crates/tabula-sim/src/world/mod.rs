@@ -4,6 +4,7 @@
 mod commands;
 mod furniture;
 pub mod robot;
+mod saved;
 
 use crate::scene::{FurnitureSpec, ObjectSpec, PoseSpec, Scene, ShapeSpec};
 use rapier3d_f64::prelude::*;
@@ -211,6 +212,38 @@ fn mesh_shape(
     })
 }
 
+/// A prism as exact convex pieces of its outline, each extruded (one convex
+/// polyhedron when the outline is convex, a compound otherwise).
+fn prism_shape(outline: &[[f64; 2]], length: f64) -> Result<SharedShape, SimError> {
+    let points: Vec<tabula_geom::Vec2> = outline
+        .iter()
+        .map(|&[x, y]| tabula_geom::Vec2::new(x, y))
+        .collect();
+    let bad = |message: String| SimError::Mesh {
+        path: "a prism's outline".into(),
+        message,
+    };
+    let pieces =
+        tabula_geom::convex_pieces::convex_pieces(&points).map_err(|e| bad(e.to_string()))?;
+    let mut parts = Vec::with_capacity(pieces.len());
+    for piece in &pieces {
+        let corners: Vec<Vec3> = [-0.5, 0.5]
+            .iter()
+            .flat_map(|s| piece.iter().map(move |p| Vec3::new(p.x, p.y, s * length)))
+            .collect();
+        let part = SharedShape::convex_hull(&corners)
+            .ok_or_else(|| bad("a piece of the outline has no volume".into()))?;
+        parts.push((Pose::IDENTITY, part));
+    }
+    Ok(match parts.len() {
+        1 => parts.remove(0).1,
+        _ => SharedShape::compound(parts),
+    })
+}
+
+/// Half the width of the ground under the floor (m).
+const GROUND_HALF_WIDTH: f64 = 5000.0;
+
 /// Marks a collider as a [`support_pieces`] helper in its `user_data` (above the 32-bit
 /// entity label): it carries contacts but is not part of what the entity looks like.
 pub(crate) const SUPPORT_PIECE: u128 = 1 << 64;
@@ -367,6 +400,15 @@ impl SimWorld {
             .friction(0.8)
             .user_data(label);
         self.physics.insert_collider(c, Some(body));
+        // Under the floor that is seen, ground 10 km across and 20 m deep: whatever
+        // rolls off the floor's edge or is pressed into it comes back up instead of
+        // falling forever. (A box, not parry's half-space, whose contact with convex
+        // shapes gives wrong depths.)
+        let ground = ColliderBuilder::cuboid(GROUND_HALF_WIDTH, GROUND_HALF_WIDTH, 10.0)
+            .translation(Vec3::new(0.0, 0.0, 0.05 - 10.0))
+            .friction(0.8)
+            .user_data(label | SUPPORT_PIECE);
+        self.physics.insert_collider(ground, Some(body));
         self.push_entity("floor", EntityKind::Floor, body, color);
     }
 
@@ -409,6 +451,9 @@ impl SimWorld {
                 SharedShape::capsule_z(height / 2.0, *radius),
                 Pose::IDENTITY,
             ),
+            ShapeSpec::Prism { outline, length } => {
+                (prism_shape(outline, *length)?, Pose::IDENTITY)
+            }
             ShapeSpec::Mesh { path, scale } => {
                 let full = match &self.base_dir {
                     Some(d) if Path::new(path).is_relative() => d.join(path),
@@ -537,9 +582,8 @@ impl SimWorld {
             )
             .ok()
             .flatten();
-            // Bodies resting on each other in a settled (saved) world interpenetrate by
-            // a few millimetres: deeper than 5 mm is a scene mistake.
-            if contact.is_some_and(|k| k.dist < -5e-3) {
+            // See `saved::MAX_LOAD_OVERLAP`.
+            if contact.is_some_and(|k| k.dist < -saved::MAX_LOAD_OVERLAP) {
                 return self
                     .entities
                     .get((c.user_data as usize).wrapping_sub(1))
@@ -624,8 +668,9 @@ impl SimWorld {
         let body = &self.physics.bodies[self.entities[i].body];
         body.colliders()
             .iter()
-            .map(|&ch| {
-                let c = &self.physics.colliders[ch];
+            .map(|&ch| &self.physics.colliders[ch])
+            .filter(|c| !is_support_piece(c.user_data))
+            .map(|c| {
                 let pose = *body.position() * *c.position_wrt_parent().unwrap_or(&Pose::IDENTITY);
                 tight_aabb(c.shared_shape(), &pose)
             })
