@@ -429,8 +429,8 @@ fn standing(
                 })
         };
         // On the support; or on a resting region and, as an object must be above the
-        // table, at least `min_object_height` tall above what it rests on.
-        let stacked = e.highest - e.lowest >= p.min_object_height && resting.iter().any(on);
+        // table, at least `min_stacked_height` tall above what it rests on.
+        let stacked = e.highest - e.lowest >= p.min_stacked_height && resting.iter().any(on);
         if e.lowest <= ground || stacked {
             resting.push(k);
         }

@@ -66,7 +66,7 @@ pub(crate) fn perceive(
         } else {
             table_z
         };
-        let bottom = standing_on(&segments, i, on_table, tabletop.min_object_height);
+        let bottom = standing_on(&segments, i, on_table, tabletop.min_stacked_height);
         if let Some(o) = seen_object(s, bottom) {
             objects.push(o);
         }
@@ -106,7 +106,7 @@ fn segment(cloud: &PointCloud, indices: &[usize]) -> Option<Segment> {
 /// footprint holds most of its points and whose top is near its lowest point (seed eq.
 /// 4.2's overlap test, with shares instead of its 100-point counts so it holds at any
 /// resolution).
-fn standing_on(segments: &[Segment], i: usize, table_z: f64, min_object_height: f64) -> f64 {
+fn standing_on(segments: &[Segment], i: usize, table_z: f64, min_stacked_height: f64) -> f64 {
     let s = &segments[i];
     let lowest = s.points.iter().map(|q| q.z).fold(f64::INFINITY, f64::min);
     if lowest <= table_z + 0.015 {
@@ -133,7 +133,7 @@ fn standing_on(segments: &[Segment], i: usize, table_z: f64, min_object_height: 
         // segment seen only by its top face is no higher than its neighbours and
         // stands on the table).
         under = highest(&mut candidates.iter().filter_map(|r| {
-            (r.top <= s.top - min_object_height
+            (r.top <= s.top - min_stacked_height
                 && s.footprint.iter().any(|&p| {
                     inside_convex(&r.footprint, p) || distance_to_boundary(&r.footprint, p) < 0.01
                 }))
