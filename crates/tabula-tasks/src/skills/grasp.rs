@@ -110,7 +110,7 @@ impl GraspPlanner for TopGrasps {
         let rect = &target.rect;
         let fits: Vec<Vec2> = [minor, major]
             .into_iter()
-            .filter(|&c| rect.extent_along(c) + 2.0 * self.margin <= hand.open_width)
+            .filter(|&c| hand.holds(rect.extent_along(c), self.margin))
             .collect();
         let deep = self.tip_z(target, hand, target.top);
         let at_height = |z: f64| {
@@ -177,7 +177,7 @@ impl NarrowPartGrasps {
                 |(lo, hi, top, n), q| (lo.min(q.1), hi.max(q.1), top.max(q.2), n + 1),
             );
             let width = hi - lo;
-            if count >= 20 && width + 2.0 * self.top.margin <= hand.open_width {
+            if count >= 20 && hand.holds(width, self.top.margin) {
                 let at = c + major * t + minor * ((lo + hi) / 2.0);
                 found.push(Part { at, top, width });
             }
@@ -294,7 +294,7 @@ impl GraspPlanner for SideGrasps {
             let yaw = facing + k as f64 * self.yaw_step;
             let closing = Vec2::new(-yaw.sin(), yaw.cos());
             let across = target.width_along(closing);
-            if across + 2.0 * self.finger_clearance > hand.open_width {
+            if !hand.holds(across, self.finger_clearance) {
                 continue;
             }
             let c3 = closing.extend(0.0);

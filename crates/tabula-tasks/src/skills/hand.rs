@@ -86,7 +86,14 @@ pub struct Hand {
     pub closing: Vec3,
     /// Widest finger gap (m).
     pub open_width: f64,
+    /// Finger gap when fully closed (m): nothing narrower can be held.
+    pub closed_width: f64,
 }
+
+/// How much wider than the closed fingers an object must be for the fingers to meet
+/// it before they stop (m): a tile on edge 1.2 cm thick between fingers that close to
+/// 3 cm is never held.
+pub const MIN_SQUEEZE: f64 = 0.002;
 
 impl Hand {
     /// The hand of `gripper` on `robot`: its palm and finger links posed by forward
@@ -155,7 +162,14 @@ impl Hand {
             approach,
             closing: gripper.closing(),
             open_width: gripper.open_width,
+            closed_width: gripper.closed_width,
         })
+    }
+
+    /// Whether something `width` across (m) fits between the open fingers with
+    /// `margin` on each side and is wide enough for the closing fingers to hold.
+    pub fn holds(&self, width: f64, margin: f64) -> bool {
+        width + 2.0 * margin <= self.open_width && width >= self.closed_width + MIN_SQUEEZE
     }
 
     /// The narrowest opening at least `width` wide (fully open when none is): its gap
