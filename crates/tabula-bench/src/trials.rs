@@ -27,16 +27,8 @@ pub fn run<R>(
 where
     R: Serialize + DeserializeOwned + Send,
 {
-    use rayon::prelude::*;
     match spread.workers {
-        None => seeds
-            .into_par_iter()
-            .map(|s| {
-                let row = local(s);
-                tick();
-                row
-            })
-            .collect(),
+        None => on_this_machine(seeds, &local, tick),
         Some(n) => {
             #[cfg(feature = "ros")]
             {
@@ -49,4 +41,49 @@ where
             }
         }
     }
+}
+
+/// Stack of a thread running one trial (virtual memory; pages are used as touched).
+const TRIAL_STACK: usize = 64 << 20;
+
+/// Every seed's trial on plain threads, one per core, each taking the next seed.
+///
+/// Why not rayon's pool: a trial waits on pools of its own (perception runs in a
+/// one-thread pool), and a rayon worker that waits steals other jobs of its pool — here
+/// whole trials — and runs them on top of its stack, so 50 clearing scenes nested
+/// until the stack overflowed and the process aborted.
+fn on_this_machine<R: Send>(
+    seeds: std::ops::Range<u64>,
+    local: &(impl Fn(u64) -> Result<R> + Sync),
+    tick: &(dyn Fn() + Sync),
+) -> Result<Vec<R>> {
+    use std::sync::Mutex;
+    use std::sync::atomic::{AtomicUsize, Ordering};
+    let seeds: Vec<u64> = seeds.collect();
+    let rows: Mutex<Vec<Option<Result<R>>>> = Mutex::new((0..seeds.len()).map(|_| None).collect());
+    let next = AtomicUsize::new(0);
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    std::thread::scope(|scope| -> Result<()> {
+        let worker = || loop {
+            let k = next.fetch_add(1, Ordering::Relaxed);
+            let Some(&seed) = seeds.get(k) else { break };
+            let row = local(seed);
+            tick();
+            if let Ok(mut rows) = rows.lock() {
+                rows[k] = Some(row);
+            }
+        };
+        for _ in 0..cores.min(seeds.len()) {
+            std::thread::Builder::new()
+                .name("trial".into())
+                .stack_size(TRIAL_STACK)
+                .spawn_scoped(scope, worker)?;
+        }
+        Ok(())
+    })?;
+    rows.into_inner()
+        .map_err(|_| anyhow::anyhow!("a trial thread panicked"))?
+        .into_iter()
+        .map(|row| row.unwrap_or_else(|| Err(anyhow::anyhow!("a trial did not run"))))
+        .collect()
 }
