@@ -174,7 +174,14 @@ impl Default for ClearParams {
         // cannot follow it exactly (the near-line fallback of the move group).
         motion.cartesian_tolerance = 0.005;
         Self {
-            tabletop: TabletopParams::default(),
+            // The overhead camera is 1 m above the table: a tile standing on edge 1 cm
+            // thick shows ~150 points at full resolution, under SPEC §6's 200 (made for
+            // seed 002's head camera); 100 keeps it (2.6 cm² seen at 1 m). Measured on
+            // every clearing family: no suite lost an object, blocks 92.1 → 96.2 %.
+            tabletop: TabletopParams {
+                min_object_points: 100,
+                ..TabletopParams::default()
+            },
             motion,
             camera: "overhead".into(),
             decimate: 2,
