@@ -1347,6 +1347,70 @@ fn scenes(c: &mut Corpus) {
             "malformed",
         ),
         (
+            "prism-bowtie",
+            with(
+                red_box,
+                r#"shape = { prism = { outline = [[0.0, 0.0], [0.04, 0.04], [0.04, 0.0], [0.0, 0.02]], length = 0.1 } }"#,
+            ),
+            "garbage",
+        ),
+        (
+            "prism-two-vertices",
+            with(
+                red_box,
+                r#"shape = { prism = { outline = [[0.0, 0.0], [0.04, 0.0]], length = 0.1 } }"#,
+            ),
+            "garbage",
+        ),
+        (
+            "prism-collinear",
+            with(
+                red_box,
+                r#"shape = { prism = { outline = [[0.0, 0.0], [0.02, 0.0], [0.04, 0.0]], length = 0.1 } }"#,
+            ),
+            "garbage",
+        ),
+        (
+            "prism-nan",
+            with(
+                red_box,
+                r#"shape = { prism = { outline = [[0.0, 0.0], [nan, 0.0], [0.0, 0.04]], length = 0.1 } }"#,
+            ),
+            "garbage",
+        ),
+        (
+            "prism-1e300",
+            with(
+                red_box,
+                r#"shape = { prism = { outline = [[0.0, 0.0], [1e300, 0.0], [0.0, 0.04]], length = 0.1 } }"#,
+            ),
+            "garbage",
+        ),
+        (
+            "prism-1e-300",
+            with(
+                red_box,
+                r#"shape = { prism = { outline = [[0.0, 0.0], [1e-300, 0.0], [0.0, 1e-300]], length = 0.1 } }"#,
+            ),
+            "garbage",
+        ),
+        (
+            "prism-length-zero",
+            with(
+                red_box,
+                r#"shape = { prism = { outline = [[-0.025, -0.04], [0.025, -0.04], [0.0, 0.04]], length = 0.0 } }"#,
+            ),
+            "garbage",
+        ),
+        (
+            "prism-outline-word",
+            with(
+                red_box,
+                r#"shape = { prism = { outline = "triangle", length = 0.1 } }"#,
+            ),
+            "malformed",
+        ),
+        (
             "mass-1e300",
             with("mass = 0.2\ncolor = [0.85", "mass = 1e300\ncolor = [0.85"),
             "garbage",
@@ -1492,6 +1556,45 @@ fn scenes(c: &mut Corpus) {
     ] {
         settle(c, name, class, Error, text);
     }
+    let circle: Vec<String> = (0..300)
+        .map(|k| {
+            let t = std::f64::consts::TAU * k as f64 / 300.0;
+            format!("[{:.6}, {:.6}]", 0.03 * t.cos(), 0.03 * t.sin())
+        })
+        .collect();
+    let many = format!(
+        "shape = {{ prism = {{ outline = [{}], length = 0.1 }} }}",
+        circle.join(", ")
+    );
+    settle(
+        c,
+        "prism-300-vertices",
+        "unbounded",
+        Error,
+        with(red_box, &many),
+    );
+    settle(
+        c,
+        "prism-wedge",
+        "odd-legal",
+        Ok,
+        with(
+            red_box,
+            r#"shape = { prism = { outline = [[-0.025, -0.04], [0.025, -0.04], [0.0, 0.04]], length = 0.1 } }"#,
+        ),
+    );
+    c.needs("all asleep: true");
+    settle(
+        c,
+        "prism-notched",
+        "odd-legal",
+        Ok,
+        with(
+            red_box,
+            r#"shape = { prism = { outline = [[0.025, -0.04], [0.025, 0.04], [-0.025, 0.04], [-0.025, -0.04], [-0.012, -0.04], [0.0, -0.028], [0.012, -0.04]], length = 0.1 } }"#,
+        ),
+    );
+    c.needs("all asleep: true");
     // Cameras: sizes that wrap, fields of view, degenerate look-at.
     let camera = |w: &str, h: &str, extra: &str| {
         format!(
