@@ -1,9 +1,10 @@
 //! The gripper holds what it closes on (issue 3's grasp scenario).
 
-use tabula_geom::{Pose, Quat, Vec3};
+mod common;
+
+use tabula_geom::Vec3;
 use tabula_robot::Chain;
 use tabula_robot::driver::JointTrajectory;
-use tabula_robot::ik::{IkMode, IkSolver, NumericIk, NumericIkParams};
 use tabula_sim::{PhysicsParams, Scene, SimWorld};
 
 const SCENE: &str = r#"
@@ -25,21 +26,9 @@ name = "wam"
 urdf = "wam"
 "#;
 
-/// Joint values putting the WAM's tool at `xyz` pointing down (fingers closing along x).
+/// Joint values putting the WAM's tool at `xyz` pointing down.
 fn ik(chain: &Chain, xyz: Vec3, seed: &[f64]) -> Vec<f64> {
-    let solver = NumericIk::new(
-        chain.clone(),
-        NumericIkParams {
-            timeout_s: None,
-            ..Default::default()
-        },
-    );
-    let target = Pose::from_parts(xyz, Quat::from_rotation_x(std::f64::consts::PI));
-    solver
-        .solve(&target, IkMode::Full, seed)
-        .expect("reachable")[0]
-        .joints
-        .clone()
+    common::tool_down(chain, xyz, seed)
 }
 
 /// `scene_text` loaded and settled with the WAM's fingers around the box at

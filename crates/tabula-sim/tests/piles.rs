@@ -3,13 +3,14 @@
 //! finger squeezing an object against the table must not push it through the table or
 //! the floor, and the scene saved afterwards must load again.
 
+mod common;
+
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::fmt::Write as _;
-use tabula_geom::{Pose, Quat, Vec3};
+use tabula_geom::Vec3;
 use tabula_robot::Chain;
 use tabula_robot::driver::JointTrajectory;
-use tabula_robot::ik::{IkMode, IkSolver, NumericIk, NumericIkParams};
 use tabula_sim::{PhysicsParams, Scene, SimWorld};
 
 const TOP: f64 = 0.72;
@@ -63,20 +64,7 @@ fn scene_text(seed: u64) -> String {
 /// The WAM's joints putting its tool at `xyz` (world; the WAM stands at z = 0.6)
 /// pointing down, from `seed`.
 fn ik(chain: &Chain, xyz: Vec3, seed: &[f64]) -> Vec<f64> {
-    let solver = NumericIk::new(
-        chain.clone(),
-        NumericIkParams {
-            timeout_s: None,
-            ..Default::default()
-        },
-    );
-    let xyz = xyz - Vec3::new(0.0, 0.0, 0.6);
-    let target = Pose::from_parts(xyz, Quat::from_rotation_x(std::f64::consts::PI));
-    solver
-        .solve(&target, IkMode::Full, seed)
-        .expect("reachable")[0]
-        .joints
-        .clone()
+    common::tool_down(chain, xyz - Vec3::new(0.0, 0.0, 0.6), seed)
 }
 
 /// A tool path through `points` (straight joint-space pieces between IK solutions,
