@@ -10,9 +10,13 @@ ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "crates")
 FN = re.compile(r"^\s*(pub(\([^)]*\))?\s+)?(const\s+)?(async\s+)?(unsafe\s+)?fn\s+(\w+)")
 
 
+PYTHON = os.path.join(ROOT, "..", "python")
+
+
 def source_files():
-    for crate in sorted(os.listdir(ROOT)):
-        src = os.path.join(ROOT, crate, "src")
+    crates = [(c, os.path.join(ROOT, c, "src")) for c in sorted(os.listdir(ROOT))]
+    # The Python binding is a crate too (`python/src`, crate tabula-py).
+    for crate, src in crates + [("tabula-py", os.path.join(PYTHON, "src"))]:
         for dirpath, _, files in os.walk(src):
             for f in sorted(files):
                 if f.endswith(".rs") and f != "tests.rs":

@@ -3,8 +3,12 @@
 
 mod commands;
 mod furniture;
+mod prism;
 pub mod robot;
+mod rolling;
 mod saved;
+
+pub use rolling::ROLLING_DAMPING;
 
 use crate::scene::{FurnitureSpec, ObjectSpec, PoseSpec, Scene, ShapeSpec};
 use rapier3d_f64::prelude::*;
@@ -211,41 +215,6 @@ fn mesh_shape(
         message,
     })
 }
-
-/// A prism as exact convex pieces of its outline, each extruded (one convex
-/// polyhedron when the outline is convex, a compound otherwise).
-fn prism_shape(outline: &[[f64; 2]], length: f64) -> Result<SharedShape, SimError> {
-    let points: Vec<tabula_geom::Vec2> = outline
-        .iter()
-        .map(|&[x, y]| tabula_geom::Vec2::new(x, y))
-        .collect();
-    let bad = |message: String| SimError::Mesh {
-        path: "a prism's outline".into(),
-        message,
-    };
-    let pieces =
-        tabula_geom::convex_pieces::convex_pieces(&points).map_err(|e| bad(e.to_string()))?;
-    let mut parts = Vec::with_capacity(pieces.len());
-    for piece in &pieces {
-        let corners: Vec<Vec3> = [-0.5, 0.5]
-            .iter()
-            .flat_map(|s| piece.iter().map(move |p| Vec3::new(p.x, p.y, s * length)))
-            .collect();
-        let part = SharedShape::convex_hull(&corners)
-            .ok_or_else(|| bad("a piece of the outline has no volume".into()))?;
-        parts.push((Pose::IDENTITY, part));
-    }
-    Ok(match parts.len() {
-        1 => parts.remove(0).1,
-        _ => SharedShape::compound(parts),
-    })
-}
-
-/// Angular damping (1/s) of an object touching something: a can rolling at 10 cm/s
-/// stops within about 10 cm, as with a rolling-resistance coefficient near 0.01
-/// (rubber or cardboard on wood); an object tipping over an edge (angular
-/// accelerations of 100 rad/s² and more) is not noticeably slowed.
-pub const ROLLING_DAMPING: f64 = 1.0;
 
 /// Half the width of the ground under the floor (m).
 const GROUND_HALF_WIDTH: f64 = 5000.0;
@@ -458,7 +427,7 @@ impl SimWorld {
                 Pose::IDENTITY,
             ),
             ShapeSpec::Prism { outline, length } => {
-                (prism_shape(outline, *length)?, Pose::IDENTITY)
+                (prism::prism_shape(outline, *length)?, Pose::IDENTITY)
             }
             ShapeSpec::Mesh { path, scale } => {
                 let full = match &self.base_dir {
@@ -698,40 +667,6 @@ impl SimWorld {
             self.physics.step();
         }
         self.steps += 1;
-    }
-
-    /// Rolling resistance, which the physics lacks (a lying can pushed at 10 cm/s
-    /// would roll on for ever, off the table and across the floor): objects touching
-    /// something have their spin damped by [`ROLLING_DAMPING`]; in the air they are not.
-    fn resist_rolling(&mut self) {
-        let mut touching = rustc_hash::FxHashSet::default();
-        for pair in self.physics.narrow_phase.contact_pairs() {
-            if pair.has_any_active_contact() {
-                for c in [pair.collider1, pair.collider2] {
-                    if let Some(body) = self.physics.colliders.get(c).and_then(|c| c.parent()) {
-                        touching.insert(body);
-                    }
-                }
-            }
-        }
-        for e in self
-            .entities
-            .iter()
-            .filter(|e| e.kind == EntityKind::Object && !e.deleted)
-        {
-            let want = if touching.contains(&e.body) {
-                ROLLING_DAMPING
-            } else {
-                0.0
-            };
-            if let Some(b) = self.physics.bodies.get(e.body)
-                && b.is_dynamic()
-                && b.angular_damping() != want
-                && let Some(b) = self.physics.bodies.get_mut(e.body)
-            {
-                b.set_angular_damping(want);
-            }
-        }
     }
 
     /// Simulated seconds since the world was built.
