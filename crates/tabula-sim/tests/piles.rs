@@ -139,8 +139,8 @@ fn pressing_into_piles_loses_no_object() {
         }
     }
     eprintln!("{off_table} of 200 ended off the table");
-    // Two objects end jammed in the open hand, pressed into each other deeper than a
-    // scene file may place them: the saved scene takes them apart.
+    // Whatever the hand pressed together, the saved scene loads (objects pressed deeper
+    // into each other than a scene may place them are saved apart: `world/saved.rs`).
     let saved = world.to_scene().to_toml().unwrap();
     let reloaded = Scene::parse(&saved, "saved.toml").unwrap();
     SimWorld::from_scene(&reloaded, PhysicsParams::default()).expect("the saved scene loads");
