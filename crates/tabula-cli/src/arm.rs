@@ -177,7 +177,8 @@ pub fn run(a: ArmArgs) -> Result<()> {
     Ok(())
 }
 
-fn save_scene(world: &SimWorld, path: Option<&PathBuf>) -> Result<()> {
+/// Writes `world` as a scene file (`--save-scene`), when a path was given.
+pub fn save_scene(world: &SimWorld, path: Option<&PathBuf>) -> Result<()> {
     if let Some(path) = path {
         let text = world
             .to_scene()

@@ -4,11 +4,11 @@
 //! path through the arm's IK from the current joints, checked against the joints'
 //! limits and the scene, executed in the simulator — or refused with the reason.
 
-use crate::arm::arm_name;
+use crate::arm::{arm_name, save_scene};
 use crate::tasks::{load_params, load_world, scene_robot_named};
 use anyhow::{Result, anyhow};
 use clap::Args;
-use ratatui::crossterm::event::{self, Event, KeyCode, KeyEventKind};
+use ratatui::crossterm::event::{self, Event, KeyCode, KeyEvent, KeyEventKind, KeyModifiers};
 use ratatui::layout::{Constraint, Layout};
 use ratatui::style::{Color, Style};
 use ratatui::text::Line;
@@ -16,6 +16,7 @@ use ratatui::widgets::{Block, LineGauge, Paragraph};
 use std::path::PathBuf;
 use tabula_geom::{Pose, Vec3};
 use tabula_motion::group::{MoveGroup, MoveGroupParams};
+use tabula_robot::driver::Grippers;
 use tabula_sim::SimDriver;
 use tabula_tasks::skills::SkillError;
 use tabula_tasks::skills::jog::{Jog, JogFrame, JointReading};
@@ -35,6 +36,9 @@ pub struct TeleopArgs {
     /// Motion parameters (TOML, `MoveGroupParams`).
     #[arg(long)]
     params: Option<PathBuf>,
+    /// Write the world as a scene file when the session ends (Ctrl+C, q or Esc).
+    #[arg(long)]
+    save_scene: Option<PathBuf>,
 }
 
 /// The tele-operation state: the jogged arm in the simulator, step sizes, the last
@@ -70,11 +74,19 @@ impl Teleop {
     }
 
     fn gripper(&mut self, open: bool) {
+        let held_before = self.held();
         let grip = self.jog.gripper((!open).then_some(self.effort));
+        if open && grip.is_ok() {
+            // What it held is let go: the physics runs until it comes to rest, so the
+            // screen and a saved scene show where it fell, not the object hanging
+            // between open fingers.
+            self.jog.driver.world.settle();
+        }
         self.answer(
             "gripper",
             grip.map(|s| match s {
-                None => "gripper opened".into(),
+                None if held_before.is_empty() => "gripper opened".into(),
+                None => format!("gripper opened, released {}", held_before.join(", ")),
                 Some(s) => format!(
                     "gripper closed to {:.1} mm{}",
                     s.width * 1e3,
@@ -82,6 +94,59 @@ impl Teleop {
                 ),
             }),
         );
+    }
+
+    /// The objects the driven arm's gripper holds now.
+    fn held(&self) -> Vec<String> {
+        let driver = &self.jog.driver;
+        let palm = self
+            .jog
+            .robot
+            .description
+            .arm(&self.jog.arm)
+            .ok()
+            .and_then(|a| self.jog.robot.description.gripper_of(a))
+            .map(|g| g.palm.clone());
+        driver
+            .world
+            .attachments
+            .iter()
+            .filter(|a| a.robot == driver.robot_name() && Some(&a.link) == palm.as_ref())
+            .map(|a| format!("`{}`", a.object))
+            .collect()
+    }
+
+    /// The gripper's line on the screen: its gap and what it holds.
+    fn gripper_line(&self) -> String {
+        let Some(g) = self
+            .jog
+            .robot
+            .description
+            .arm(&self.jog.arm)
+            .ok()
+            .and_then(|a| self.jog.robot.description.gripper_of(a))
+        else {
+            return "gripper: none on this arm".into();
+        };
+        let held = self.held();
+        match self.jog.driver.grip_state(&g.name) {
+            Ok(s) => format!(
+                "gripper `{}`: {:.1} mm ({}){}",
+                g.name,
+                s.width * 1e3,
+                if s.width >= g.open_width - 1e-4 {
+                    "open"
+                } else {
+                    "closed"
+                },
+                if held.is_empty() {
+                    ", holding nothing".to_string()
+                } else {
+                    format!(", holding {}", held.join(", "))
+                }
+            ),
+            Err(e) => format!("gripper `{}`: {e}", g.name),
+        }
     }
 
     fn look_at_gripper(&mut self) {
@@ -110,12 +175,24 @@ impl Teleop {
         }
     }
 
-    /// Handles a key; `false` when it asks to quit.
-    fn key(&mut self, code: KeyCode) -> bool {
+    /// Handles a key; `false` when it asks to quit. In raw mode Ctrl+C arrives as a key,
+    /// not a signal: it (and Ctrl+D, Ctrl+\\) stops and quits, and no other
+    /// Ctrl-chord does anything — Ctrl+C must never close the gripper as `c` does.
+    fn key(&mut self, key: KeyEvent) -> bool {
+        if key
+            .modifiers
+            .intersects(KeyModifiers::CONTROL | KeyModifiers::ALT)
+        {
+            if let KeyCode::Char('c' | 'd' | '\\') = key.code {
+                return false;
+            }
+            self.last = "refused: not a key here (Ctrl+C, q or Esc quits)".into();
+            return true;
+        }
         let (m, r) = (self.step_m, self.step_rad);
         let cm = m * 100.0;
         let deg = r.to_degrees();
-        match code {
+        match key.code {
             KeyCode::Char('q') | KeyCode::Esc => return false,
             KeyCode::Char('w') => self.step(Vec3::X * m, Vec3::ZERO, &format!("+x {cm:.1} cm")),
             KeyCode::Char('s') => self.step(-Vec3::X * m, Vec3::ZERO, &format!("-x {cm:.1} cm")),
@@ -216,6 +293,7 @@ impl Teleop {
                 self.step_rad.to_degrees(),
                 self.effort
             )),
+            Line::from(self.gripper_line()),
             Line::styled(
                 format!("last: {}", self.last),
                 Style::default().fg(if refused { Color::Red } else { Color::Green }),
@@ -259,7 +337,7 @@ impl Teleop {
                 Line::from(
                     "+/- step size  ]/[ turn size   c close  v open gripper  >/< grip effort  y/h torso",
                 ),
-                Line::from("g look at the gripper   q or Esc quit"),
+                Line::from("g look at the gripper   q, Esc or Ctrl+C quit"),
             ])
             .block(Block::bordered().title(" keys ")),
             help,
@@ -298,18 +376,28 @@ pub fn run(a: TeleopArgs) -> Result<()> {
     // it on a panic; restore() undoes it on every way out below.
     let mut terminal =
         ratatui::try_init().map_err(|e| anyhow!("teleop cannot take over the terminal: {e}"))?;
+    // Raw mode turns Ctrl+C into a key (see `key`); a SIGINT from elsewhere (`kill
+    // -INT`) asks the same stop, seen between keys.
+    crate::exit::stop_on_ctrl_c();
     let result = (|| -> Result<()> {
         loop {
             let status = t.jog.status();
             terminal.draw(|f| t.draw(f, &status))?;
+            if tabula_robot::driver::stop_requested() {
+                return Ok(());
+            }
+            if !event::poll(std::time::Duration::from_millis(100))? {
+                continue;
+            }
             if let Event::Key(k) = event::read()?
                 && k.kind == KeyEventKind::Press
-                && !t.key(k.code)
+                && !t.key(k)
             {
                 return Ok(());
             }
         }
     })();
     ratatui::restore();
-    result
+    result?;
+    save_scene(&t.jog.driver.world, a.save_scene.as_ref())
 }

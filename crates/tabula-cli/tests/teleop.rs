@@ -164,3 +164,110 @@ fn keys_step_the_tool_in_the_right_frame_and_quitting_restores_the_terminal() {
         std::panic::resume_unwind(e);
     }
 }
+
+/// A tmux session running `tabula teleop` on the PR2 holding its cup, saving the scene
+/// on the way out; killed when dropped.
+struct HoldingSession {
+    name: String,
+    saved: std::path::PathBuf,
+}
+
+impl HoldingSession {
+    fn start(tag: &str) -> Option<Self> {
+        if Command::new("tmux").arg("-V").output().is_err() {
+            assert!(
+                std::env::var_os("TABULA_REQUIRE_TMUX").is_none(),
+                "TABULA_REQUIRE_TMUX is set but tmux is missing"
+            );
+            eprintln!("skipped: no tmux (apt-get install tmux)");
+            return None;
+        }
+        let name = format!("tabula-teleop-{tag}-{}", std::process::id());
+        let saved = std::env::temp_dir().join(format!("{name}.toml"));
+        let _ = std::fs::remove_file(&saved);
+        let command = format!(
+            "sh -c '{} teleop --scene ../../scenes/pr2_holding.toml --save-scene {}; echo EXIT=$?; sleep 120'",
+            env!("CARGO_BIN_EXE_tabula"),
+            saved.display()
+        );
+        let started = Command::new("tmux")
+            .args(["new-session", "-d", "-s", &name, "-x", "120", "-y", "40"])
+            .arg(&command)
+            .status()
+            .unwrap();
+        assert!(started.success());
+        Some(Self { name, saved })
+    }
+
+    fn saved_scene(&self) -> toml::Table {
+        std::fs::read_to_string(&self.saved)
+            .expect("the scene was saved")
+            .parse()
+            .expect("the saved scene is TOML")
+    }
+}
+
+impl Drop for HoldingSession {
+    fn drop(&mut self) {
+        let _ = Command::new("tmux")
+            .args(["kill-session", "-t", &self.name])
+            .status();
+        let _ = std::fs::remove_file(&self.saved);
+    }
+}
+
+fn cup_z(scene: &toml::Table) -> f64 {
+    let objects = scene["object"].as_array().unwrap();
+    let cup = objects
+        .iter()
+        .find(|o| o["name"].as_str() == Some("cup"))
+        .unwrap();
+    cup["pose"]["xyz"][2].as_float().unwrap()
+}
+
+fn holds(scene: &toml::Table) -> usize {
+    scene
+        .get("hold")
+        .and_then(|h| h.as_array())
+        .map_or(0, Vec::len)
+        + scene["robot"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter_map(|r| r.get("hold"))
+            .count()
+}
+
+/// Ctrl+C in the UI stops and quits (exit 0) with the cup still held; `v` lets it go,
+/// and the saved scene has it out of the hand, lower than where it was held.
+#[test]
+fn ctrl_c_quits_with_the_gripper_untouched_and_v_releases() {
+    let held_z = {
+        let Some(s) = HoldingSession::start("ctrlc") else {
+            return;
+        };
+        let s0 = screen_when(&s.name, "the UI", |x| x.contains("tool (base)"));
+        assert!(s0.contains("holding `cup`"), "{s0}");
+        tmux(&["send-keys", "-t", &s.name, "C-c"]);
+        let s1 = screen_when(&s.name, "the exit", |x| x.contains("EXIT="));
+        assert!(s1.contains("EXIT=0"), "{s1}");
+        let scene = s.saved_scene();
+        assert_eq!(holds(&scene), 1, "the cup is no longer held:\n{scene}");
+        cup_z(&scene)
+    };
+    let s = HoldingSession::start("release").unwrap();
+    screen_when(&s.name, "the UI", |x| x.contains("holding `cup`"));
+    tmux(&["send-keys", "-t", &s.name, "v"]);
+    let s1 = screen_when(&s.name, "the release", |x| x.contains("released `cup`"));
+    assert!(s1.contains("holding nothing"), "{s1}");
+    tmux(&["send-keys", "-t", &s.name, "q"]);
+    let s2 = screen_when(&s.name, "the exit", |x| x.contains("EXIT="));
+    assert!(s2.contains("EXIT=0"), "{s2}");
+    let scene = s.saved_scene();
+    assert_eq!(holds(&scene), 0, "the cup is still held:\n{scene}");
+    assert!(
+        cup_z(&scene) < held_z - 0.005,
+        "the cup did not drop: {held_z} → {}",
+        cup_z(&scene)
+    );
+}
