@@ -9,7 +9,7 @@ cd "$(dirname "$0")/../fuzz"
 secs=${1:-600}
 shift || true
 targets=("$@")
-[ ${#targets[@]} -eq 0 ] && targets=(cloud mesh urdf srdf xacro moveit scene params pddl ros)
+[ ${#targets[@]} -eq 0 ] && targets=(cloud mesh urdf srdf description xacro moveit scene params pddl ros)
 H=../target/hostile-corpus  # written by the hostile-corpus test (cargo test --test hostile)
 seed() { mkdir -p "corpus/$1"; shift; for f in "$@"; do [ -f "$f" ] && cp "$f" "corpus/${dir}/"; done; true; }
 for t in "${targets[@]}"; do
@@ -19,6 +19,7 @@ for t in "${targets[@]}"; do
     mesh) seed mesh $H/mesh/* ;;
     urdf) seed urdf ../robots/*.urdf ../robots/*.toml $H/urdf/* ;;
     srdf) seed srdf $H/srdf/* ;;
+    description) seed description ../robots/*.toml $H/description/* ;;
     xacro) seed xacro ../robots/*.xacro $H/xacro/* ;;
     moveit) seed moveit ../data/mbm/panda/problems/*/*.yaml $H/moveit/* ;;
     scene) seed scene ../scenes/*.toml $H/scene/* ;;

@@ -31,10 +31,7 @@ impl Latency {
     /// The frame of scenes/pr2_holding.toml's head camera, published and received
     /// `frames` times, then its bytes raw.
     pub fn measure(frames: usize) -> Result<Self> {
-        let scene = tabula_sim::Scene::parse(
-            include_str!("../../../scenes/pr2_holding.toml"),
-            "pr2_holding.toml",
-        )?;
+        let scene = tabula_sim::Scene::parse(tabula_sim::builtin::PR2_HOLDING, "pr2_holding.toml")?;
         let world = tabula_sim::SimWorld::from_scene(&scene, Default::default())?;
         let camera = world.camera("head")?;
         let frame = tabula_sim::camera::capture(&world, &camera, 1);

@@ -2,6 +2,31 @@
 //! is parsed here, so a NaN, an infinity or a count that would exhaust memory is a
 //! usage error naming the flag, before any work starts.
 
+/// A command line clap accepted that is still incomplete (a subcommand or an argument
+/// it cannot require because `--print-params` stands in for it): exit 64, as clap's.
+#[derive(Debug)]
+pub struct Usage(pub String);
+
+impl std::fmt::Display for Usage {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{} (see --help)", self.0)
+    }
+}
+
+impl std::error::Error for Usage {}
+
+/// The value of an optional argument clap requires unless `--print-params` is given.
+pub fn given<'a>(
+    v: &'a Option<std::path::PathBuf>,
+    flag: &str,
+) -> Result<&'a std::path::Path, Usage> {
+    v.as_deref().ok_or_else(|| {
+        Usage(format!(
+            "the following required argument was not provided: {flag}"
+        ))
+    })
+}
+
 /// A finite number (coordinates, joint values, margins).
 pub fn finite(s: &str) -> Result<f64, String> {
     let v: f64 = s
@@ -175,5 +200,47 @@ mod tests {
             Ok(("ur_type".into(), "ur5e".into()))
         );
         assert!(xacro_arg("nothing").is_err() && xacro_arg(":=x").is_err());
+    }
+}
+
+/// The command line with negative numbers in exponent form (`-5e-3`, `-1E+2`) written
+/// out in plain decimals (`-0.005`, the same `f64`): clap takes a leading `-` for a
+/// flag unless the rest looks like a number, and its test knows no signed exponent.
+pub fn negative_exponents(
+    args: impl IntoIterator<Item = std::ffi::OsString>,
+) -> Vec<std::ffi::OsString> {
+    args.into_iter()
+        .map(|a| {
+            let Some(s) = a.to_str() else { return a };
+            let digit_after_sign = s
+                .strip_prefix('-')
+                .and_then(|r| r.chars().next())
+                .is_some_and(|c| c.is_ascii_digit() || c == '.');
+            match s.parse::<f64>() {
+                Ok(v) if digit_after_sign && s.contains(['e', 'E']) && v.is_finite() => {
+                    format!("{v}").into()
+                }
+                _ => a,
+            }
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod exponent_tests {
+    use super::negative_exponents;
+
+    #[test]
+    fn negative_exponents_become_plain_decimals_of_the_same_value() {
+        let args = [
+            "tabula", "-5e-3", "-1E+2", "-v", "--x", "-", "5e-3", "-1e-300",
+        ];
+        let out = negative_exponents(args.iter().map(Into::into));
+        let out: Vec<&str> = out.iter().map(|a| a.to_str().unwrap()).collect();
+        assert_eq!(
+            &out[..7],
+            ["tabula", "-0.005", "-100", "-v", "--x", "-", "5e-3"]
+        );
+        assert_eq!(out[7].parse::<f64>().unwrap(), -1e-300);
     }
 }

@@ -18,8 +18,8 @@ use tabula_sim::{SimDriver, SimWorld};
 
 #[derive(Args)]
 pub struct ArmArgs {
-    #[arg(long)]
-    scene: PathBuf,
+    #[arg(long, required_unless_present = "print_params")]
+    scene: Option<PathBuf>,
     /// The robot to command when the scene has several.
     #[arg(long)]
     robot: Option<String>,
@@ -29,13 +29,17 @@ pub struct ArmArgs {
     /// Motion parameters (TOML, `MoveGroupParams`).
     #[arg(long)]
     params: Option<PathBuf>,
+    /// Print the parameters `--params` takes, with their defaults (SPEC's values), as
+    /// TOML to start a file from, and exit.
+    #[arg(long, exclusive = true)]
+    print_params: bool,
     #[arg(long)]
     json: bool,
     /// Write the world afterwards as a scene file (simulator only).
     #[arg(long)]
     save_scene: Option<PathBuf>,
     #[command(subcommand)]
-    action: ArmAction,
+    action: Option<ArmAction>,
 }
 
 #[derive(Subcommand, Clone)]
@@ -117,25 +121,27 @@ impl From<&JointTrajectory> for TrajectoryJson {
 }
 
 pub fn run(a: ArmArgs) -> Result<()> {
+    if a.print_params {
+        return crate::tasks::print_params::<MoveGroupParams>();
+    }
+    let Some(action) = &a.action else {
+        return Err(crate::args::Usage(
+            "'tabula arm' requires a subcommand: move-joints, move-pose, named or gripper".into(),
+        )
+        .into());
+    };
     let params: MoveGroupParams = load_params(a.params.as_deref())?;
-    let (_, world) = load_world(&a.scene)?;
+    let (_, world) = load_world(crate::args::given(&a.scene, "--scene")?)?;
     let (robot_name, robot) = scene_robot_named(&world, a.robot.as_deref())?;
     let obstacles = world.planning_scene(&robot_name);
     let out = if a.dry_run {
         let state = world.robot(&robot_name)?;
         let js = tabula_robot::driver::JointState::of_model(&state.model, &state.values);
         let mut fake = FakeDriver::new(robot.clone(), js, state.world_from_root);
-        act(&mut fake, &robot, &obstacles, &a.action, &params, "fake")?
+        act(&mut fake, &robot, &obstacles, action, &params, "fake")?
     } else {
         let mut sim = SimDriver::new(world, &robot_name, 1)?;
-        let out = act(
-            &mut sim,
-            &robot,
-            &obstacles,
-            &a.action,
-            &params,
-            "simulator",
-        )?;
+        let out = act(&mut sim, &robot, &obstacles, action, &params, "simulator")?;
         save_scene(&sim.world, a.save_scene.as_ref())?;
         out
     };

@@ -73,6 +73,10 @@ pub enum BenchCommand {
         /// Parameters (TOML, `ClearParams`).
         #[arg(long)]
         params: Option<std::path::PathBuf>,
+        /// Print the parameters `--params` takes, with their defaults (SPEC's values), as
+        /// TOML to start a file from, and exit.
+        #[arg(long, exclusive = true)]
+        print_params: bool,
         /// Write the scene of every run that does not clear its table, or touches an object
         /// it is not acting on, into this folder.
         #[arg(long)]
@@ -98,6 +102,10 @@ pub enum BenchCommand {
         /// Parameters (TOML, `PlaceParams`).
         #[arg(long)]
         params: Option<std::path::PathBuf>,
+        /// Print the parameters `--params` takes, with their defaults (SPEC's values), as
+        /// TOML to start a file from, and exit.
+        #[arg(long, exclusive = true)]
+        print_params: bool,
         /// Write the scene of every failed task (and of every decision over a second)
         /// into this folder.
         #[arg(long)]
@@ -161,6 +169,9 @@ pub fn run(c: BenchCommand, report: Option<&std::path::Path>) -> Result<()> {
             json,
         } => crate::tidy::bench(tasks, seed, save_scenes.as_deref(), json),
         BenchCommand::Clear {
+            print_params: true, ..
+        } => crate::tasks::print_params::<tabula_tasks::clear::ClearParams>(),
+        BenchCommand::Clear {
             suite,
             scenes,
             seed,
@@ -168,6 +179,7 @@ pub fn run(c: BenchCommand, report: Option<&std::path::Path>) -> Result<()> {
             save_failures,
             json,
             spread,
+            ..
         } => crate::clear::bench(&crate::trials::SuiteRun {
             suite: &suite,
             count: scenes,
@@ -179,6 +191,9 @@ pub fn run(c: BenchCommand, report: Option<&std::path::Path>) -> Result<()> {
             spread: &spread,
         }),
         BenchCommand::Place {
+            print_params: true, ..
+        } => crate::tasks::print_params::<tabula_tasks::place::PlaceParams>(),
+        BenchCommand::Place {
             suite,
             trials,
             seed,
@@ -186,6 +201,7 @@ pub fn run(c: BenchCommand, report: Option<&std::path::Path>) -> Result<()> {
             save_failures,
             json,
             spread,
+            ..
         } => crate::place::bench(&crate::trials::SuiteRun {
             suite: &suite,
             count: trials,

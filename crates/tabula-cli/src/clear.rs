@@ -52,6 +52,9 @@ fn clear_remote(a: &ClearArgs, params: &ClearParams) -> Result<(ClearJson, Strin
 }
 
 pub fn run(a: ClearArgs) -> Result<()> {
+    if a.run.print_params {
+        return crate::tasks::print_params::<ClearParams>();
+    }
     if a.run.dry_run {
         bail!("clearing pushes objects and a dry run moves none: run it in the simulator");
     }

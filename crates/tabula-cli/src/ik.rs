@@ -126,7 +126,7 @@ fn warn_unreadable_meshes(robot: &robots::NamedRobot) {
     }
 }
 
-#[derive(serde::Deserialize, Default)]
+#[derive(serde::Deserialize, serde::Serialize, Default)]
 #[serde(default, deny_unknown_fields)]
 struct Config {
     numeric_ik: NumericIkParams,
@@ -391,9 +391,13 @@ fn fk(a: FkArgs) -> Result<()> {
                 chain.upper[i].min(tabula_geom::input::MAX_MAGNITUDE),
             );
             if !(lo - 1e-9..=hi + 1e-9).contains(v) {
+                let show = tabula_geom::input::shown;
                 bail!(
-                    "joint `{}` = {v} is outside its limits [{lo}, {hi}]",
-                    chain.joint_names[i]
+                    "joint `{}` = {} is outside its limits [{}, {}]",
+                    chain.joint_names[i],
+                    show(*v),
+                    show(lo),
+                    show(hi)
                 );
             }
         }

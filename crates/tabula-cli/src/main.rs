@@ -163,6 +163,12 @@ enum Command {
     /// How an object rests on a table (seed 000): stable poses of a mesh or a scanned
     /// cloud with their stability margins and landing probabilities.
     StablePoses(stable::StablePosesArgs),
+    /// The built-in scenes: `--scene NAME` loads one from any folder; `tabula scenes
+    /// NAME` prints its TOML to start your own from.
+    Scenes {
+        /// A scene to print (default: list them all).
+        name: Option<String>,
+    },
 }
 
 fn main() {
@@ -188,7 +194,7 @@ fn main() {
         );
         std::process::exit(exit::INTERNAL);
     }));
-    let cli = match Cli::try_parse() {
+    let cli = match Cli::try_parse_from(args::negative_exponents(std::env::args_os())) {
         Ok(cli) => cli,
         Err(e) if !e.use_stderr() => {
             // --help and --version.
@@ -197,15 +203,16 @@ fn main() {
         }
         Err(e) => {
             // One line, as every error: clap's first paragraph names the flag and the
-            // value (or lists the missing arguments on the lines below it).
+            // value (or lists the missing arguments on the lines below it); its tips
+            // (a similar flag for a misspelled one, `--` before a value) join it.
             let text = e.render().to_string();
-            let first: Vec<&str> = text
-                .lines()
-                .map(str::trim)
-                .skip_while(|l| l.is_empty())
-                .take_while(|l| !l.is_empty())
-                .collect();
-            eprintln!("{} (see --help)", first.join(" "));
+            let mut lines = text.lines().map(str::trim).skip_while(|l| l.is_empty());
+            let first: Vec<&str> = lines.by_ref().take_while(|l| !l.is_empty()).collect();
+            let mut line = first.join(" ");
+            for tip in lines.filter(|l| l.starts_with("tip:")) {
+                line = format!("{line}; {tip}");
+            }
+            eprintln!("{line} (see --help)");
             std::process::exit(exit::USAGE);
         }
     };
@@ -252,10 +259,17 @@ fn main() {
         #[cfg(feature = "ros")]
         Command::Worker(args) => worker::run(args),
         Command::StablePoses(args) => stable::run(args),
+        Command::Scenes { name } => sim::scenes(name.as_deref()),
     };
     if tabula_robot::driver::stop_requested() {
         eprintln!("stopped by Ctrl+C");
         std::process::exit(exit::STOPPED);
+    }
+    if let Err(e) = &result
+        && let Some(usage) = e.downcast_ref::<args::Usage>()
+    {
+        eprintln!("error: {usage}");
+        std::process::exit(exit::USAGE);
     }
     if let Err(e) = &result
         && let Some(no) = e.downcast_ref::<arm::NoSolution>()

@@ -19,8 +19,8 @@ pub struct PerceiveArgs {
     /// A frame: .pcd (ascii, binary, binary_compressed) or .ply. Points in the camera's
     /// optical frame (x right, y down, z forward) unless the PCD's `VIEWPOINT` places
     /// the sensor away from the origin (then the points are in a z-up world frame).
-    #[arg(long)]
-    cloud: PathBuf,
+    #[arg(long, required_unless_present = "print_params")]
+    cloud: Option<PathBuf>,
     /// world_from_camera as x y z qx qy qz qw: the points are in the camera's frame and
     /// this places them in the world (overrides what the file says).
     #[arg(long, num_args = 7, allow_negative_numbers = true, value_names = ["X", "Y", "Z", "QX", "QY", "QZ", "QW"], value_parser = crate::args::finite)]
@@ -32,6 +32,10 @@ pub struct PerceiveArgs {
     /// Pipeline parameters (TOML, keys of `TabletopParams`; defaults from SPEC §6).
     #[arg(long)]
     params: Option<PathBuf>,
+    /// Print the parameters `--params` takes, with their defaults (SPEC's values), as
+    /// TOML to start a file from, and exit.
+    #[arg(long, exclusive = true)]
+    print_params: bool,
     /// Remove the points of this robot (`golem3`, `wam`, `pr2` or a URDF path) first.
     #[arg(long)]
     robot: Option<String>,
@@ -100,7 +104,10 @@ fn robot_solids(name: &str, world_from_base: Pose, joints: &[String]) -> Result<
 }
 
 pub fn run(a: PerceiveArgs) -> Result<()> {
-    let file = read_cloud_file(&a.cloud)?;
+    if a.print_params {
+        return crate::tasks::print_params::<TabletopParams>();
+    }
+    let file = read_cloud_file(crate::args::given(&a.cloud, "--cloud")?)?;
     let world_from_camera = match &a.world_from_camera {
         Some(v) => Some(pose_arg(v, "world-from-camera")?),
         None => None,

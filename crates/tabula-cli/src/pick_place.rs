@@ -88,7 +88,7 @@ fn pick_place_remote(
 ) -> Result<(PickPlaceJson, String)> {
     use crate::tasks::{load_world, scene_robot_named};
     use tabula_tasks::pick_place::pick_place;
-    let world = load_world(&a.run.scene)?.1;
+    let world = load_world(a.run.scene()?)?.1;
     let (robot_name, robot) = scene_robot_named(&world, a.run.robot.as_deref())?;
     check_arm(&world, &robot_name, &a.arm)?;
     let mut driver = crate::remote::connect(&a.run, &robot_name)?;
@@ -110,6 +110,9 @@ fn pick_place_remote(
 }
 
 pub fn run(a: PickPlaceArgs) -> Result<()> {
+    if a.run.print_params {
+        return crate::tasks::print_params::<PickPlaceParams>();
+    }
     let out = run_pick_place(&a)?;
     if a.run.json {
         println!("{}", serde_json::to_string_pretty(&out)?);

@@ -42,6 +42,9 @@ fn place_remote(
 }
 
 pub fn run(a: PlaceArgs) -> Result<()> {
+    if a.run.print_params {
+        return crate::tasks::print_params::<PlaceParams>();
+    }
     let params: PlaceParams = load_params(a.run.params.as_deref())?;
     let world = a.run.world()?;
     let robot = scene_robot(&world, a.run.robot.as_deref())?;

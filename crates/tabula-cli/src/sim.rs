@@ -394,3 +394,22 @@ fn bench(scene: &std::path::Path, frames: usize, json: bool) -> Result<()> {
     }
     Ok(())
 }
+
+/// `tabula scenes [NAME]`: the built-in scenes with what each is, or one's TOML.
+pub fn scenes(name: Option<&str>) -> Result<()> {
+    use tabula_sim::builtin;
+    match name {
+        Some(n) => {
+            let s = builtin::scene(n).ok_or_else(|| {
+                anyhow::anyhow!("no built-in scene `{n}`; built-in: {}", builtin::names())
+            })?;
+            print!("{}", s.text);
+        }
+        None => {
+            for s in &builtin::SCENES {
+                println!("{:<14} {}", s.name, s.about());
+            }
+        }
+    }
+    Ok(())
+}

@@ -17,6 +17,10 @@ pub struct StablePosesArgs {
     /// Parameters (TOML, `StableParams`).
     #[arg(long)]
     params: Option<PathBuf>,
+    /// Print the parameters `--params` takes, with their defaults (SPEC's values), as
+    /// TOML to start a file from, and exit.
+    #[arg(long, exclusive = true)]
+    print_params: bool,
     #[arg(long)]
     json: bool,
 }
@@ -59,6 +63,9 @@ pub fn compute(
 }
 
 pub fn run(args: StablePosesArgs) -> Result<()> {
+    if args.print_params {
+        return crate::tasks::print_params::<StableParams>();
+    }
     let params: StableParams = crate::tasks::load_params(args.params.as_deref())?;
     let (s, cpu_ms) = compute(args.mesh.as_deref(), args.cloud.as_deref(), &params)?;
     if args.json {

@@ -12,14 +12,18 @@ use tabula_sim::{PhysicsParams, Scene, SimWorld};
 /// camera noise, and where its results go.
 #[derive(Args)]
 pub struct TaskRunArgs {
-    #[arg(long)]
-    pub scene: PathBuf,
+    #[arg(long, required_unless_present = "print_params")]
+    pub scene: Option<PathBuf>,
     /// The robot to drive when the scene has several.
     #[arg(long)]
     pub robot: Option<String>,
     /// Parameters (TOML: the task's `Params`, SPEC's values where a key is missing).
     #[arg(long)]
     pub params: Option<PathBuf>,
+    /// Print the parameters `--params` takes, with their defaults (SPEC's values), as
+    /// TOML to start a file from, and exit.
+    #[arg(long, exclusive = true)]
+    pub print_params: bool,
     /// Camera noise seed.
     #[arg(long, default_value_t = 1, value_parser = crate::args::seed)]
     pub seed: u64,
@@ -69,6 +73,11 @@ impl SavedScene for String {
 }
 
 impl TaskRunArgs {
+    /// `--scene` (clap requires it unless `--print-params` is given).
+    pub fn scene(&self) -> Result<&std::path::Path> {
+        Ok(crate::args::given(&self.scene, "--scene")?)
+    }
+
     /// Records the run when a report was asked for.
     pub fn recording(&self) -> bool {
         self.report.is_some()
@@ -120,7 +129,7 @@ impl TaskRunArgs {
 
     /// The world of `--scene` (kinematic only with `--dry-run`).
     pub fn world(&self) -> Result<SimWorld> {
-        let mut world = load_world(&self.scene)?.1;
+        let mut world = load_world(self.scene()?)?.1;
         world.kinematic_only = self.dry_run;
         Ok(world)
     }
@@ -145,3 +154,42 @@ pub fn check_arm(world: &SimWorld, robot: &str, arm: &str) -> Result<()> {
 }
 
 pub use tabula_geom::input::load_params;
+
+/// `--print-params`: the parameters' defaults as TOML on stdout.
+pub fn print_params<T: Default + Serialize>() -> Result<()> {
+    print_toml(&T::default())
+}
+
+/// Parameters as the TOML `--params` reads.
+pub fn print_toml<T: Serialize>(params: &T) -> Result<()> {
+    let text =
+        toml::to_string(params).map_err(|e| anyhow::anyhow!("cannot write the parameters: {e}"))?;
+    print!("{text}");
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use tabula_geom::input::{Validate, parse_params};
+
+    /// What `--print-params` prints loads back through `--params` unchanged.
+    fn round_trip<T>()
+    where
+        T: Default + serde::Serialize + serde::de::DeserializeOwned + Validate,
+    {
+        let text = toml::to_string(&T::default()).unwrap();
+        let back: T = parse_params(&text, "printed").unwrap_or_else(|e| panic!("{e}\n{text}"));
+        assert_eq!(toml::to_string(&back).unwrap(), text);
+    }
+
+    #[test]
+    fn printed_parameters_load_back() {
+        round_trip::<tabula_tasks::place::PlaceParams>();
+        round_trip::<tabula_tasks::clear::ClearParams>();
+        round_trip::<tabula_tasks::tidy::TidyParams>();
+        round_trip::<tabula_tasks::pick_place::PickPlaceParams>();
+        round_trip::<tabula_perception::TabletopParams>();
+        round_trip::<tabula_motion::group::MoveGroupParams>();
+        round_trip::<tabula_tasks::stable::StableParams>();
+    }
+}

@@ -23,8 +23,8 @@ use tabula_tasks::skills::jog::{Jog, JogFrame, JointReading};
 
 #[derive(Args)]
 pub struct TeleopArgs {
-    #[arg(long)]
-    scene: PathBuf,
+    #[arg(long, required_unless_present = "print_params")]
+    scene: Option<PathBuf>,
     #[arg(long)]
     robot: Option<String>,
     /// The arm to drive (a name from the robot's description; default: its first).
@@ -36,6 +36,10 @@ pub struct TeleopArgs {
     /// Motion parameters (TOML, `MoveGroupParams`).
     #[arg(long)]
     params: Option<PathBuf>,
+    /// Print the parameters `--params` takes, with their defaults (SPEC's values), as
+    /// TOML to start a file from, and exit.
+    #[arg(long, exclusive = true)]
+    print_params: bool,
     /// Write the world as a scene file when the session ends (Ctrl+C, q or Esc).
     #[arg(long)]
     save_scene: Option<PathBuf>,
@@ -346,12 +350,15 @@ impl Teleop {
 }
 
 pub fn run(a: TeleopArgs) -> Result<()> {
+    if a.print_params {
+        return crate::tasks::print_params::<MoveGroupParams>();
+    }
     use std::io::IsTerminal;
     if !(std::io::stdin().is_terminal() && std::io::stdout().is_terminal()) {
         anyhow::bail!("teleop needs an interactive terminal (its input and output a terminal)");
     }
     let params: MoveGroupParams = load_params(a.params.as_deref())?;
-    let (_, world) = load_world(&a.scene)?;
+    let (_, world) = load_world(crate::args::given(&a.scene, "--scene")?)?;
     let (robot_name, robot) = scene_robot_named(&world, a.robot.as_deref())?;
     let arm = arm_name(&robot, a.group.as_ref())?;
     let obstacles = world.planning_scene(&robot_name);

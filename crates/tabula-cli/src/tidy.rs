@@ -78,6 +78,9 @@ fn tidy_remote(
 }
 
 pub fn run(a: TidyArgs) -> Result<()> {
+    if a.run.print_params {
+        return crate::tasks::print_params::<TidyParams>();
+    }
     if a.run.dry_run {
         bail!("tidying moves objects and a dry run moves none: run it in the simulator");
     }

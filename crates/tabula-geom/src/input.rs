@@ -151,20 +151,23 @@ pub fn parse_params<T: serde::de::DeserializeOwned + Validate>(
         message,
     };
     check_toml_numbers(text).map_err(invalid)?;
-    let params: T = toml::from_str(text).map_err(|e| {
-        // toml's message names the key and lists the valid ones; its display puts that
-        // on a later line, after a source excerpt, where a one-line error loses it.
-        let line = e.span().map_or(1, |s| {
-            text.as_bytes()[..s.start.min(text.len())]
-                .iter()
-                .filter(|&&b| b == b'\n')
-                .count()
-                + 1
-        });
-        invalid(format!("line {line}: {}", e.message().trim()))
-    })?;
+    let params: T = toml::from_str(text).map_err(|e| invalid(toml_error(text, &e)))?;
     params.validate().map_err(invalid)?;
     Ok(params)
+}
+
+/// A TOML error as one line: where it is and toml's message, which names the key and
+/// lists the valid ones (its display puts that on a later line, after a source
+/// excerpt, where a one-line error loses it).
+pub fn toml_error(text: &str, e: &toml::de::Error) -> String {
+    let line = e.span().map_or(1, |s| {
+        text.as_bytes()[..s.start.min(text.len())]
+            .iter()
+            .filter(|&&b| b == b'\n')
+            .count()
+            + 1
+    });
+    format!("line {line}: {}", e.message().trim())
 }
 
 /// The whole file, after checking that it is a regular file within `format`'s limit.
@@ -215,6 +218,16 @@ pub fn clip(s: &str, max: usize) -> String {
     match s.char_indices().nth(max) {
         Some((i, _)) => format!("{}…", &s[..i]),
         None => s.to_string(),
+    }
+}
+
+/// A number as a message shows it: four decimals in the range people type, else
+/// scientific (`1e300`, not the 301 digits `{}` prints; `1e-300`, not `0.0000`).
+pub fn shown(v: f64) -> String {
+    if v == 0.0 || !v.is_finite() || (1e-4..1e6).contains(&v.abs()) {
+        format!("{v:.4}")
+    } else {
+        format!("{v:e}")
     }
 }
 
@@ -270,7 +283,7 @@ pub fn check_toml_numbers(text: &str) -> Result<(), String> {
     }
     let table: toml::Table = text
         .parse()
-        .map_err(|e: toml::de::Error| clip(e.message(), 300))?;
+        .map_err(|e: toml::de::Error| clip(&toml_error(text, &e), 300))?;
     table.iter().try_for_each(|(k, v)| walk(k, v))
 }
 

@@ -22,7 +22,7 @@ use tabula_robot::ik::{IkMode, IkSolver, NumericIkParams};
 use tabula_robot::robots::NamedRobot;
 
 /// Parameters of a move group.
-#[derive(Debug, Clone, serde::Deserialize)]
+#[derive(Debug, Clone, serde::Deserialize, serde::Serialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct MoveGroupParams {
     pub planner: PlannerParams,

@@ -8,7 +8,7 @@ use std::time::{Duration, Instant};
 use tabula_geom::input::{Validate, check_in, check_positive};
 
 /// Planner parameters; defaults follow the seed's use of RRT-Connect (SPEC §6: 1 s limit).
-#[derive(Debug, Clone, serde::Deserialize)]
+#[derive(Debug, Clone, serde::Deserialize, serde::Serialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct PlannerParams {
     /// Time limit (s), SPEC §6.

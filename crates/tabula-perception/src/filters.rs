@@ -102,7 +102,7 @@ pub fn voxel_grid(points: &[Vec3], leaf: f64) -> Result<Vec<Vec3>, FilterError> 
 
 /// Statistical outlier removal; defaults are seed 002's (SPEC §6: mean-K 10, std
 /// multiplier 1.0).
-#[derive(Debug, Clone, serde::Deserialize)]
+#[derive(Debug, Clone, serde::Deserialize, serde::Serialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct OutlierParams {
     /// Neighbours whose mean distance is a point's statistic (SPEC §6: 10).
@@ -351,7 +351,7 @@ pub fn radius_outliers(
 const MAX_WINDOW: usize = 15;
 
 /// Normal estimation parameters.
-#[derive(Debug, Clone, serde::Deserialize)]
+#[derive(Debug, Clone, serde::Deserialize, serde::Serialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct NormalParams {
     /// Half size of the pixel window (organized clouds), at most 15.

@@ -8,7 +8,7 @@ use tabula_geom::input::{
 };
 
 /// Parameters; defaults from SPEC §6 (seed 002's repository) where it has them.
-#[derive(Debug, Clone, serde::Deserialize)]
+#[derive(Debug, Clone, serde::Deserialize, serde::Serialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct TabletopParams {
     /// Run statistical outlier removal first (SPEC §3.1).

@@ -44,7 +44,7 @@ impl Plane {
 }
 
 /// RANSAC parameters; defaults are seed 000's (SPEC §6: 1 cm threshold).
-#[derive(Debug, Clone, serde::Deserialize)]
+#[derive(Debug, Clone, serde::Deserialize, serde::Serialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct RansacParams {
     /// Inlier distance (m), SPEC §6.

@@ -8,7 +8,7 @@ use tabula_geom::input::{Validate, check_non_negative};
 use tabula_geom::{Pose, Vec3};
 
 /// Parameters.
-#[derive(Debug, Clone, serde::Deserialize)]
+#[derive(Debug, Clone, serde::Deserialize, serde::Serialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct SelfFilterParams {
     /// Inflation of every shape (m), SPEC §1.1: 0.9 cm.

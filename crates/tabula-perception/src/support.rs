@@ -14,7 +14,7 @@ use crate::surfaces::{SurfaceParams, grid_sample, split};
 use tabula_geom::{PointCloud, Pose, Quat, Vec3};
 
 /// Parameters of the support search.
-#[derive(Debug, Clone, serde::Deserialize)]
+#[derive(Debug, Clone, serde::Deserialize, serde::Serialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct SupportParams {
     /// Plane fitting. The threshold is wider than the table search's 1 cm (SPEC §6)

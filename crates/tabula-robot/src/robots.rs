@@ -137,8 +137,12 @@ fn load_file(p: &Path, options: &LoadOptions) -> Result<NamedRobot, RobotError> 
         Some(t) => {
             let text = tabula_geom::input::read_text(&t, Format::Robot)?;
             Some(
-                RobotDescription::from_toml(&text, &model)
-                    .map_err(|e| RobotError::Description(format!("{}: {e}", t.display())))?,
+                RobotDescription::from_toml(&text, &model).map_err(|e| match e {
+                    RobotError::Description(m) => {
+                        RobotError::Description(format!("{}: {m}", t.display()))
+                    }
+                    other => RobotError::Description(format!("{}: {other}", t.display())),
+                })?,
             )
         }
         None => None,

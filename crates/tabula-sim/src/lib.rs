@@ -3,6 +3,7 @@
 //! commands. It plays Gazebo's part: it produces the frames perception is tested on and
 //! tells by physics whether an object really rests where a plan said.
 
+pub mod builtin;
 pub mod camera;
 pub mod driver;
 pub mod frame_file;

@@ -323,13 +323,24 @@ impl Scene {
         toml::to_string(self).map_err(|e| e.to_string())
     }
 
-    /// Reads and checks a scene file.
+    /// Reads and checks a scene file; a name that is no file but a built-in scene's
+    /// (`clutter`, [`crate::builtin`]) loads that scene.
     pub fn load(path: &Path) -> Result<Self, SceneError> {
+        let shown = path.display().to_string();
+        if !path.exists()
+            && let Some(b) = crate::builtin::scene(&shown)
+        {
+            return Self::parse(b.text, &format!("{} (built-in)", b.name));
+        }
         let text = read_text(path, Format::Scene).map_err(|e| SceneError {
             file: String::new(),
             line: 0,
             key: String::new(),
-            message: e.to_string(),
+            message: if path.exists() {
+                e.to_string()
+            } else {
+                format!("{e} (built-in scenes: {})", crate::builtin::names())
+            },
         })?;
         let mut scene = Self::parse(&text, &path.display().to_string())?;
         scene.base_dir = path.parent().map(Path::to_path_buf);

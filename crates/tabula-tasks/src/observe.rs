@@ -12,7 +12,7 @@ use tabula_perception::selffilter::{PlacedSolid, SelfFilterParams, self_filter};
 use tabula_robot::driver::CameraFrame;
 
 /// Parameters of looking at an object or a surface near a given position.
-#[derive(Debug, Clone, serde::Deserialize)]
+#[derive(Debug, Clone, serde::Deserialize, serde::Serialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct ObserveParams {
     /// Self-filter padding (m), SPEC §1.1: 0.9 cm.

@@ -192,10 +192,7 @@ pub fn simulator(tour: &mut Tour) -> Result<tabula_sim::DepthFrame> {
         tour,
         "7. Simulator (Gazebo's role): seed 002's cluttered table\n"
     );
-    let mut scene = Scene::parse(
-        include_str!("../../../../scenes/clutter.toml"),
-        "scenes/clutter.toml",
-    )?;
+    let mut scene = Scene::parse(tabula_sim::builtin::CLUTTER, "scenes/clutter.toml")?;
     scene.base_dir = None;
     let mut world = SimWorld::from_scene(&scene, PhysicsParams::default())?;
     let t0 = Instant::now();

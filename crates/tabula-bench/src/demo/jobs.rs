@@ -18,10 +18,8 @@ pub fn placing(tour: &mut Tour, report: &mut Report) -> Result<Job> {
         tour,
         "1. Placing an unknown object (seed 000): the PR2 and the cup in its hand\n"
     );
-    let scene = tabula_sim::Scene::parse(
-        include_str!("../../../../scenes/pr2_holding.toml"),
-        "scenes/pr2_holding.toml",
-    )?;
+    let scene =
+        tabula_sim::Scene::parse(tabula_sim::builtin::PR2_HOLDING, "scenes/pr2_holding.toml")?;
     let world = tabula_sim::SimWorld::from_scene(&scene, Default::default())?;
     let t0 = Instant::now();
     let request = PlaceRequest {
@@ -73,11 +71,10 @@ pub fn placing(tour: &mut Tour, report: &mut Report) -> Result<Job> {
     tell!(tour, "  {line}");
     tell!(
         tour,
-        "\n  run it: cargo run --release -- place --scene scenes/pr2_holding.toml --report DIR\n"
+        "\n  run it: cargo run --release -- place --scene pr2_holding --report DIR\n"
     );
     let mut section = crate::report::place::section(report, &out, &params, recorded.as_ref())?;
-    section
-        .text("Run it: cargo run --release -- place --scene scenes/pr2_holding.toml --report DIR");
+    section.text("Run it: cargo run --release -- place --scene pr2_holding --report DIR");
     Ok((section, serde_json::to_value(&out)?, line))
 }
 
@@ -126,10 +123,10 @@ pub fn clearing(tour: &mut Tour, report: &mut Report) -> Result<Job> {
     );
     tell!(
         tour,
-        "\n  run it: cargo run --release -- clear --scene scenes/clutter.toml --report DIR\n"
+        "\n  run it: cargo run --release -- clear --scene clutter --report DIR\n"
     );
     let mut section = crate::report::clear::section(report, &out, recorded.as_ref())?;
-    section.text("Run it: cargo run --release -- clear --scene scenes/clutter.toml --report DIR");
+    section.text("Run it: cargo run --release -- clear --scene clutter --report DIR");
     Ok((section, serde_json::to_value(&out)?, line))
 }
 
@@ -141,10 +138,7 @@ pub fn tidying(tour: &mut Tour, report: &mut Report) -> Result<Job> {
         tour,
         "4. Tidying a table: the PR2 moves everything onto another table it finds\n"
     );
-    let scene = tabula_sim::Scene::parse(
-        include_str!("../../../../scenes/tidy.toml"),
-        "scenes/tidy.toml",
-    )?;
+    let scene = tabula_sim::Scene::parse(tabula_sim::builtin::TIDY, "scenes/tidy.toml")?;
     let world = tabula_sim::SimWorld::from_scene(&scene, Default::default())?;
     let t0 = Instant::now();
     let (request, params) = (TidyRequest::default(), TidyParams::default());
@@ -173,10 +167,10 @@ pub fn tidying(tour: &mut Tour, report: &mut Report) -> Result<Job> {
     tell!(tour, "  {line}");
     tell!(
         tour,
-        "\n  run it: cargo run --release -- tidy --scene scenes/tidy.toml --report DIR\n"
+        "\n  run it: cargo run --release -- tidy --scene tidy --report DIR\n"
     );
     let mut section = crate::report::tidy::section(report, &out, recorded.as_ref())?;
-    section.text("Run it: cargo run --release -- tidy --scene scenes/tidy.toml --report DIR");
+    section.text("Run it: cargo run --release -- tidy --scene tidy --report DIR");
     Ok((section, serde_json::to_value(&out)?, line))
 }
 
@@ -188,7 +182,10 @@ pub fn pick_place(tour: &mut Tour, report: &mut Report) -> Result<Job> {
         tour,
         "3. Pick and place by coordinates (seed 001's integral test): Golem-III, shelf → table\n"
     );
-    let scene = tabula_sim::Scene::parse(GOLEM_SHELVES, "scenes/golem_shelves.toml")?;
+    let scene = tabula_sim::Scene::parse(
+        tabula_sim::builtin::GOLEM_SHELVES,
+        "scenes/golem_shelves.toml",
+    )?;
     let world = tabula_sim::SimWorld::from_scene(&scene, Default::default())?;
     let request = PickPlaceRequest {
         arm: None,
@@ -230,11 +227,9 @@ pub fn pick_place(tour: &mut Tour, report: &mut Report) -> Result<Job> {
             .map_or(String::new(), |e| format!("; {e}"))
     );
     tell!(tour, "  {line}");
-    let command = "cargo run --release -- pick-place --scene scenes/golem_shelves.toml --pick 0.556 -0.663 1.07 --place 0.82 -0.2 1.01 --report DIR";
+    let command = "cargo run --release -- pick-place --scene golem_shelves --pick 0.556 -0.663 1.07 --place 0.82 -0.2 1.01 --report DIR";
     tell!(tour, "\n  run it: {command}\n");
     let mut section = crate::report::pick_place::section(report, &out, recorded.as_ref())?;
     section.text(format!("Run it: {command}"));
     Ok((section, serde_json::to_value(&out)?, line))
 }
-
-const GOLEM_SHELVES: &str = include_str!("../../../../scenes/golem_shelves.toml");

@@ -49,6 +49,10 @@ pub enum MotionCommand {
         /// edges certified by conservative advancement).
         #[arg(long, requires = "mbm")]
         params: Option<std::path::PathBuf>,
+        /// Print the parameters `--params` takes, with their defaults (SPEC's values), as
+        /// TOML to start a file from, and exit.
+        #[arg(long, exclusive = true)]
+        print_params: bool,
         #[arg(long, default_value_t = 200, value_parser = crate::args::count)]
         problems: usize,
         #[arg(long, default_value_t = 1, value_parser = crate::args::seed)]
@@ -67,6 +71,9 @@ pub enum MotionCommand {
 pub fn run(cmd: MotionCommand) -> Result<()> {
     match cmd {
         MotionCommand::Plan(args) => plan::run(args)?,
+        MotionCommand::Bench {
+            print_params: true, ..
+        } => crate::tasks::print_toml(&planning_params(None)?)?,
         MotionCommand::Bench {
             robot,
             mbm: Some(mbm_path),

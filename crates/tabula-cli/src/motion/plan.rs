@@ -18,7 +18,7 @@ use tabula_robot::driver::JointState;
 use tabula_robot::robots::{self, NamedRobot};
 
 #[derive(Args)]
-#[command(group(clap::ArgGroup::new("goal").required(true).args(["goal_joints", "goal_pose", "goal_named", "request"])))]
+#[command(group(clap::ArgGroup::new("goal").required(true).args(["goal_joints", "goal_pose", "goal_named", "request", "print_params"])))]
 pub struct PlanArgs {
     /// The robot: a URDF or xacro file or a built-in name (`wam`, `pr2`, `golem3`).
     /// With a tabula scene, the name of one of its robots (default: its first).
@@ -53,6 +53,10 @@ pub struct PlanArgs {
     /// certified by conservative advancement).
     #[arg(long)]
     params: Option<PathBuf>,
+    /// Print the parameters `--params` takes, with their defaults (SPEC's values), as
+    /// TOML to start a file from, and exit.
+    #[arg(long, exclusive = true)]
+    print_params: bool,
     /// Planning time limit (s); default: the request's, else the parameters' (1 s).
     #[arg(long, value_parser = crate::args::seconds)]
     timeout: Option<f64>,
@@ -95,6 +99,9 @@ struct NoPlanJson<'a> {
 }
 
 pub fn run(a: PlanArgs) -> Result<()> {
+    if a.print_params {
+        return crate::tasks::print_toml(&super::planning_params(None)?);
+    }
     let mut params: MoveGroupParams = super::planning_params(a.params.as_deref())?;
     if let Some(seed) = a.seed {
         params.planner.seed = seed;

@@ -51,7 +51,7 @@ impl From<RobotError> for WorldError {
 }
 
 /// Parameters of the collision world.
-#[derive(Debug, Clone, serde::Deserialize)]
+#[derive(Debug, Clone, serde::Deserialize, serde::Serialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct WorldParams {
     /// Extra clearance around every robot link (m) — SPEC §1.1's 0.9 cm self-filter
@@ -571,13 +571,14 @@ impl CollisionWorld {
     /// outside its limits (named, with the value and the limits), a contact, or a link
     /// only within its padding of something — three different things to fix.
     pub fn why_invalid(&self, q: &[f64], (a, b): &(String, String)) -> String {
+        use tabula_geom::input::shown;
         if a == "joint limits" {
             return match self.chain.joint_names.iter().position(|n| n == b) {
                 Some(i) => format!(
-                    "joint `{b}` = {:.4} is outside its limits [{:.4}, {:.4}]",
-                    q.get(i).copied().unwrap_or(f64::NAN),
-                    self.chain.lower[i],
-                    self.chain.upper[i]
+                    "joint `{b}` = {} is outside its limits [{}, {}]",
+                    shown(q.get(i).copied().unwrap_or(f64::NAN)),
+                    shown(self.chain.lower[i]),
+                    shown(self.chain.upper[i])
                 ),
                 None => format!("joint `{b}` is outside its limits"),
             };

@@ -13,7 +13,7 @@ pub use tabula_geom::raster::distance_transform;
 use tabula_geom::{Pose, Quat, Vec2, Vec3};
 
 /// Parameters.
-#[derive(Debug, Clone, serde::Deserialize)]
+#[derive(Debug, Clone, serde::Deserialize, serde::Serialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct FreeSpaceParams {
     /// Cell size (m).

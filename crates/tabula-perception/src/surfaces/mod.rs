@@ -16,7 +16,7 @@ use tabula_geom::input::{
 use tabula_geom::{PointCloud, Vec3};
 
 /// Parameters; defaults from SPEC §6 (seed 000's repository).
-#[derive(Debug, Clone, serde::Deserialize)]
+#[derive(Debug, Clone, serde::Deserialize, serde::Serialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct SurfaceParams {
     /// Plane fitting (1 cm inlier threshold, SPEC §6).

@@ -65,7 +65,7 @@ const CLEAR_GRIP: f64 = 0.06;
 /// on a stand beside a table, the bin beside it, an overhead camera, the objects.
 pub fn clearing_scene(suite: ClearSuite, seed: u64) -> String {
     if suite == ClearSuite::Seed {
-        return include_str!("../../../../scenes/clutter.toml").to_string();
+        return crate::builtin::CLUTTER.to_string();
     }
     let mut rng = ChaCha8Rng::seed_from_u64(seed ^ 0xC1EA_7AB1);
     let area = Area {

@@ -77,7 +77,7 @@ impl From<tabula_geom::mesh::MeshError> for SimError {
 }
 
 /// Parameters of the physics (SPEC §5); defaults favour resting accuracy over speed.
-#[derive(Debug, Clone, serde::Deserialize)]
+#[derive(Debug, Clone, serde::Deserialize, serde::Serialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct PhysicsParams {
     /// Time step (s).

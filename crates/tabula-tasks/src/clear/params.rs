@@ -8,7 +8,7 @@ use tabula_motion::MoveGroupParams;
 use tabula_perception::tabletop::TabletopParams;
 
 /// Parameters of clearing (SPEC §3.2 and §6, seed 002's repository, where it gives them).
-#[derive(Debug, Clone, serde::Deserialize)]
+#[derive(Debug, Clone, serde::Deserialize, serde::Serialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct ClearParams {
     pub tabletop: TabletopParams,

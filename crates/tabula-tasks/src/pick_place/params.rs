@@ -7,7 +7,7 @@ use tabula_geom::input::{Validate, check_count, check_non_negative, check_positi
 use tabula_motion::MoveGroupParams;
 
 /// Parameters of pick and place (SPEC §3.2 and §6 where the seeds give a number).
-#[derive(Debug, Clone, serde::Deserialize)]
+#[derive(Debug, Clone, serde::Deserialize, serde::Serialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct PickPlaceParams {
     pub observe: ObserveParams,

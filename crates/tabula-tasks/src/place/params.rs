@@ -10,7 +10,7 @@ use tabula_perception::freespace::FreeSpaceParams;
 use tabula_perception::surfaces::SurfaceParams;
 
 /// Parameters of placing (SPEC §1 and §6).
-#[derive(Debug, Clone, serde::Deserialize)]
+#[derive(Debug, Clone, serde::Deserialize, serde::Serialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct PlaceParams {
     pub observe: ObserveParams,

@@ -53,7 +53,7 @@ pub trait GraspPlanner {
 
 /// How deep a top grasp holds and how it meets its neighbours (SPEC §3.2 and §6; the
 /// clearing parameters of the same names fill it).
-#[derive(Debug, Clone, Copy, PartialEq, serde::Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Deserialize, serde::Serialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct TopGrasps {
     /// The closing point lies this far below the object's top (m): SPEC §3.2's
@@ -206,7 +206,7 @@ impl GraspPlanner for NarrowPartGrasps {
 /// (an arm with few joints reaches some of these and not others) — then top grasps,
 /// ordered by how far each turns and tilts from the straight level one (seed 001's pick
 /// and place, SPEC §2.5).
-#[derive(Debug, Clone, PartialEq, serde::Deserialize)]
+#[derive(Debug, Clone, PartialEq, serde::Deserialize, serde::Serialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct SideGrasps {
     /// Room left between each open finger and the object (m).

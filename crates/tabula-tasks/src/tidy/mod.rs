@@ -18,7 +18,7 @@ use tabula_robot::driver::RobotDriver;
 use tabula_robot::robots::NamedRobot;
 
 /// Parameters of tidying (defaults: clearing's and placing's seed values).
-#[derive(Debug, Clone, serde::Deserialize)]
+#[derive(Debug, Clone, serde::Deserialize, serde::Serialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct TidyParams {
     /// The camera that looks at the table (the robot's head camera).

@@ -5,6 +5,8 @@
 //! root to its deepest leaf. Every joint and link name the task layer uses comes from
 //! here, so no other crate spells a robot's joint names.
 
+mod check;
+
 use crate::ik::{ArmSide, Golem3Ik, Golem3Params, IkSolver, NumericIk, NumericIkParams};
 use crate::{Chain, RobotError, RobotModel};
 use std::collections::BTreeMap;
@@ -141,10 +143,13 @@ pub struct RobotDescription {
 
 impl RobotDescription {
     /// Parses a description and checks every name against `model`.
+    /// Every number is checked first (finite, within the policy's magnitude), then
+    /// the names, the ranges and the axes ([`check`]), each error naming its key.
     pub fn from_toml(text: &str, model: &RobotModel) -> Result<Self, RobotError> {
-        let d: Self =
-            toml::from_str(text).map_err(|e| RobotError::Description(e.message().to_string()))?;
-        d.check(model)?;
+        tabula_geom::input::check_toml_numbers(text).map_err(RobotError::Description)?;
+        let d: Self = toml::from_str(text)
+            .map_err(|e| RobotError::Description(tabula_geom::input::toml_error(text, &e)))?;
+        check::check(&d, model)?;
         Ok(d)
     }
 
@@ -177,61 +182,6 @@ impl RobotDescription {
             base: None,
             torso_joints: Vec::new(),
         }
-    }
-
-    fn check(&self, model: &RobotModel) -> Result<(), RobotError> {
-        let bad = |what: String| Err(RobotError::Description(what));
-        let joint = |name: &str| -> Result<(), RobotError> {
-            match model.joint(name) {
-                Some(_) => Ok(()),
-                None => bad(format!("no joint `{name}` in the URDF")),
-            }
-        };
-        for a in &self.arms {
-            model.link(&a.base)?;
-            model.link(&a.tip)?;
-            for j in a
-                .tucked
-                .keys()
-                .chain(a.named.values().flat_map(|v| v.keys()))
-            {
-                joint(j)?;
-            }
-            if let Some(g) = &a.gripper
-                && !self.grippers.iter().any(|x| &x.name == g)
-            {
-                return bad(format!("arm `{}` names an unknown gripper `{g}`", a.name));
-            }
-        }
-        for g in &self.grippers {
-            model.link(&g.tool_link)?;
-            model.link(&g.palm)?;
-            model.link(&g.fingers[0])?;
-            model.link(&g.fingers[1])?;
-            joint(&g.finger_joint)?;
-            if !(g.open_width.is_finite() && g.closed_width.is_finite())
-                || g.open_width <= g.closed_width
-            {
-                return bad(format!(
-                    "gripper `{}`: open width must exceed closed",
-                    g.name
-                ));
-            }
-        }
-        if let Some(h) = &self.head {
-            joint(&h.pan_joint)?;
-            joint(&h.tilt_joint)?;
-            model.link(&h.camera_link)?;
-        }
-        if let Some(b) = &self.base {
-            joint(&b.x_joint)?;
-            joint(&b.y_joint)?;
-            joint(&b.theta_joint)?;
-        }
-        for j in &self.torso_joints {
-            joint(j)?;
-        }
-        Ok(())
     }
 
     /// The arm group called `name`.
