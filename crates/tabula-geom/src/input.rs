@@ -167,7 +167,28 @@ pub fn toml_error(text: &str, e: &toml::de::Error) -> String {
             .count()
             + 1
     });
-    format!("line {line}: {}", e.message().trim())
+    // toml quotes a wrong-typed float in full: 1e-300 as 302 characters.
+    let message: Vec<String> = e
+        .message()
+        .trim()
+        .split('`')
+        .map(|part| match part.parse::<f64>() {
+            Ok(v) if part.len() > 24 => shown(v),
+            _ => part.to_string(),
+        })
+        .collect();
+    // Type errors name no key: the line's own key is the one.
+    let key = text
+        .lines()
+        .nth(line - 1)
+        .and_then(|l| l.split_once('='))
+        .map(|(k, _)| k.trim())
+        .filter(|k| !k.is_empty() && !k.starts_with('[') && k.len() <= 80)
+        .filter(|k| !e.message().contains(&format!("`{k}`")));
+    match key {
+        Some(k) => format!("line {line}, `{k}`: {}", message.join("`")),
+        None => format!("line {line}: {}", message.join("`")),
+    }
 }
 
 /// The whole file, after checking that it is a regular file within `format`'s limit.
@@ -227,7 +248,12 @@ pub fn shown(v: f64) -> String {
     if v == 0.0 || !v.is_finite() || (1e-4..1e6).contains(&v.abs()) {
         format!("{v:.4}")
     } else {
-        format!("{v:e}")
+        let exact = format!("{v:e}");
+        if exact.len() <= 10 {
+            exact
+        } else {
+            format!("{v:.4e}")
+        }
     }
 }
 
@@ -312,8 +338,9 @@ pub fn check_in(at: &str, name: &str, v: f64, lo: f64, hi: f64) -> Result<(), St
         Ok(())
     } else {
         Err(format!(
-            "`{}` = {v}: must be in [{lo}, {hi}]",
-            key(at, name)
+            "`{}` = {}: must be in [{lo}, {hi}]",
+            key(at, name),
+            shown(v)
         ))
     }
 }
@@ -323,13 +350,28 @@ pub fn check_positive(at: &str, name: &str, v: f64) -> Result<(), String> {
     if v.is_finite() && v > 0.0 && v <= MAX_MAGNITUDE {
         Ok(())
     } else {
-        Err(format!("`{}` = {v}: must be > 0", key(at, name)))
+        Err(format!(
+            "`{}` = {}: must be > 0 and at most {MAX_MAGNITUDE:e}",
+            key(at, name),
+            shown(v)
+        ))
     }
 }
 
 /// `v` ≥ 0 (a margin, a tolerance, a padding).
 pub fn check_non_negative(at: &str, name: &str, v: f64) -> Result<(), String> {
     check_in(at, name, v, 0.0, MAX_MAGNITUDE)
+}
+
+/// `v` = 0 (the step is off) or in `[lo, hi]`: a voxel or leaf size, where a tiny one
+/// overflows the grid's integer keys and a huge one merges everything.
+pub fn check_off_or_in(at: &str, name: &str, v: f64, lo: f64, hi: f64) -> Result<(), String> {
+    if v == 0.0 {
+        Ok(())
+    } else {
+        check_in(at, name, v, lo, hi)
+            .map_err(|e| format!("{e} (or 0 to turn it off)"))
+    }
 }
 
 /// A count of at least `min`.

@@ -12,7 +12,7 @@ use crate::world::{CollisionWorld, WorldError, WorldParams};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use tabula_geom::input::{
-    Validate, check_count, check_in, check_non_negative, check_positive, nested,
+    Validate, check_count, check_in, check_non_negative, nested,
 };
 use tabula_geom::parry::shape::SharedShape;
 use tabula_geom::{Pose, Vec3};
@@ -298,7 +298,7 @@ impl MoveGroup {
             })?;
         let mut rng = ChaCha8Rng::seed_from_u64(self.params.planner.seed);
         shortcut(&self.world, &mut path, &self.params.planner, &mut rng);
-        Ok(self.timed(start, path.waypoints, thread_cpu() - t0))
+        self.timed(start, path.waypoints, thread_cpu() - t0)
     }
 
     /// A collision-free path from `start` to a pose of the tip.
@@ -320,10 +320,10 @@ impl MoveGroup {
     pub fn cartesian(&self, start: &[f64], world_from_goal: &Pose) -> Result<Plan, MoveError> {
         let t0 = thread_cpu();
         match self.straight_line(start, world_from_goal) {
-            Ok(path) => Ok(self.timed(start, path, thread_cpu() - t0)),
+            Ok(path) => self.timed(start, path, thread_cpu() - t0),
             Err(e) if self.params.cartesian_tolerance > 0.0 => {
                 match self.near_line(start, world_from_goal) {
-                    Some(path) => Ok(self.timed(start, path, thread_cpu() - t0)),
+                    Some(path) => self.timed(start, path, thread_cpu() - t0),
                     None => Err(e),
                 }
             }
@@ -403,10 +403,23 @@ impl MoveGroup {
     }
 
     /// Times a path under the arm's velocity and acceleration limits.
-    pub fn timed(&self, start: &[f64], path: Vec<Vec<f64>>, planning_time: f64) -> Plan {
+    pub fn timed(
+        &self,
+        start: &[f64],
+        path: Vec<Vec<f64>>,
+        planning_time: f64,
+    ) -> Result<Plan, MoveError> {
         let amax = vec![self.params.max_acceleration; self.vmax.len()];
-        let t = time_parameterize(&path, &self.vmax, &amax, self.params.sample_dt);
-        Plan {
+        let t = time_parameterize(&path, &self.vmax, &amax, self.params.sample_dt).map_err(
+            |e| {
+                let joint = self.joint_names().get(e.joint).cloned().unwrap_or_default();
+                MoveError::World(e.to_string().replace(
+                    &format!("joint {}'s", e.joint),
+                    &format!("joint `{joint}`'s"),
+                ))
+            },
+        )?;
+        Ok(Plan {
             start: start.to_vec(),
             trajectory: JointTrajectory {
                 joint_names: self.joint_names().to_vec(),
@@ -416,7 +429,7 @@ impl MoveGroup {
             velocities: t.velocities,
             path,
             planning_time,
-        }
+        })
     }
 
     /// Adds a world object.
@@ -496,18 +509,28 @@ impl Validate for MoveGroupParams {
     fn check(&self, at: &str) -> Result<(), String> {
         self.planner.check(&nested(at, "planner"))?;
         self.world.check(&nested(at, "world"))?;
-        check_positive(at, "max_acceleration", self.max_acceleration)?;
+        // Below 1e-3 rad/s² a move of a radian takes minutes; above 1e4 no arm follows.
+        check_in(at, "max_acceleration", self.max_acceleration, 1e-3, 1e4)?;
         check_in(at, "velocity_scaling", self.velocity_scaling, 1e-3, 1.0)?;
         check_in(at, "sample_dt", self.sample_dt, 1e-4, 1.0)?;
-        check_positive(at, "cartesian_step", self.cartesian_step)?;
-        check_positive(at, "cartesian_max_jump", self.cartesian_max_jump)?;
+        // A tenth of a millimetre to a metre: finer steps are millions of IK calls.
+        check_in(at, "cartesian_step", self.cartesian_step, 1e-4, 1.0)?;
+        check_in(
+            at,
+            "cartesian_max_jump",
+            self.cartesian_max_jump,
+            1e-3,
+            std::f64::consts::TAU,
+        )?;
         check_count(at, "pose_goal_solutions", self.pose_goal_solutions, 1)?;
         // 0 is the default: the straight line itself, no tolerance.
         check_non_negative(at, "cartesian_tolerance", self.cartesian_tolerance)?;
-        check_positive(
+        check_in(
             at,
             "cartesian_angle_tolerance",
             self.cartesian_angle_tolerance,
+            1e-6,
+            std::f64::consts::PI,
         )
     }
 }

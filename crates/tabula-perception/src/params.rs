@@ -4,7 +4,7 @@
 use crate::filters::{NormalParams, OutlierParams};
 use crate::surfaces::SurfaceParams;
 use tabula_geom::input::{
-    Validate, check_count, check_in, check_non_negative, check_positive, nested,
+    Validate, check_count, check_in, check_non_negative, check_off_or_in, check_positive, nested,
 };
 
 /// Parameters; defaults from SPEC §6 (seed 002's repository) where it has them.
@@ -128,7 +128,7 @@ impl Validate for TabletopParams {
         check_non_negative(at, "rest_tolerance", self.rest_tolerance)?;
         check_positive(at, "max_object_extent", self.max_object_extent)?;
         check_non_negative(at, "partial_gap", self.partial_gap)?;
-        check_non_negative(at, "duplicate_leaf", self.duplicate_leaf)?;
-        check_non_negative(at, "unorganized_leaf", self.unorganized_leaf)
+        check_off_or_in(at, "duplicate_leaf", self.duplicate_leaf, 1e-6, 0.05)?;
+        check_off_or_in(at, "unorganized_leaf", self.unorganized_leaf, 1e-4, 0.5)
     }
 }

@@ -264,7 +264,7 @@ pub fn motion(tour: &mut Tour) -> Result<()> {
                 ..PlannerParams::default()
             },
         )?;
-        let traj = time_parameterize(&path.waypoints, &world.chain.velocity, &[2.0; 7], 0.01);
+        let traj = time_parameterize(&path.waypoints, &world.chain.velocity, &[2.0; 7], 0.01)?;
         say!(
             tour,
             "  reach {}: {} waypoints, {:.2} rad, planned in {:.2} ms, {:.2} s to execute at the joints' limits",

@@ -20,7 +20,7 @@ use placed::{Outer, Placed};
 
 use std::cell::Cell;
 use std::collections::HashSet;
-use tabula_geom::input::{Validate, check_in, check_non_negative, check_positive};
+use tabula_geom::input::{Validate, check_in, check_non_negative};
 use tabula_geom::parry::bounding_volume::Aabb;
 use tabula_geom::parry::partitioning::{Bvh, BvhBuildStrategy};
 use tabula_geom::parry::query;
@@ -668,7 +668,14 @@ impl Validate for WorldParams {
     fn check(&self, at: &str) -> Result<(), String> {
         check_non_negative(at, "padding", self.padding)?;
         check_in(at, "always_fraction", self.always_fraction, 0.0, 1.0)?;
-        check_positive(at, "max_step_displacement", self.max_step_displacement)?;
+        // Conservative advancement's step: under 10 µm an edge is millions of steps.
+        check_in(
+            at,
+            "max_step_displacement",
+            self.max_step_displacement,
+            1e-5,
+            1.0,
+        )?;
         for (link, pad) in &self.link_padding {
             check_non_negative(at, &format!("link_padding.{link}"), *pad)?;
         }

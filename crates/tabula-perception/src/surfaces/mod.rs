@@ -490,7 +490,8 @@ impl Validate for SurfaceParams {
         )?;
         check_in(at, "min_flat_fraction", self.min_flat_fraction, 0.0, 1.0)?;
         check_positive(at, "refine_threshold", self.refine_threshold)?;
-        check_positive(at, "cell", self.cell)?;
+        // Under 0.1 mm no two points share a cell and the grid's keys overflow.
+        check_in(at, "cell", self.cell, 1e-4, 10.0)?;
         check_count(at, "max_planes", self.max_planes, 1)?;
         check_count(at, "stride", self.stride, 1)
     }

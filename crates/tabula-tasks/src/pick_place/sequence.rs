@@ -254,7 +254,9 @@ impl<'a> Stages<'a> {
                 return Ok(p);
             }
         }
-        Ok(group.timed(lift.end(), vec![lift.end().to_vec()], 0.0))
+        group
+            .timed(lift.end(), vec![lift.end().to_vec()], 0.0)
+            .map_err(motion_error)
     }
 
     /// The world after the object is placed: the pick support gone, the object where it

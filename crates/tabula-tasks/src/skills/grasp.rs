@@ -70,6 +70,22 @@ pub struct TopGrasps {
     pub shallow_grip: f64,
 }
 
+impl tabula_geom::input::Validate for TopGrasps {
+    fn check(&self, at: &str) -> Result<(), String> {
+        for (name, v) in [
+            ("depth", self.depth),
+            ("fingertip_clearance", self.fingertip_clearance),
+            ("margin", self.margin),
+            ("pregrasp_gap", self.pregrasp_gap),
+            ("shallow_grip", self.shallow_grip),
+        ] {
+            // Lengths of a hand: a metre is already no gripper's.
+            tabula_geom::input::check_in(at, name, v, 0.0, 1.0)?;
+        }
+        Ok(())
+    }
+}
+
 impl Default for TopGrasps {
     fn default() -> Self {
         Self {

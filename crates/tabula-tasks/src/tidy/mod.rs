@@ -72,6 +72,7 @@ impl Validate for TidyParams {
         self.tabletop.check(&nested(at, "tabletop"))?;
         self.motion.check(&nested(at, "motion"))?;
         self.place.check(&nested(at, "place"))?;
+        self.grasp.check(&nested(at, "grasp"))?;
         check_count(at, "decimate", self.decimate, 1)?;
         check_count(at, "max_attempts", self.max_attempts, 1)?;
         for (name, v) in [
