@@ -19,13 +19,28 @@ use tabula_ros::wire::EntityKind;
 const WORKERS: &str = "/tabula/workers/";
 
 /// Serves trials on the network `connect` reaches (ROS domain `domain`) until Ctrl+C
-/// or for `duration` seconds.
-pub fn serve(connect: &[String], domain: u32, duration: Option<f64>) -> Result<()> {
+/// or for `duration` seconds; an error when nothing answers there within `wait` s.
+pub fn serve(connect: &[String], domain: u32, wait: f64, duration: Option<f64>) -> Result<()> {
     let mut config = NodeConfig::new("tabula_worker", Mode::Peer);
     config.connect = connect.to_vec();
     config.domain = domain;
     let node =
         Node::open(config).map_err(|e| anyhow!("cannot join {}: {e}", connect.join(", ")))?;
+    // A peer session opens whether or not anything answers at the endpoints: a worker
+    // that reached nothing says so instead of waiting forever as if it were ready.
+    let reached = Instant::now();
+    loop {
+        if node.reached() > 0 {
+            break;
+        }
+        if reached.elapsed().as_secs_f64() > wait || tabula_robot::driver::stop_requested() {
+            bail!(
+                "cannot join {}: nothing answered there within {wait} s (is the bench's --listen or a router running?)",
+                connect.join(", ")
+            );
+        }
+        std::thread::sleep(Duration::from_millis(50));
+    }
     // The session id names the worker: unique on the network.
     let id: String = node
         .zid()

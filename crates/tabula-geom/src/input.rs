@@ -369,8 +369,7 @@ pub fn check_off_or_in(at: &str, name: &str, v: f64, lo: f64, hi: f64) -> Result
     if v == 0.0 {
         Ok(())
     } else {
-        check_in(at, name, v, lo, hi)
-            .map_err(|e| format!("{e} (or 0 to turn it off)"))
+        check_in(at, name, v, lo, hi).map_err(|e| format!("{e} (or 0 to turn it off)"))
     }
 }
 

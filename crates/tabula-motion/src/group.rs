@@ -11,9 +11,7 @@ use crate::rrt::{
 use crate::world::{CollisionWorld, WorldError, WorldParams};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
-use tabula_geom::input::{
-    Validate, check_count, check_in, check_non_negative, nested,
-};
+use tabula_geom::input::{Validate, check_count, check_in, check_non_negative, nested};
 use tabula_geom::parry::shape::SharedShape;
 use tabula_geom::{Pose, Vec3};
 use tabula_robot::description::{ArmGroup, Gripper};
@@ -410,15 +408,14 @@ impl MoveGroup {
         planning_time: f64,
     ) -> Result<Plan, MoveError> {
         let amax = vec![self.params.max_acceleration; self.vmax.len()];
-        let t = time_parameterize(&path, &self.vmax, &amax, self.params.sample_dt).map_err(
-            |e| {
+        let t =
+            time_parameterize(&path, &self.vmax, &amax, self.params.sample_dt).map_err(|e| {
                 let joint = self.joint_names().get(e.joint).cloned().unwrap_or_default();
                 MoveError::World(e.to_string().replace(
                     &format!("joint {}'s", e.joint),
                     &format!("joint `{joint}`'s"),
                 ))
-            },
-        )?;
+            })?;
         Ok(Plan {
             start: start.to_vec(),
             trajectory: JointTrajectory {

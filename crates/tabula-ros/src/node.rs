@@ -89,7 +89,14 @@ impl NodeConfig {
             }
         }
         let mut c = match &self.config_file {
-            Some(path) => zenoh::Config::from_file(path).map_err(zerr)?,
+            // Through the input policy's reader: zenoh's own would read `/dev/zero`
+            // until the memory runs out.
+            Some(path) => {
+                let text = tabula_geom::input::read_text(path, tabula_geom::input::Format::Params)
+                    .map_err(|e| RosError::Zenoh(e.to_string()))?;
+                zenoh::Config::from_json5(&text)
+                    .map_err(|e| RosError::Zenoh(format!("{}: {e}", path.display())))?
+            }
             None => zenoh::Config::default(),
         };
         let mode = match self.mode {
@@ -162,6 +169,12 @@ impl Node {
             next_entity: AtomicU32::new(NODE_ID + 1),
             _token: token,
         }))
+    }
+
+    /// How many peers and routers the session is connected to now.
+    pub fn reached(&self) -> usize {
+        let info = self.session.info();
+        info.peers_zid().wait().count() + info.routers_zid().wait().count()
     }
 
     pub fn session(&self) -> &zenoh::Session {

@@ -1,9 +1,12 @@
 //! The hostile cases, by format. Each case names the class of failure it guards
 //! against (the classes of issue 12), the command, and the answer that is right.
 
+mod commands;
+mod descriptions;
 mod flags;
 mod meshes;
 mod moveit;
+mod numbers;
 mod params;
 mod pcd;
 mod pddl;
@@ -121,6 +124,9 @@ pub fn all(root: &Path) -> Vec<Case> {
     params::params(&mut c);
     pddl::pddl(&mut c);
     flags::flags(&mut c);
+    numbers::numbers(&mut c);
+    descriptions::descriptions(&mut c);
+    commands::commands(&mut c);
     c.cases
 }
 
