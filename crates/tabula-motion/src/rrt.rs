@@ -531,7 +531,7 @@ pub fn time_parameterize(
     let dt = dt.max(1e-6);
     let durations = segment_durations(path, vmax, amax);
     let samples: f64 = durations.iter().map(|(d, _)| (d / dt).ceil()).sum();
-    if !(samples <= MAX_TRAJECTORY_SAMPLES as f64) {
+    if samples.is_nan() || samples > MAX_TRAJECTORY_SAMPLES as f64 {
         let (_, joint) = durations
             .iter()
             .copied()

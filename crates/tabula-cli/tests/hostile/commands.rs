@@ -170,4 +170,44 @@ pub(super) fn commands(c: &mut Corpus) {
         ],
     );
     c.needs("nothing answered");
+    // Scenes that put an object inside the robot, or name one after the robot or a
+    // link: refused when the world is built, before anything moves.
+    let clutter = read_repo("scenes/clutter.toml");
+    let red = "pose = { xyz = [0.52, -0.20, 0.771], rpy = [0.0, 0.0, 0.3] }";
+    for (name, from, to, needle) in [
+        (
+            "object-in-robot",
+            red,
+            "pose = { xyz = [0.0, 0.0, 1.0] }",
+            "would overlap `wam/",
+        ),
+        (
+            "object-named-link",
+            "name = \"box_red\"",
+            "name = \"wam_link3\"",
+            "link",
+        ),
+        (
+            "object-named-robot",
+            "name = \"box_red\"",
+            "name = \"wam\"",
+            "is used twice",
+        ),
+        (
+            "furniture-named-link",
+            "name = \"bin\"",
+            "name = \"base_link\"",
+            "link",
+        ),
+    ] {
+        assert!(clutter.contains(from), "{from}");
+        let scene = c.file(&format!("scene/{name}.toml"), clutter.replacen(from, to, 1));
+        c.case(
+            &format!("scene-{name}"),
+            "garbage",
+            Error,
+            &["sim", "settle", "--scene", &scene],
+        );
+        c.needs(needle);
+    }
 }

@@ -1,6 +1,7 @@
 //! The simulated world: rapier3d-f64 rigid bodies built from a scene, settling, pose
 //! queries, and the seed's scene commands (SPEC §1.6).
 
+mod checks;
 mod commands;
 mod furniture;
 mod prism;
@@ -319,6 +320,13 @@ impl SimWorld {
         for r in &scene.robots {
             w.add_robot(r)?;
         }
+        w.check_names_apart_from_robots()?;
+        let held: Vec<&str> = scene
+            .robots
+            .iter()
+            .filter_map(|r| r.hold.as_ref().map(|h| h.object.as_str()))
+            .collect();
+        w.check_objects_clear_of_robots(&held)?;
         w.cameras = scene.cameras.clone();
         w.source = scene.clone();
         for r in &scene.robots {

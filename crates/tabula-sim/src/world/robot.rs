@@ -453,7 +453,7 @@ impl SimWorld {
 
     /// The signed distance between two entities' shapes (negative: they overlap by
     /// that much), if both exist and are within a centimetre.
-    fn overlap(&self, a: &str, b: &str) -> Option<f64> {
+    pub(super) fn overlap(&self, a: &str, b: &str) -> Option<f64> {
         let body = |name: &str| {
             let e = self.entity(name)?;
             self.physics.bodies.get(self.entities[e].body)
