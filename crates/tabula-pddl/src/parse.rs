@@ -313,6 +313,11 @@ struct Scope<'a> {
     objects: &'a [TypedName],
 }
 
+/// The largest action cost or numeric value (10⁹, Fast Downward's bound is 2³¹): a
+/// plan's cost is a sum of them, and sums of larger ones overflow — a solvable problem
+/// would come out "unsolvable" and a plan's printed cost would wrap.
+pub const MAX_COST: i64 = 1_000_000_000;
+
 impl Scope<'_> {
     fn term(&self, node: &Sexpr) -> R<(Term, String)> {
         let a = atom(node, "a variable or object")?;
@@ -490,13 +495,15 @@ impl Scope<'_> {
                 }
                 Effect::IncreaseCost(match &items[2] {
                     Sexpr::Atom(a, loc) => match a.parse::<i64>() {
-                        Ok(v) if v >= 0 => CostExpr::Constant(v),
+                        Ok(v) if (0..=MAX_COST).contains(&v) => CostExpr::Constant(v),
                         _ => {
                             return err(
                                 *loc,
                                 ErrorKind::Expected {
-                                    expected: "a non-negative integer cost".into(),
-                                    found: format!("`{a}`"),
+                                    expected: format!(
+                                        "a non-negative integer cost of at most {MAX_COST}"
+                                    ),
+                                    found: format!("`{}`", a.chars().take(40).collect::<String>()),
                                 },
                             );
                         }
@@ -718,6 +725,12 @@ impl Scope<'_> {
         let Ok(value) = value.parse::<i64>() else {
             return expected(&items[2], "an integer value");
         };
+        if !(-MAX_COST..=MAX_COST).contains(&value) {
+            return expected(
+                &items[2],
+                &format!("an integer of at most {MAX_COST} in size"),
+            );
+        }
         Ok((ground(fname, args), value))
     }
 }

@@ -245,7 +245,7 @@ pub fn validate(domain: &Domain, problem: &Problem, plan: &[PlanStep]) -> Result
             world.state.remove(d);
         }
         world.state.extend(eff.0);
-        cost += if unit { 1 } else { eff.2.max(0) as u64 };
+        cost = cost.saturating_add(if unit { 1 } else { eff.2.max(0) as u64 });
     }
     if !world.holds(&problem.goal, &Binding::new()) {
         return Err(PlanError::GoalNotReached);

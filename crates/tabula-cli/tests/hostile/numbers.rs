@@ -54,8 +54,12 @@ struct Family<'a> {
     name: &'a str,
     command: Vec<String>,
     after: Vec<String>,
-    values: &'a [(&'a str, &'a str, &'a [(&'a str, Expect)])],
+    values: &'a [Value<'a>],
 }
+
+/// A value tried at every key: its label, its text, and the keys where it is legal
+/// with the answer they get.
+type Value<'a> = (&'a str, &'a str, &'a [(&'a str, Expect)]);
 
 /// Each key legal with success.
 fn succeed<'a>(keys: &[&'a str]) -> Vec<(&'a str, Expect)> {

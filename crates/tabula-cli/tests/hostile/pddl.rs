@@ -3,6 +3,7 @@
 use super::*;
 
 pub(super) fn pddl(c: &mut Corpus) {
+    costs(c);
     let domain = read_repo("pddl/tablewclear-domain.pddl");
     let problem = read_repo("pddl/thesis6-a.pddl");
     let d = c.file("pddl/domain.pddl", &domain);
@@ -234,5 +235,99 @@ pub(super) fn pddl(c: &mut Corpus) {
             Error,
             &["plan", "--validate", &d, "@pddl/valid-problem.pddl", &f],
         );
+    }
+}
+
+/// Action costs that once wrapped or overflowed: a solvable problem called
+/// "unsolvable", a validated plan's cost printed modulo 2⁶⁴. Costs over 10⁹ are refused
+/// naming the bound; at the bound the sums are exact.
+fn costs(c: &mut Corpus) {
+    let domain = |cost: &str| {
+        format!(
+            "(define (domain costly) (:requirements :strips :action-costs)\n\
+             (:predicates (at ?x) (link ?x ?y)) (:functions (total-cost) (length ?a ?b) - number)\n\
+             (:action hop :parameters (?a ?b) :precondition (and (at ?a) (link ?a ?b))\n\
+             :effect (and (not (at ?a)) (at ?b) (increase (total-cost) {cost}))))\n"
+        )
+    };
+    let problem = |length: &str| {
+        format!(
+            "(define (problem p) (:domain costly) (:objects a b c d)\n\
+             (:init (at a) (link a b) (link b c) (link c d) (= (total-cost) 0)\n\
+             (= (length a b) {length}) (= (length b c) 1) (= (length c d) 1))\n\
+             (:goal (at d)) (:metric minimize (total-cost)))\n"
+        )
+    };
+    let steps = c.file("pddl/costly-plan.txt", "(hop a b)\n(hop b c)\n(hop c d)\n");
+    for (name, cost, length, expect, needle) in [
+        (
+            "cost-5e18",
+            "5000000000000000000",
+            "1",
+            Error,
+            "at most 1000000000",
+        ),
+        (
+            "cost-i64-max",
+            "9223372036854775807",
+            "1",
+            Error,
+            "at most 1000000000",
+        ),
+        (
+            "cost-u64-over",
+            "18446744073709551617",
+            "1",
+            Error,
+            "at most 1000000000",
+        ),
+        (
+            "cost-bound-plus-one",
+            "1000000001",
+            "1",
+            Error,
+            "at most 1000000000",
+        ),
+        ("cost-at-bound", "1000000000", "1", Ok, "cost = 3000000000"),
+        (
+            "cost-function",
+            "(length ?a ?b)",
+            "1000000000",
+            Ok,
+            "cost = 1000000002",
+        ),
+        (
+            "cost-function-huge",
+            "(length ?a ?b)",
+            "9223372036854775807",
+            Error,
+            "at most 1000000000",
+        ),
+        (
+            "cost-function-negative-huge",
+            "(length ?a ?b)",
+            "-5000000000000",
+            Error,
+            "at most 1000000000",
+        ),
+    ] {
+        let d = c.file(&format!("pddl/{name}-domain.pddl"), domain(cost));
+        let p = c.file(&format!("pddl/{name}-problem.pddl"), problem(length));
+        c.case(
+            &format!("pddl-{name}"),
+            "overflow",
+            expect,
+            &["plan", &d, &p],
+        );
+        c.needs(needle);
+        if matches!(expect, Ok) {
+            c.case(
+                &format!("pddl-{name}-validate"),
+                "overflow",
+                Ok,
+                &["plan", &d, &p, &steps, "--validate"],
+            );
+            c.needs(&needle.replace(" = ", " "));
+        }
     }
 }
