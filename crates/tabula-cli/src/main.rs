@@ -48,9 +48,12 @@ pub mod exit {
     /// The operator stopped the run (Ctrl+C), as shells report SIGINT: 128 + 2.
     pub const STOPPED: i32 = 130;
 
-    /// The status a task run ends with: stopped, done, or no solution.
+    /// The status a task run ends with: stopped, done, or no solution (and the time
+    /// limit's error when it ran out).
     pub fn of_task(success: bool) -> i32 {
-        if tabula_robot::driver::stop_requested() {
+        if time_is_up() {
+            time_up_error()
+        } else if tabula_robot::driver::stop_requested() {
             STOPPED
         } else if success {
             OK
@@ -62,6 +65,34 @@ pub mod exit {
     /// Ctrl+C while robots move: the first asks every driver to stop (the robot holds
     /// where it is, the run ends, `--save-scene` is written, the status is 130); a
     /// second quits at once.
+    /// Set once `--time-limit` has run out.
+    static TIME_UP: std::sync::OnceLock<f64> = std::sync::OnceLock::new();
+
+    pub fn time_is_up() -> bool {
+        TIME_UP.get().is_some()
+    }
+
+    /// The error `--time-limit` ends a run with.
+    pub fn time_up_error() -> ! {
+        let limit = TIME_UP.get().copied().unwrap_or(f64::NAN);
+        eprintln!("error: the time limit of {limit} s (--time-limit) ran out");
+        std::process::exit(ERROR);
+    }
+
+    /// `--time-limit`: a watchdog that, at the limit, asks every driver to stop (the
+    /// robot holds where it is), gives the command two seconds to wind down, and ends
+    /// the process with the limit named — whatever the command was doing (a parser, a
+    /// search, a physics step).
+    pub fn end_after(limit: f64) {
+        std::thread::spawn(move || {
+            std::thread::sleep(std::time::Duration::from_secs_f64(limit));
+            let _ = TIME_UP.set(limit);
+            tabula_robot::driver::request_stop();
+            std::thread::sleep(std::time::Duration::from_secs(2));
+            time_up_error();
+        });
+    }
+
     pub fn stop_on_ctrl_c() {
         let _ = ctrlc::set_handler(|| {
             if tabula_robot::driver::stop_requested() {
@@ -82,6 +113,11 @@ struct Cli {
     verbose: u8,
     #[command(flatten)]
     robot_files: args::RobotFileArgs,
+    /// End any command after this many seconds of wall time: a robot that moves is
+    /// stopped first (it holds where it is), then the run ends with an error naming the
+    /// limit (exit 1).
+    #[arg(long, global = true, value_name = "SECONDS", value_parser = args::seconds)]
+    time_limit: Option<f64>,
     #[command(subcommand)]
     command: Command,
 }
@@ -237,6 +273,9 @@ fn main() {
     if moves_robots {
         exit::stop_on_ctrl_c();
     }
+    if let Some(limit) = cli.time_limit {
+        exit::end_after(limit);
+    }
     let result = match cli.command {
         Command::Demo { report } => demo::run(&report),
         Command::Arm(args) => arm::run(args),
@@ -261,6 +300,9 @@ fn main() {
         Command::StablePoses(args) => stable::run(args),
         Command::Scenes { name } => sim::scenes(name.as_deref()),
     };
+    if exit::time_is_up() {
+        exit::time_up_error();
+    }
     if tabula_robot::driver::stop_requested() {
         eprintln!("stopped by Ctrl+C");
         std::process::exit(exit::STOPPED);

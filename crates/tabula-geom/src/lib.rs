@@ -17,6 +17,7 @@ mod cloud;
 pub mod collada;
 pub mod convex_pieces;
 pub mod guard;
+pub mod hull_input;
 pub mod input;
 pub mod mesh;
 pub mod pcd;

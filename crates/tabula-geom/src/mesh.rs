@@ -205,6 +205,11 @@ pub fn mesh_volume(points: &[Vec3], triangles: &[[u32; 3]]) -> f64 {
         .abs()
 }
 
+/// Most vertices a collision hull is computed over exactly: real robot and object
+/// meshes have tens of thousands at most; a scan-sized mesh of millions made parry's
+/// quickhull run for minutes.
+pub const MAX_EXACT_HULL: usize = 100_000;
+
 /// The one way a mesh becomes a solid collision shape, everywhere in tabula: its convex
 /// hull when the mesh is (nearly) convex or `decompose` is off, a convex decomposition
 /// (V-HACD) when it is notably concave, so a cup's hollow stays hollow and a concave
@@ -219,7 +224,22 @@ pub fn mesh_shape(
     if points.iter().any(|p| !p.is_finite()) {
         return Err("non-finite vertex".into());
     }
-    let (hull_points, hull_triangles) = crate::parry::transformation::try_convex_hull(points)
+    // Collision hulls stay exact up to MAX_EXACT_HULL points (any real robot or object
+    // mesh); beyond, a scan-sized mesh is thinned, with a warning saying by how much.
+    let thinned = crate::hull_input::thinned_with_cell(points, MAX_EXACT_HULL).map(
+        |(kept, cell)| {
+            tracing::warn!(
+                "a mesh of {} vertices: its collision hull is taken over the outermost {} \
+                 (shrunk by under {:.1} mm)",
+                points.len(),
+                kept.len(),
+                1e3 * cell * 3f64.sqrt()
+            );
+            kept
+        },
+    );
+    let (hull_points, hull_triangles) =
+        crate::parry::transformation::try_convex_hull(thinned.as_deref().unwrap_or(points))
         .map_err(|_| "degenerate (flat or collinear) vertices: no convex hull".to_string())?;
     let hull = SharedShape::convex_mesh(hull_points, &hull_triangles)
         .ok_or_else(|| "degenerate (flat or collinear) vertices: no convex hull".to_string())?;

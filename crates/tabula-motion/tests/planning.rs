@@ -200,7 +200,7 @@ fn cartesian_approach_and_timing() {
     }
     let vmax = vec![1.0; 7];
     let amax = vec![2.0; 7];
-    let traj = time_parameterize(&waypoints, &vmax, &amax, 0.01);
+    let traj = time_parameterize(&waypoints, &vmax, &amax, 0.01).unwrap();
     assert!(traj.duration() > 0.0);
     for k in 1..traj.times.len() - 1 {
         let dt0 = traj.times[k] - traj.times[k - 1];
@@ -400,4 +400,18 @@ fn every_joint(
         state.positions.push(value(j));
     }
     state
+}
+
+/// A velocity limit of 1e-300 (a URDF can say so) would time a one-radian move over
+/// 10^300 s: refused with the joint and the limits named, no samples allocated.
+#[test]
+fn a_trajectory_too_long_to_sample_is_refused_naming_the_limit() {
+    let waypoints = vec![vec![0.0, 0.0], vec![1.0, 0.5]];
+    let e = time_parameterize(&waypoints, &[1.0, 1e-300], &[2.0, 2.0], 0.01).unwrap_err();
+    assert_eq!(e.joint, 1);
+    assert!(e.samples > tabula_motion::rrt::MAX_TRAJECTORY_SAMPLES as f64);
+    assert!(e.to_string().contains("1e-300"), "{e}");
+    // At the sampled bound's edge it is still timed.
+    let ok = time_parameterize(&waypoints, &[1.0, 1e-3], &[2.0, 2.0], 0.01).unwrap();
+    assert!(ok.times.len() <= tabula_motion::rrt::MAX_TRAJECTORY_SAMPLES + 1);
 }

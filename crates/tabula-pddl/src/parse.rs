@@ -311,6 +311,24 @@ struct Scope<'a> {
     domain: &'a Domain,
     vars: Vec<TypedName>,
     objects: &'a [TypedName],
+    /// Where each object's name sits in `objects`: a problem of 100,000 objects looks
+    /// one up per argument of every initial fact.
+    object_index: std::collections::HashMap<&'a str, usize>,
+}
+
+impl<'a> Scope<'a> {
+    fn new(domain: &'a Domain, objects: &'a [TypedName]) -> Self {
+        Self {
+            domain,
+            vars: Vec::new(),
+            objects,
+            object_index: objects
+                .iter()
+                .enumerate()
+                .map(|(i, o)| (o.name.as_str(), i))
+                .collect(),
+        }
+    }
 }
 
 /// The largest action cost or numeric value (10⁹, Fast Downward's bound is 2³¹): a
@@ -332,8 +350,8 @@ impl Scope<'_> {
             .domain
             .constants
             .iter()
-            .chain(self.objects)
-            .find(|o| o.name == a);
+            .find(|o| o.name == a)
+            .or_else(|| self.object_index.get(a).map(|&i| &self.objects[i]));
         o.map_or_else(
             || err(node.loc(), ErrorKind::UndefinedObject(a.into())),
             |o| Ok((Term::Const(a.into()), o.type_name.clone())),
@@ -541,11 +559,7 @@ fn parse_action(d: &Domain, node: &Sexpr) -> R<Action> {
         return expected(node, "an action name");
     };
     let name = atom(name, "an action name")?.to_string();
-    let mut scope = Scope {
-        domain: d,
-        vars: Vec::new(),
-        objects: &[],
-    };
+    let mut scope = Scope::new(d, &[]);
     let (mut precondition, mut effect) = (Condition::True, Effect::And(Vec::new()));
     let mut i = 2;
     while i < items.len() {
@@ -640,11 +654,7 @@ pub fn parse_problem(text: &str, domain: &Domain) -> R<Problem> {
             ErrorKind::Syntax("the problem names no (:domain …)".into()),
         );
     }
-    let mut scope = Scope {
-        domain,
-        vars: Vec::new(),
-        objects: &p.objects,
-    };
+    let mut scope = Scope::new(domain, &p.objects);
     let mut init = Vec::new();
     let mut init_numeric = Vec::new();
     for node in init_nodes {
@@ -690,15 +700,17 @@ fn problem_domain(s: &Sexpr, items: &[Sexpr], domain: &Domain) -> R<String> {
 
 /// An `:objects` section: each of a declared type, none named twice or as a constant.
 fn declare_objects(p: &mut Problem, items: &[Sexpr], domain: &Domain) -> R<()> {
+    let mut taken: std::collections::HashSet<String> = p
+        .objects
+        .iter()
+        .chain(&domain.constants)
+        .map(|k| k.name.clone())
+        .collect();
     for (o, oloc) in typed_list(items, false)? {
         if !domain.types.iter().any(|(n, _)| *n == o.type_name) {
             return err(oloc, ErrorKind::UndefinedType(o.type_name));
         }
-        if p.objects
-            .iter()
-            .chain(&domain.constants)
-            .any(|k| k.name == o.name)
-        {
+        if !taken.insert(o.name.clone()) {
             return err(oloc, ErrorKind::Duplicate(o.name));
         }
         p.objects.push(o);

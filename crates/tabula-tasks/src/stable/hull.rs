@@ -21,41 +21,6 @@ pub(super) struct Hull {
     pub(super) centre: Vec3,
 }
 
-/// Most points handed to the hull: parry's quickhull goes quadratic on many
-/// coplanar or cocircular points (a 100,000-corner polygon took minutes).
-pub(super) const MAX_HULL_INPUT: usize = 5_000;
-
-/// `None` when `points` are few enough; else the point farthest from the box's centre
-/// in each cell of a grid coarse enough to leave at most [`MAX_HULL_INPUT`] — the
-/// outermost points, so the hull shrinks by less than a cell (≤ 1/500 of the size).
-pub(super) fn thin_for_hull(points: &[Vec3]) -> Option<Vec<Vec3>> {
-    if points.len() <= MAX_HULL_INPUT {
-        return None;
-    }
-    let (lo, hi) = tabula_geom::bounds(points);
-    let centre = (lo + hi) / 2.0;
-    let mut leaf = (hi - lo).length() / 2000.0;
-    loop {
-        let mut cells: std::collections::HashMap<[i64; 3], Vec3> = Default::default();
-        for p in points {
-            let cell = cells.entry(tabula_geom::voxel_key(*p, leaf)).or_insert(*p);
-            if p.distance_squared(centre) > cell.distance_squared(centre) {
-                *cell = *p;
-            }
-        }
-        if cells.len() <= MAX_HULL_INPUT {
-            let mut kept: Vec<Vec3> = cells.into_values().collect();
-            kept.sort_by(|a, b| {
-                a.to_array()
-                    .partial_cmp(&b.to_array())
-                    .unwrap_or(std::cmp::Ordering::Equal)
-            });
-            return Some(kept);
-        }
-        leaf *= 2.0;
-    }
-}
-
 impl Hull {
     pub(super) fn new(points: &[Vec3]) -> Result<Self, StableError> {
         let mut distinct: Vec<[u64; 3]> = points
@@ -67,7 +32,10 @@ impl Hull {
         if distinct.len() < 4 {
             return Err(StableError::TooFewPoints(distinct.len()));
         }
-        let thinned = thin_for_hull(points);
+        let thinned = tabula_geom::hull_input::thin_for_hull(
+            points,
+            tabula_geom::hull_input::MAX_HULL_INPUT,
+        );
         let (vertices, mut triangles) = tabula_geom::parry::transformation::try_convex_hull(
             thinned.as_deref().unwrap_or(points),
         )
