@@ -116,7 +116,7 @@ struct Cli {
     /// End any command after this many seconds of wall time: a robot that moves is
     /// stopped first (it holds where it is), then the run ends with an error naming the
     /// limit (exit 1).
-    #[arg(long, global = true, value_name = "SECONDS", value_parser = args::seconds)]
+    #[arg(long, global = true, allow_negative_numbers = true, value_name = "SECONDS", value_parser = args::seconds)]
     time_limit: Option<f64>,
     #[command(subcommand)]
     command: Command,

@@ -44,4 +44,3 @@ pub fn thinned_with_cell(points: &[Vec3], max: usize) -> Option<(Vec<Vec3>, f64)
         leaf *= 2.0;
     }
 }
-

@@ -226,8 +226,8 @@ pub fn mesh_shape(
     }
     // Collision hulls stay exact up to MAX_EXACT_HULL points (any real robot or object
     // mesh); beyond, a scan-sized mesh is thinned, with a warning saying by how much.
-    let thinned = crate::hull_input::thinned_with_cell(points, MAX_EXACT_HULL).map(
-        |(kept, cell)| {
+    let thinned =
+        crate::hull_input::thinned_with_cell(points, MAX_EXACT_HULL).map(|(kept, cell)| {
             tracing::warn!(
                 "a mesh of {} vertices: its collision hull is taken over the outermost {} \
                  (shrunk by under {:.1} mm)",
@@ -236,11 +236,10 @@ pub fn mesh_shape(
                 1e3 * cell * 3f64.sqrt()
             );
             kept
-        },
-    );
+        });
     let (hull_points, hull_triangles) =
         crate::parry::transformation::try_convex_hull(thinned.as_deref().unwrap_or(points))
-        .map_err(|_| "degenerate (flat or collinear) vertices: no convex hull".to_string())?;
+            .map_err(|_| "degenerate (flat or collinear) vertices: no convex hull".to_string())?;
     let hull = SharedShape::convex_mesh(hull_points, &hull_triangles)
         .ok_or_else(|| "degenerate (flat or collinear) vertices: no convex hull".to_string())?;
     // A flat mesh gives a "hull" of no volume, which the physics would keep floating

@@ -4,6 +4,7 @@
 mod commands;
 mod descriptions;
 mod flags;
+mod heavy;
 mod meshes;
 mod moveit;
 mod numbers;
@@ -127,6 +128,7 @@ pub fn all(root: &Path) -> Vec<Case> {
     numbers::numbers(&mut c);
     descriptions::descriptions(&mut c);
     commands::commands(&mut c);
+    heavy::heavy(&mut c);
     c.cases
 }
 

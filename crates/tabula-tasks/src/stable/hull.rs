@@ -32,10 +32,8 @@ impl Hull {
         if distinct.len() < 4 {
             return Err(StableError::TooFewPoints(distinct.len()));
         }
-        let thinned = tabula_geom::hull_input::thin_for_hull(
-            points,
-            tabula_geom::hull_input::MAX_HULL_INPUT,
-        );
+        let thinned =
+            tabula_geom::hull_input::thin_for_hull(points, tabula_geom::hull_input::MAX_HULL_INPUT);
         let (vertices, mut triangles) = tabula_geom::parry::transformation::try_convex_hull(
             thinned.as_deref().unwrap_or(points),
         )
