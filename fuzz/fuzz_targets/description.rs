@@ -5,19 +5,20 @@
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
-use tabula_robot::RobotModel;
+
+#[path = "common/pr2.rs"]
+mod common;
+use common::pr2;
 use tabula_robot::description::RobotDescription;
 
 fuzz_target!(|data: &[u8]| {
     let text = String::from_utf8_lossy(data);
-    let Ok(pr2) = RobotModel::from_urdf_str(tabula_robot::robots::PR2_URDF, None) else {
-        return;
-    };
-    let Ok(d) = RobotDescription::from_toml(&text, &pr2) else {
+    let pr2 = pr2();
+    let Ok(d) = RobotDescription::from_toml(&text, pr2) else {
         return;
     };
     for arm in &d.arms {
-        let chain = arm.chain(&pr2).expect("an accepted arm has a chain");
+        let chain = arm.chain(pr2).expect("an accepted arm has a chain");
         let zeros = vec![0.0; chain.joint_names.len()];
         for pose in arm.named.keys().map(String::as_str).chain(["tucked"]) {
             if let Ok(q) = arm.named_configuration(pose, &chain.joint_names, &zeros) {
@@ -26,7 +27,7 @@ fuzz_target!(|data: &[u8]| {
         }
         if let Some(g) = d.gripper_of(arm) {
             assert!(g.approach().is_finite() && g.closing().is_finite());
-            assert!(g.width_at(&pr2, 0.0).is_finite());
+            assert!(g.width_at(pr2, 0.0).is_finite());
         }
     }
 });

@@ -4,17 +4,18 @@
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
-use tabula_robot::RobotModel;
+
+#[path = "common/pr2.rs"]
+mod common;
+use common::pr2;
 use tabula_robot::srdf::Srdf;
 
 fuzz_target!(|data: &[u8]| {
     let text = String::from_utf8_lossy(data);
-    let Ok(pr2) = RobotModel::from_urdf_str(tabula_robot::robots::PR2_URDF, None) else {
-        return;
-    };
-    if let Ok(srdf) = Srdf::parse(&text, &pr2) {
-        for arm in srdf.arms(&pr2) {
-            let _ = arm.chain(&pr2);
+    let pr2 = pr2();
+    if let Ok(srdf) = Srdf::parse(&text, pr2) {
+        for arm in srdf.arms(pr2) {
+            let _ = arm.chain(pr2);
         }
         let _ = srdf.allows("base_link", "torso_lift_link");
     }

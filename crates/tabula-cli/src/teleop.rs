@@ -100,17 +100,16 @@ impl Teleop {
         );
     }
 
+    /// The driven arm's gripper, if it has one.
+    fn arm_gripper(&self) -> Option<&tabula_robot::description::Gripper> {
+        let d = &self.jog.robot.description;
+        d.arm(&self.jog.arm).ok().and_then(|a| d.gripper_of(a))
+    }
+
     /// The objects the driven arm's gripper holds now.
     fn held(&self) -> Vec<String> {
         let driver = &self.jog.driver;
-        let palm = self
-            .jog
-            .robot
-            .description
-            .arm(&self.jog.arm)
-            .ok()
-            .and_then(|a| self.jog.robot.description.gripper_of(a))
-            .map(|g| g.palm.clone());
+        let palm = self.arm_gripper().map(|g| g.palm.clone());
         driver
             .world
             .attachments
@@ -122,14 +121,7 @@ impl Teleop {
 
     /// The gripper's line on the screen: its gap and what it holds.
     fn gripper_line(&self) -> String {
-        let Some(g) = self
-            .jog
-            .robot
-            .description
-            .arm(&self.jog.arm)
-            .ok()
-            .and_then(|a| self.jog.robot.description.gripper_of(a))
-        else {
+        let Some(g) = self.arm_gripper() else {
             return "gripper: none on this arm".into();
         };
         let held = self.held();

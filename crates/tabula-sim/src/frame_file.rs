@@ -21,11 +21,8 @@ pub struct FrameFile {
 pub enum FrameFileError {
     #[error("a frame in the world frame needs a PCD (PLY has no VIEWPOINT for the camera's pose)")]
     WorldNeedsPcd,
-    #[error("cannot write {path}: {source}")]
-    Io {
-        path: String,
-        source: std::io::Error,
-    },
+    #[error("cannot write {path}: {error}")]
+    Io { path: String, error: std::io::Error },
 }
 
 impl DepthFrame {
@@ -37,9 +34,9 @@ impl DepthFrame {
         if ply && how.world {
             return Err(FrameFileError::WorldNeedsPcd);
         }
-        let io = |source| FrameFileError::Io {
+        let io = |error| FrameFileError::Io {
             path: path.display().to_string(),
-            source,
+            error,
         };
         let mut out = std::io::BufWriter::new(std::fs::File::create(path).map_err(io)?);
         if ply {
@@ -70,9 +67,9 @@ impl DepthFrame {
     /// Writes the per-pixel ground-truth labels and their names as JSON to `path`.
     pub fn write_labels(&self, path: &Path) -> Result<(), FrameFileError> {
         let v = serde_json::json!({"width": self.width, "height": self.height, "names": self.label_names, "labels": self.labels});
-        std::fs::write(path, v.to_string()).map_err(|source| FrameFileError::Io {
+        std::fs::write(path, v.to_string()).map_err(|error| FrameFileError::Io {
             path: path.display().to_string(),
-            source,
+            error,
         })
     }
 }

@@ -106,6 +106,12 @@ fn slug(s: &str) -> String {
 impl Report {
     /// Starts a report in `dir` (created if missing).
     pub fn create(dir: &Path, title: impl Into<String>) -> Result<Self> {
+        if dir.exists() && !dir.is_dir() {
+            anyhow::bail!(
+                "{} is a file; a report is a folder (give a new or existing folder)",
+                dir.display()
+            );
+        }
         std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
         Ok(Self {
             dir: dir.to_path_buf(),
