@@ -5,7 +5,6 @@ use pyisheval::{Interpreter, Value};
 ///
 /// This ensures all interpreters have access to:
 /// - Math constants: pi, e, tau, M_PI
-/// - Math functions: radians(), degrees()
 ///
 /// Note: inf and nan are NOT initialized here - they are injected directly into
 /// the context HashMap in build_pyisheval_context() to bypass parsing issues.
@@ -34,24 +33,8 @@ pub(crate) fn init_interpreter() -> Interpreter {
         }
     }
 
-    // Add math conversion functions as lambda expressions directly in the interpreter
-    // This makes them available as callable functions in all expressions
-    if let Err(e) = interp.eval("radians = lambda x: x * pi / 180") {
-        log::warn!(
-            "Could not define built-in function 'radians': {}. \
-             This function will not be available in expressions. \
-             (May be due to missing 'pi' constant)",
-            e
-        );
-    }
-    if let Err(e) = interp.eval("degrees = lambda x: x * 180 / pi") {
-        log::warn!(
-            "Could not define built-in function 'degrees': {}. \
-             This function will not be available in expressions. \
-             (May be due to missing 'pi' constant)",
-            e
-        );
-    }
+    // tabula: radians() and degrees() are preprocessed as the other math functions
+    // (`SUPPORTED_MATH_FUNCS`): as lambdas here they made every interpreter a cycle.
 
     interp
 }

@@ -315,6 +315,8 @@ pub(super) fn preprocess_math_functions(
 
             // Call the appropriate Rust math function
             let computed = match func_name {
+                "radians" => n.to_radians(),
+                "degrees" => n.to_degrees(),
                 "cos" => n.cos(),
                 "sin" => n.sin(),
                 "tan" => n.tan(),

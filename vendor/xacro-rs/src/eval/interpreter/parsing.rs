@@ -180,10 +180,11 @@ pub(crate) fn find_matching_paren(
 /// doesn't provide native math functions. Functions are ordered by length (longest first)
 /// for defensive regex alternation, though with word boundaries this isn't strictly necessary.
 ///
-/// Note: `radians()` and `degrees()` are NOT in this list because they are implemented as
-/// lambda functions in pyisheval (see `init_interpreter()`), not as Rust native functions.
+/// tabula: `radians()` and `degrees()` are here too, instead of lambdas in the
+/// interpreter's environment: a pyisheval lambda holds its environment, which holds the
+/// lambda, so every interpreter made per substitution pass leaked (vendor/README.md).
 pub(super) const SUPPORTED_MATH_FUNCS: &[&str] = &[
-    "atan2", "floor", "acos", "asin", "atan", "ceil", "sqrt", "cos", "sin", "tan", "pow", "log",
+    "radians", "degrees", "atan2", "floor", "acos", "asin", "atan", "ceil", "sqrt", "cos", "sin", "tan", "pow", "log",
     "abs",
 ];
 
