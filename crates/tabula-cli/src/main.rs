@@ -62,9 +62,6 @@ pub mod exit {
         }
     }
 
-    /// Ctrl+C while robots move: the first asks every driver to stop (the robot holds
-    /// where it is, the run ends, `--save-scene` is written, the status is 130); a
-    /// second quits at once.
     /// Set once `--time-limit` has run out.
     static TIME_UP: std::sync::OnceLock<f64> = std::sync::OnceLock::new();
 
@@ -74,8 +71,12 @@ pub mod exit {
 
     /// The error `--time-limit` ends a run with.
     pub fn time_up_error() -> ! {
-        let limit = TIME_UP.get().copied().unwrap_or(f64::NAN);
-        eprintln!("error: the time limit of {limit} s (--time-limit) ran out");
+        // The watchdog and the main thread may both get here: one line only.
+        static SAID: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+        if !SAID.swap(true, std::sync::atomic::Ordering::SeqCst) {
+            let limit = TIME_UP.get().copied().unwrap_or(f64::NAN);
+            eprintln!("error: the time limit of {limit} s (--time-limit) ran out");
+        }
         std::process::exit(ERROR);
     }
 
@@ -93,6 +94,9 @@ pub mod exit {
         });
     }
 
+    /// Ctrl+C while robots move: the first asks every driver to stop (the robot holds
+    /// where it is, the run ends, `--save-scene` is written, the status is 130); a
+    /// second quits at once.
     pub fn stop_on_ctrl_c() {
         let _ = ctrlc::set_handler(|| {
             if tabula_robot::driver::stop_requested() {
