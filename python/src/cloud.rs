@@ -48,16 +48,18 @@ pub fn read_cloud<'py>(
 }
 
 /// A cloud from a `(h, w, 3)` (organized) or `(n, 3)` float64 array; NaN marks no point.
+/// The points are read in place (the Python half made the array contiguous): the cloud
+/// is the one copy.
 fn cloud_of(points: &PyReadonlyArrayDyn<'_, f64>) -> PyResult<PointCloud> {
     let shape = points.shape();
-    let flat: Vec<f64> = points.as_array().iter().copied().collect();
+    let flat = points.as_slice().map_err(value_error)?;
     if flat.iter().any(|v| v.is_infinite()) {
         return Err(value_error(
             "points: infinite values (NaN marks a missing point; infinity is not a position)",
         ));
     }
     let pts: Vec<Vec3> = flat
-        .chunks(3)
+        .chunks_exact(3)
         .map(|c| Vec3::new(c[0], c[1], c[2]))
         .collect();
     match shape {
@@ -90,13 +92,18 @@ fn labels(p: &Perceived, n: usize) -> Vec<i32> {
 /// One frame's perception: `(json, labels)`, the JSON being `tabula perceive --json`'s
 /// and `labels` the points' (shape of the cloud without its last axis).
 #[pyfunction]
-#[pyo3(signature = (points, world_from_camera=None, up=None))]
+#[pyo3(signature = (points, world_from_camera=None, up=None, params=None))]
 pub fn perceive<'py>(
     py: Python<'py>,
     points: PyReadonlyArrayDyn<'py, f64>,
     world_from_camera: Option<Vec<Vec<f64>>>,
     up: Option<[f64; 3]>,
+    params: Option<(String, String)>,
 ) -> PyResult<(String, Bound<'py, PyArrayDyn<i32>>)> {
+    let params: TabletopParams = match &params {
+        Some((kind, text)) => crate::params::parse(kind, text)?,
+        None => TabletopParams::default(),
+    };
     let cloud = cloud_of(&points)?;
     let shape: Vec<usize> = points.shape()[..points.ndim() - 1].to_vec();
     let pose = match world_from_camera {
@@ -117,7 +124,7 @@ pub fn perceive<'py>(
     let n = cloud.points.len();
     let file = CloudFile::plain(cloud);
     let perceived = py
-        .detach(|| perceive_frame(&file, pose, up, &[], &TabletopParams::default()))
+        .detach(|| perceive_frame(&file, pose, up, &[], &params))
         .map_err(value_error)?;
     let json = perceived.to_json(None, None).to_string();
     let labels = ArrayD::from_shape_vec(shape, labels(&perceived, n)).map_err(value_error)?;

@@ -3,6 +3,8 @@
 //! the GIL released, and every error is a Python exception with the CLI's message.
 
 mod cloud;
+mod motion;
+mod params;
 mod plan;
 mod robot;
 mod scene;
@@ -71,5 +73,6 @@ fn _tabula(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(cloud::read_cloud, m)?)?;
     m.add_function(wrap_pyfunction!(cloud::perceive, m)?)?;
     m.add_function(wrap_pyfunction!(plan::plan_pddl, m)?)?;
+    m.add_function(wrap_pyfunction!(motion::plan_motion, m)?)?;
     Ok(())
 }

@@ -22,6 +22,11 @@ pub struct Robot {
 }
 
 impl Robot {
+    /// The loaded robot (model and description).
+    pub(crate) fn named(&self) -> &NamedRobot {
+        &self.robot
+    }
+
     /// The chain from `base` to `tip` (the first arm's by default).
     fn chain(
         &self,

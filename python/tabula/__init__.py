@@ -26,6 +26,7 @@ __all__ = [
     "read_cloud",
     "perceive",
     "plan_pddl",
+    "plan_motion",
 ]
 
 PathLike = Union[str, Path]
@@ -148,14 +149,31 @@ def read_ply(path: PathLike) -> np.ndarray:
     return read_cloud(path)[0]
 
 
-def perceive(points, up=None, world_from_camera=None) -> dict:
+def _params(params) -> Optional[Tuple[str, str]]:
+    """``params`` for the native half: a dict (keys as in the module's TOML, nested
+    tables as dicts) or the path of a TOML file; None keeps every default."""
+    if params is None:
+        return None
+    if isinstance(params, dict):
+        try:
+            return ("json", json.dumps(params, allow_nan=False))
+        except (TypeError, ValueError) as e:
+            raise ValueError(f"params: {e}") from None
+    if isinstance(params, (str, Path)):
+        return ("file", str(params))
+    raise ValueError(f"params must be a dict or a TOML file's path, not {type(params).__name__}")
+
+
+def perceive(points, up=None, world_from_camera=None, params=None) -> dict:
     """One frame's perception: the table, the objects on it, every horizontal surface,
     the free space — ``tabula perceive --json``'s content — plus ``labels``, one per
     point (-1 none, 0 the table, k + 1 object k, -2 objects cut by the frame's edge).
 
     ``points``: ``(h, w, 3)`` (organized, the sensor's grid) or ``(n, 3)``, NaN for no
     point. The frame is set by ``world_from_camera`` (4, 4), else by ``up`` (the world's
-    up in the cloud's frame), else found from the largest support."""
+    up in the cloud's frame), else found from the largest support. ``params``: the
+    tabletop pipeline's parameters (``tabula perceive --print-params``'s keys) as a dict
+    or a TOML file; left-out keys keep their defaults."""
     arr = np.ascontiguousarray(points, dtype=np.float64)
     if not (arr.ndim == 3 and arr.shape[2] == 3) and not (arr.ndim == 2 and arr.shape[1] == 3):
         raise ValueError(f"points must have shape (h, w, 3) or (n, 3), not {arr.shape}")
@@ -163,7 +181,7 @@ def perceive(points, up=None, world_from_camera=None) -> dict:
     up = None if up is None else _vector(up, "up").tolist()
     if up is not None and len(up) != 3:
         raise ValueError("up must have 3 values")
-    text, labels = _tabula.perceive(arr, pose, up)
+    text, labels = _tabula.perceive(arr, pose, up, _params(params))
     out = json.loads(text)
     out["labels"] = labels
     return out
@@ -176,6 +194,68 @@ def plan_pddl(
     strings, a cheapest plan when ``optimal`` (A*), else any plan fast; ``None`` when
     no plan exists. ``TimeoutError`` past ``timeout_s``."""
     return _tabula.plan_pddl(domain, problem, bool(optimal), timeout_s)
+
+
+def _target(value, name: str):
+    """A start or goal for the native half: a named state (str), a (4, 4) pose or joint
+    values (a vector)."""
+    if value is None or isinstance(value, str):
+        return value
+    arr = np.asarray(value, dtype=np.float64) if not isinstance(value, np.ndarray) else value
+    if arr.ndim == 2:
+        return _pose(arr, name)
+    vec = _vector(arr, name)
+    if not np.all(np.isfinite(vec)):
+        raise ValueError(f"{name} must be finite")
+    return vec.tolist()
+
+
+def plan_motion(
+    robot,
+    scene: Optional[PathLike] = None,
+    start=None,
+    goal=None,
+    group: Optional[str] = None,
+    request: Optional[PathLike] = None,
+    params=None,
+    timeout: Optional[float] = None,
+    seed: Optional[int] = None,
+) -> dict:
+    """A collision-free motion for ``robot``'s planning ``group`` in ``scene`` —
+    ``tabula motion plan --json``'s content.
+
+    ``robot``: a :class:`Robot`, a URDF/xacro file or a built-in name (with a tabula
+    scene: which of its robots, None for its first). ``scene``: a tabula scene (``.toml``)
+    or a MoveIt planning scene (``.yaml``), None for the robot alone. ``start``: joint
+    values of the group, a named state, or None (the scene's state, or the request's).
+    ``goal``: joint values, a (4, 4) pose of the group's tip in the world, or a named
+    state; or instead ``request``, a MoveIt motion plan request (``.yaml``). ``params``:
+    ``MoveGroupParams`` as a dict or TOML file (default: 1 mm padding, every edge
+    certified). ``timeout`` (s): the planning limit (default: the request's, else 1 s).
+
+    The answer: ``solved``; when True ``group``, ``joint_names``, ``path`` (waypoints),
+    ``points`` (``time``, ``positions``, ``velocities``), ``planning_us``,
+    ``path_length``, ``duration``, ``notes``; when False ``reason`` (``unreachable``,
+    ``goal_in_collision``, ``goal_invalid``, ``start_invalid``, ``no_path``, …) and
+    ``message``. A wrong query (file, group, joint count) raises ``ValueError``."""
+    if isinstance(robot, Robot):
+        robot = robot._robot
+    elif robot is not None:
+        robot = str(robot)
+    if seed is not None and (not isinstance(seed, int) or seed < 0):
+        raise ValueError(f"seed must be a non-negative integer, not {seed!r}")
+    text = _tabula.plan_motion(
+        robot,
+        None if scene is None else str(scene),
+        _target(start, "start"),
+        _target(goal, "goal"),
+        group,
+        None if request is None else str(request),
+        _params(params),
+        None if timeout is None else float(timeout),
+        seed,
+    )
+    return json.loads(text)
 
 
 class Scene:

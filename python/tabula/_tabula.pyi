@@ -1,6 +1,6 @@
 """The native half of `tabula` (see `tabula/__init__.py` for the documented API)."""
 
-from typing import List, Optional, Sequence, Tuple
+from typing import List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -50,5 +50,17 @@ def perceive(
     points: npt.NDArray[np.float64],
     world_from_camera: Optional[Sequence[Sequence[float]]] = ...,
     up: Optional[Sequence[float]] = ...,
+    params: Optional[Tuple[str, str]] = ...,
 ) -> Tuple[str, npt.NDArray[np.int32]]: ...
 def plan_pddl(domain: str, problem: str, optimal: bool = ..., timeout_s: Optional[float] = ...) -> Optional[List[str]]: ...
+def plan_motion(
+    robot: Union[Robot, str, None],
+    scene: Optional[str] = ...,
+    start: Union[str, List[float], List[List[float]], None] = ...,
+    goal: Union[str, List[float], List[List[float]], None] = ...,
+    group: Optional[str] = ...,
+    request: Optional[str] = ...,
+    params: Optional[Tuple[str, str]] = ...,
+    timeout: Optional[float] = ...,
+    seed: Optional[int] = ...,
+) -> str: ...

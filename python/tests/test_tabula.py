@@ -133,3 +133,61 @@ def test_a_urdf_file_with_its_srdf():
     q = np.array([0.1, -0.4, 0.2, -2.0, 0.1, 1.8, 0.6])[: len(robot.joint_names())]
     T = robot.fk(q)
     assert any(np.allclose(robot.fk(s), T, atol=1e-4) for s in robot.ik(T, seed=q))
+
+
+def test_plan_motion_answers_as_motion_plan_does():
+    panda = ROOT / "data" / "mbm" / "panda"
+    robot = tabula.Robot(panda / "panda.urdf")
+    scene = panda / "problems" / "table_pick_panda" / "scene0001.yaml"
+    request = panda / "problems" / "table_pick_panda" / "request0001.yaml"
+    # A MotionBenchMaker problem, by its scene and request files.
+    out = tabula.plan_motion(robot, scene, request=request)
+    assert out["solved"] and len(out["joint_names"]) == 7
+    times = [p["time"] for p in out["points"]]
+    assert times[0] == 0.0 and times == sorted(times) and out["duration"] == times[-1]
+    # Named states, joints and a pose; the robot by its file.
+    named = tabula.plan_motion(robot, scene, start="ready", goal="extended")
+    assert named["path"][0][3] == -2.356 and named["path"][-1][3] == 0.0
+    goal = np.array(named["path"][-1])
+    joints = tabula.plan_motion(str(panda / "panda.urdf"), scene, start="ready", goal=goal)
+    assert joints["solved"] and np.allclose(joints["path"][-1], goal)
+    T = robot.fk(np.array(named["path"][0]))
+    posed = tabula.plan_motion(robot, None, start=goal, goal=T, seed=3)
+    assert posed["solved"] and np.allclose(robot.fk(np.array(posed["path"][-1])), T, atol=1e-4)
+    # No motion is an answer, not an exception: a goal out of reach.
+    far = T.copy()
+    far[2, 3] += 3.0
+    blocked = tabula.plan_motion(robot, scene, start="ready", goal=far, timeout=0.2)
+    assert not blocked["solved"] and blocked["reason"] == "unreachable" and blocked["message"]
+    # A wrong query raises, naming what is wrong.
+    with pytest.raises(ValueError, match="no planning group `arm`"):
+        tabula.plan_motion(robot, scene, goal="ready", group="arm")
+    with pytest.raises(ValueError, match="7 values"):
+        tabula.plan_motion(robot, scene, goal=[0.0, 1.0])
+    with pytest.raises(ValueError, match="finite"):
+        tabula.plan_motion(robot, scene, goal=[0.0, np.nan, 0, 0, 0, 0, 0])
+    with pytest.raises(ValueError, match="give a goal"):
+        tabula.plan_motion(robot, scene)
+    with pytest.raises(ValueError, match="padding"):
+        tabula.plan_motion(robot, scene, goal="ready", params={"world": {"padding": -1.0}})
+
+
+def test_perception_parameters_from_a_dict_or_a_file(tmp_path):
+    scene = tabula.Scene(ROOT / "scenes" / "clutter.toml")
+    scene.settle()
+    points, world_from_camera = scene.capture()
+    usual = tabula.perceive(points, world_from_camera=world_from_camera)
+    # Objects need 100,000 points: none of the cups on the table has that many.
+    strict = {"min_object_points": 100000}
+    none = tabula.perceive(points, world_from_camera=world_from_camera, params=strict)
+    assert usual["objects"] and not none["objects"]
+    path = tmp_path / "perception.toml"
+    path.write_text("min_object_points = 100000\n")
+    from_file = tabula.perceive(points, world_from_camera=world_from_camera, params=path)
+    assert not from_file["objects"]
+    with pytest.raises(ValueError, match="min_object_points"):
+        tabula.perceive(points, params={"min_object_points": -5})
+    with pytest.raises(ValueError, match="params"):
+        tabula.perceive(points, params={"min_object_points": float("nan")})
+    with pytest.raises(ValueError, match="unknown field"):
+        tabula.perceive(points, params={"no_such_key": 1})

@@ -8,6 +8,7 @@ pub mod clear;
 pub mod demo;
 pub mod ik;
 pub mod judged;
+pub mod motion_plan;
 pub mod perception;
 pub mod pick_place;
 pub mod place;

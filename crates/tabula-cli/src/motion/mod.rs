@@ -3,23 +3,7 @@
 mod mbm;
 mod plan;
 
-use tabula_motion::group::MoveGroupParams;
-
-/// Padding of `motion plan` and `motion bench --mbm` without `--params`: 1 mm, with
-/// every edge certified by conservative advancement. MoveIt plans on the exact
-/// geometry, and MotionBenchMaker's grasp goals sit millimetres from the object, where
-/// the tasks' 1 cm would refuse them.
-pub const PLANNING_PADDING: f64 = 0.001;
-
-/// `--params` when given, else the defaults with [`PLANNING_PADDING`].
-fn planning_params(path: Option<&std::path::Path>) -> anyhow::Result<MoveGroupParams> {
-    if path.is_some() {
-        return Ok(crate::tasks::load_params(path)?);
-    }
-    let mut params = MoveGroupParams::default();
-    params.world.padding = PLANNING_PADDING;
-    Ok(params)
-}
+use tabula_bench::motion_plan::planning_params;
 
 use anyhow::{Result, bail};
 use clap::Subcommand;
