@@ -47,15 +47,21 @@ pub(crate) fn pose_of_rows(rows: &[Vec<f64>]) -> PyResult<tabula_geom::Pose> {
     if rows.len() != 4 || rows.iter().any(|r| r.len() != 4) {
         return Err(value_error("a pose must be a (4, 4) matrix"));
     }
-    let cols: Vec<f64> = (0..4)
-        .flat_map(|c| (0..4).map(move |r| (r, c)))
-        .map(|(r, c)| rows[r][c])
-        .collect();
-    finite(&cols, "the pose")?;
+    let flat: Vec<f64> = rows.iter().flatten().copied().collect();
+    pose_of_matrix(&flat)
+}
+
+/// A pose from a (4, 4) homogeneous matrix, row after row (numpy's C order).
+pub(crate) fn pose_of_matrix(m: &[f64]) -> PyResult<tabula_geom::Pose> {
+    if m.len() != 16 {
+        return Err(value_error("a pose must be a (4, 4) matrix"));
+    }
+    finite(m, "the pose")?;
+    let cols: Vec<f64> = (0..16).map(|k| m[(k % 4) * 4 + k / 4]).collect();
     let (scale, rotation, translation) =
         tabula_geom::Mat4::from_cols_slice(&cols).to_scale_rotation_translation();
     if (scale - tabula_geom::Vec3::ONE).abs().max_element() > 1e-6
-        || rows[3] != [0.0, 0.0, 0.0, 1.0]
+        || m[12..] != [0.0, 0.0, 0.0, 1.0]
     {
         return Err(value_error(
             "a pose's rotation must be a rotation and its last row 0 0 0 1",

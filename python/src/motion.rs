@@ -74,7 +74,11 @@ pub fn plan_motion(
     };
     let goal = match (goal, &request) {
         (Some(_), Some(_)) => return Err(value_error("give a goal or a request, not both")),
-        (None, None) => return Err(value_error("give a goal (joints, a pose or a named state) or a request")),
+        (None, None) => {
+            return Err(value_error(
+                "give a goal (joints, a pose or a named state) or a request",
+            ));
+        }
         (None, Some(path)) => Goal::Request(
             read_text(path, Format::Scene)
                 .map_err(value_error)

@@ -14,8 +14,8 @@ pub fn parse<T: serde::de::DeserializeOwned + Default + Validate>(
     let toml_text = match kind {
         "file" => return load_params(Some(std::path::Path::new(text))).map_err(value_error),
         "json" => {
-            let value: toml::Value = serde_json::from_str(text)
-                .map_err(|e| value_error(format!("params: {e}")))?;
+            let value: toml::Value =
+                serde_json::from_str(text).map_err(|e| value_error(format!("params: {e}")))?;
             toml::to_string(&value).map_err(|e| value_error(format!("params: {e}")))?
         }
         other => return Err(value_error(format!("params: unknown kind `{other}`"))),

@@ -4,21 +4,36 @@
 
 use crate::{finite, runtime_error, value_error};
 use numpy::ndarray::Array2;
-use numpy::{IntoPyArray, PyArray1, PyArray2, PyReadonlyArray1};
+use numpy::{IntoPyArray, PyArray1, PyArray2, PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;
+use std::collections::HashMap;
 use std::path::PathBuf;
+use std::sync::{Arc, Mutex, OnceLock};
 use tabula_geom::{Mat4, Pose};
 use tabula_robot::Chain;
+use tabula_robot::description::IkKind;
 use tabula_robot::ik::{AutoIk, IkError, IkMode, IkSolver, NumericIk, NumericIkParams};
 use tabula_robot::packages::PackagePaths;
 use tabula_robot::robots::{LoadOptions, NamedRobot, load_with};
+
+/// A chain with its IK solver, built once per (base, tip) and kept: building a solver
+/// (closed-form detection, limits) costs more than a solve.
+struct Kinematics {
+    chain: Chain,
+    solver: OnceLock<Box<dyn IkSolver + Send + Sync>>,
+}
+
+/// At most this many chains are kept (a program walking every link pair starts over).
+const MAX_CHAINS: usize = 256;
 
 /// A robot model with its description (arms, grippers, named states).
 #[pyclass(module = "tabula._tabula", frozen)]
 pub struct Robot {
     robot: NamedRobot,
-    /// The first arm's chain, built once: most calls use it.
-    default_chain: Option<Chain>,
+    /// The first arm's chain: most calls use it.
+    default_kinematics: Option<Arc<Kinematics>>,
+    /// Other chains asked for by base and tip.
+    chains: Mutex<HashMap<(String, String), Arc<Kinematics>>>,
 }
 
 impl Robot {
@@ -27,40 +42,57 @@ impl Robot {
         &self.robot
     }
 
-    /// The chain from `base` to `tip` (the first arm's by default).
-    fn chain(
-        &self,
-        base: Option<&str>,
-        tip: Option<&str>,
-    ) -> PyResult<std::borrow::Cow<'_, Chain>> {
-        if let (None, None, Some(c)) = (base, tip, &self.default_chain) {
-            return Ok(std::borrow::Cow::Borrowed(c));
-        }
+    /// The chain from `base` to `tip` (the first arm's by default), built once.
+    fn kinematics(&self, base: Option<&str>, tip: Option<&str>) -> PyResult<Arc<Kinematics>> {
         let base = base.unwrap_or(&self.robot.default_base);
         let tip = tip.unwrap_or(&self.robot.default_tip);
-        Chain::new(&self.robot.model, base, tip)
-            .map(std::borrow::Cow::Owned)
-            .map_err(value_error)
+        if let Some(k) = &self.default_kinematics
+            && k.chain.base_link == base
+            && k.chain.tip_link == tip
+        {
+            return Ok(k.clone());
+        }
+        let key = (base.to_string(), tip.to_string());
+        let mut chains = self.chains.lock().map_err(runtime_error)?;
+        if let Some(k) = chains.get(&key) {
+            return Ok(k.clone());
+        }
+        let chain = Chain::new(&self.robot.model, base, tip).map_err(value_error)?;
+        let k = Arc::new(Kinematics {
+            chain,
+            solver: OnceLock::new(),
+        });
+        if chains.len() >= MAX_CHAINS {
+            chains.clear();
+        }
+        chains.insert(key, k.clone());
+        Ok(k)
     }
 
-    /// The solver of the arm whose chain this is (its description's: closed form where
-    /// one applies), or a closed form / numeric solver for any other chain.
-    fn solver(&self, chain: Chain) -> PyResult<Box<dyn IkSolver + Send + Sync>> {
+    /// The solver of the chain: a closed form where one applies, numeric otherwise.
+    fn solver<'k>(&self, k: &'k Kinematics) -> PyResult<&'k (dyn IkSolver + Send + Sync)> {
+        if let Some(s) = k.solver.get() {
+            return Ok(s.as_ref());
+        }
+        let chain = &k.chain;
         let arm = self
             .robot
             .description
             .arms
             .iter()
             .find(|a| a.base == chain.base_link && a.tip == chain.tip_link);
-        match arm {
-            Some(a) => a
+        // Every closed form that applies (spherical-shoulder 7R arms too), numeric for the
+        // rest; an arm's own solver where its description names one (Golem-III).
+        let solver: Box<dyn IkSolver + Send + Sync> = match arm {
+            Some(a) if a.ik != IkKind::Numeric => a
                 .ik_solver(&self.robot.model, NumericIkParams::default())
-                .map_err(value_error),
-            None => Ok(Box::new(AutoIk::new(NumericIk::new(
-                chain,
+                .map_err(value_error)?,
+            _ => Box::new(AutoIk::all_solutions(NumericIk::new(
+                chain.clone(),
                 NumericIkParams::default(),
-            )))),
-        }
+            ))),
+        };
+        Ok(k.solver.get_or_init(|| solver).as_ref())
     }
 
     fn joints<'a>(&self, chain: &Chain, q: &'a [f64]) -> PyResult<&'a [f64]> {
@@ -104,10 +136,18 @@ impl Robot {
         let robot = py
             .detach(|| load_with(path_or_name, &options))
             .map_err(value_error)?;
-        let default_chain = Chain::new(&robot.model, &robot.default_base, &robot.default_tip).ok();
+        let default_kinematics = Chain::new(&robot.model, &robot.default_base, &robot.default_tip)
+            .ok()
+            .map(|chain| {
+                Arc::new(Kinematics {
+                    chain,
+                    solver: OnceLock::new(),
+                })
+            });
         Ok(Self {
             robot,
-            default_chain,
+            default_kinematics,
+            chains: Mutex::new(HashMap::new()),
         })
     }
 
@@ -128,7 +168,7 @@ impl Robot {
     /// The moving joints from `base` to `tip`, in the order `q` lists them.
     #[pyo3(signature = (base=None, tip=None))]
     fn joint_names(&self, base: Option<&str>, tip: Option<&str>) -> PyResult<Vec<String>> {
-        Ok(self.chain(base, tip)?.joint_names.clone())
+        Ok(self.kinematics(base, tip)?.chain.joint_names.clone())
     }
 
     /// Joint limits `(lower, upper)` of the chain, one row per joint.
@@ -139,7 +179,8 @@ impl Robot {
         base: Option<&str>,
         tip: Option<&str>,
     ) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let c = self.chain(base, tip)?;
+        let k = self.kinematics(base, tip)?;
+        let c = &k.chain;
         let rows: Vec<Vec<f64>> = c
             .lower
             .iter()
@@ -158,9 +199,9 @@ impl Robot {
         base: Option<&str>,
         tip: Option<&str>,
     ) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let chain = self.chain(base, tip)?;
-        let q = self.joints(&chain, q.as_slice().map_err(value_error)?)?;
-        let p = chain.fk(q).map_err(value_error)?;
+        let k = self.kinematics(base, tip)?;
+        let q = self.joints(&k.chain, q.as_slice().map_err(value_error)?)?;
+        let p = k.chain.fk(q).map_err(value_error)?;
         Ok(matrix(py, &p))
     }
 
@@ -173,9 +214,9 @@ impl Robot {
         base: Option<&str>,
         tip: Option<&str>,
     ) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let chain = self.chain(base, tip)?;
-        let q = self.joints(&chain, q.as_slice().map_err(value_error)?)?;
-        let j = chain.jacobian(q).map_err(value_error)?;
+        let k = self.kinematics(base, tip)?;
+        let q = self.joints(&k.chain, q.as_slice().map_err(value_error)?)?;
+        let j = k.chain.jacobian(q).map_err(value_error)?;
         Ok(Array2::from_shape_fn((j.nrows(), j.ncols()), |(r, c)| j[(r, c)]).into_pyarray(py))
     }
 
@@ -185,19 +226,21 @@ impl Robot {
     fn ik<'py>(
         &self,
         py: Python<'py>,
-        t: Vec<Vec<f64>>,
+        t: PyReadonlyArray2<'py, f64>,
         base: Option<&str>,
         tip: Option<&str>,
-        seed: Option<Vec<f64>>,
+        seed: Option<PyReadonlyArray1<'py, f64>>,
         position_only: bool,
     ) -> PyResult<Vec<Bound<'py, PyArray1<f64>>>> {
-        let target = crate::pose_of_rows(&t)?;
-        let chain = self.chain(base, tip)?;
-        let seed = match seed {
-            Some(s) => self.joints(&chain, &s)?.to_vec(),
-            None => chain.mid_configuration(),
+        let target = crate::pose_of_matrix(t.as_slice().map_err(value_error)?)?;
+        let k = self.kinematics(base, tip)?;
+        let seed = match &seed {
+            Some(s) => self
+                .joints(&k.chain, s.as_slice().map_err(value_error)?)?
+                .to_vec(),
+            None => k.chain.mid_configuration(),
         };
-        let solver = self.solver(chain.into_owned())?;
+        let solver = self.solver(&k)?;
         let mode = if position_only {
             IkMode::PositionOnly
         } else {

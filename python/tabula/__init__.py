@@ -51,6 +51,13 @@ def _vector(q, name: str) -> np.ndarray:
     return _array(q, name, (None,))
 
 
+def _matrix(t, name: str = "T") -> np.ndarray:
+    """``t`` as a contiguous float64 (4, 4) array (checked for finiteness natively)."""
+    if type(t) is np.ndarray and t.dtype == np.float64 and t.shape == (4, 4) and t.flags.c_contiguous:
+        return t
+    return _array(t, name, (4, 4))
+
+
 def _pose(t, name: str = "T") -> list:
     arr = _array(t, name, (4, 4))
     if not np.all(np.isfinite(arr)):
@@ -113,8 +120,8 @@ class Robot:
     ) -> list:
         """Every joint solution found for ``base_from_tip = T`` (4, 4), nearest to
         ``seed`` (default: mid-range) first; an empty list when there is none."""
-        seed = None if seed is None else _vector(seed, "seed").tolist()
-        return self._robot.ik(_pose(T), base, tip, seed, bool(position_only))
+        seed = None if seed is None else _vector(seed, "seed")
+        return self._robot.ik(_matrix(T), base, tip, seed, bool(position_only))
 
     def __repr__(self) -> str:
         return f"tabula.Robot({self.name!r}, arms={[a[0] for a in self.arms()]})"

@@ -24,10 +24,10 @@ class Robot:
     def jacobian(self, q: npt.NDArray[np.float64], base: Optional[str] = ..., tip: Optional[str] = ...) -> npt.NDArray[np.float64]: ...
     def ik(
         self,
-        t: Sequence[Sequence[float]],
+        t: npt.NDArray[np.float64],
         base: Optional[str] = ...,
         tip: Optional[str] = ...,
-        seed: Optional[Sequence[float]] = ...,
+        seed: Optional[npt.NDArray[np.float64]] = ...,
         position_only: bool = ...,
     ) -> List[npt.NDArray[np.float64]]: ...
 

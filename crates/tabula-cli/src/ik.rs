@@ -41,9 +41,10 @@ pub struct RobotArgs {
 
 #[derive(Copy, Clone, PartialEq, Eq, ValueEnum)]
 pub enum SolverKind {
-    /// Closed form where the chain has one (Golem-III), numeric otherwise.
+    /// Closed form where the chain has one (Golem-III, UR-type 6R, spherical-shoulder
+    /// 7R with the numeric solver behind it), numeric otherwise.
     Auto,
-    /// Closed-form Golem-III solver (all branches).
+    /// The chain's closed form alone (Golem-III, UR-type 6R, spherical-shoulder 7R).
     Analytic,
     /// Levenberg–Marquardt with restarts, any chain.
     Numeric,
@@ -178,22 +179,31 @@ pub fn setup(args: &RobotArgs, kind: SolverKind) -> Result<Setup> {
             _ => None,
         };
     let parallel3 = tabula_robot::ik::ThreeParallelIk::new(&chain);
-    let (solver, solver_name): (Box<dyn IkSolver>, &'static str) = match (kind, analytic, parallel3)
-    {
-        (SolverKind::Analytic | SolverKind::Auto, Some(a), _) => (Box::new(a), "analytic-golem3"),
-        (SolverKind::Analytic | SolverKind::Auto, None, Some(p)) => {
+    let shoulder7 = tabula_robot::ik::SphericalShoulderIk::new(&chain);
+    let numeric = || NumericIk::new(chain.clone(), config.numeric_ik.clone());
+    let (solver, solver_name): (Box<dyn IkSolver>, &'static str) = match (
+        kind, analytic, parallel3, shoulder7,
+    ) {
+        (SolverKind::Analytic | SolverKind::Auto, Some(a), _, _) => {
+            (Box::new(a), "analytic-golem3")
+        }
+        (SolverKind::Analytic | SolverKind::Auto, None, Some(p), _) => {
             (Box::new(p), "analytic-3-parallel")
         }
-        (SolverKind::Analytic, None, None) => bail!(
+        (SolverKind::Analytic, None, None, Some(s)) => (Box::new(s), "analytic-spherical-shoulder"),
+        // Auto: the sweep over the redundancy, the numeric solver for what it misses.
+        (SolverKind::Auto, None, None, Some(_)) => (
+            Box::new(tabula_robot::ik::AutoIk::all_solutions(numeric())),
+            "analytic-spherical-shoulder+numeric",
+        ),
+        (SolverKind::Analytic, None, None, None) => bail!(
             "no analytic solver for `{base}` → `{tip}` of {}: the closed forms cover the Golem-III arms \
-             (torso_lift_link → right_tool_link / left_tool_link) and 6R arms with axes 2–4 parallel and \
-             axes 5 and 6 meeting (UR-type); use --solver numeric",
+                 (torso_lift_link → right_tool_link / left_tool_link), 6R arms with axes 2–4 parallel and \
+                 axes 5 and 6 meeting (UR-type) and 7R arms with axes 1–3 meeting and axes 5 and 6 \
+                 meeting (Panda, iiwa, WAM); use --solver numeric",
             robot.label
         ),
-        _ => (
-            Box::new(NumericIk::new(chain.clone(), config.numeric_ik.clone())),
-            "numeric-lm",
-        ),
+        _ => (Box::new(numeric()), "numeric-lm"),
     };
     Ok(Setup {
         robot,

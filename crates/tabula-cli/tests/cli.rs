@@ -134,7 +134,7 @@ fn bad_input_is_one_clear_line() {
         ),
         (
             &[
-                "ik", "bench", "--robot", "wam", "--solver", "analytic", "--poses", "10",
+                "ik", "bench", "--robot", "pr2", "--solver", "analytic", "--poses", "10",
             ],
             "no analytic solver",
         ),

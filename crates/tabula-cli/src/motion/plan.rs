@@ -84,7 +84,10 @@ pub fn run(a: PlanArgs) -> Result<()> {
     } else if let Some(n) = &a.goal_named {
         Goal::Named(n.clone())
     } else {
-        let p = a.request.as_deref().ok_or_else(|| anyhow!("no goal given"))?;
+        let p = a
+            .request
+            .as_deref()
+            .ok_or_else(|| anyhow!("no goal given"))?;
         Goal::Request(
             MotionRequest::from_yaml(&read_text(p, Format::Scene)?, &Limits::default())
                 .with_context(|| p.display().to_string())?,
@@ -96,7 +99,9 @@ pub fn run(a: PlanArgs) -> Result<()> {
         .and_then(std::path::Path::extension)
         .is_some_and(|e| e.eq_ignore_ascii_case("toml"));
     if a.robot.is_none() && !tabula_scene {
-        bail!("--robot is required (a URDF or xacro file, or wam/pr2/golem3) unless the scene is a tabula scene");
+        bail!(
+            "--robot is required (a URDF or xacro file, or wam/pr2/golem3) unless the scene is a tabula scene"
+        );
     }
     let query = MotionQuery {
         robot: RobotSource::Named(a.robot.as_deref()),

@@ -3,14 +3,18 @@
 
 mod auto;
 pub mod bench;
+mod closed_form;
 mod golem3;
 mod numeric;
 mod parallel3;
+mod shoulder7;
+mod subproblems;
 
 pub use auto::AutoIk;
 pub use golem3::{ArmSide, Golem3Ik, Golem3Params};
 pub use numeric::{NumericIk, NumericIkParams};
 pub use parallel3::ThreeParallelIk;
+pub use shoulder7::SphericalShoulderIk;
 
 use crate::{Chain, RobotError};
 use tabula_geom::{Pose, Vec3, pose_is_finite, rotation_angle_between, wrap_angle};

@@ -13,15 +13,11 @@
 //!
 //! Every candidate is checked by forward kinematics before it is returned.
 
-use super::{IkError, IkMode, IkSolution, IkSolver, joint_distance, pose_error, validate_request};
+use super::closed_form::{keep_verified, rank};
+use super::subproblems::{TOL, any_perpendicular, intersection, subproblem1, subproblem4};
+use super::{IkError, IkMode, IkSolution, IkSolver, validate_request};
 use crate::Chain;
 use tabula_geom::{Mat3, Pose, Vec3};
-
-/// Geometry checks (parallel, intersecting) are relative to this (m or rad).
-const TOL: f64 = 1e-9;
-/// A returned solution reaches the target within this (m, rad).
-const ACCEPT: f64 = 1e-6;
-
 /// The solver of one matching chain.
 #[derive(Debug, Clone)]
 pub struct ThreeParallelIk {
@@ -134,135 +130,12 @@ impl IkSolver for ThreeParallelIk {
         let mut found: Vec<IkSolution> = Vec::with_capacity(8);
         let (candidates, count) = self.candidates(target);
         for theta in &candidates[..count] {
-            let Some(joints) = self.within_limits(theta, seed) else {
-                continue;
-            };
-            let reached = self.chain.fk_unchecked(&joints);
-            let (position_error, rotation_error) = pose_error(&reached, target, mode);
-            if position_error > ACCEPT || rotation_error > ACCEPT {
-                continue;
-            }
-            if found
-                .iter()
-                .any(|s| joint_distance(&self.chain, &s.joints, &joints) < 1e-6)
-            {
-                continue;
-            }
-            found.push(IkSolution {
-                joints: joints.to_vec(),
-                position_error,
-                rotation_error,
-            });
+            keep_verified(&self.chain, theta, target, seed, &mut found);
         }
         if found.is_empty() {
             return Err(IkError::NoSolution);
         }
-        found.sort_by(|a, b| {
-            joint_distance(&self.chain, &a.joints, seed).total_cmp(&joint_distance(
-                &self.chain,
-                &b.joints,
-                seed,
-            ))
-        });
+        rank(&self.chain, &mut found, seed);
         Ok(found)
     }
-}
-
-impl ThreeParallelIk {
-    /// Chain variables from joint angles: through each element's multiplier and offset,
-    /// then the 2π-equivalent nearest the seed within the limits (`None` if none is).
-    fn within_limits(&self, theta: &[f64; 6], seed: &[f64]) -> Option<[f64; 6]> {
-        let tau = std::f64::consts::TAU;
-        let mut out = [0.0; 6];
-        for i in 0..6 {
-            let e = &self.chain.elements[i];
-            let q = (theta[i] - e.offset) / e.multiplier;
-            let (lo, hi) = (self.chain.lower[i] - 1e-9, self.chain.upper[i] + 1e-9);
-            // The whole turn of q nearest the seed, else the nearest one inside.
-            let near = q + ((seed[i] - q) / tau).round() * tau;
-            let best = [near, near - tau, near + tau]
-                .into_iter()
-                .filter(|v| (lo..=hi).contains(v))
-                .min_by(|a, b| (a - seed[i]).abs().total_cmp(&(b - seed[i]).abs()))
-                .or_else(|| {
-                    (-4..=4)
-                        .map(|k| q + f64::from(k) * tau)
-                        .find(|v| (lo..=hi).contains(v))
-                })?;
-            out[i] = best.clamp(self.chain.lower[i], self.chain.upper[i]);
-        }
-        Some(out)
-    }
-}
-
-/// θ with `rot(k, θ) p = q` (p and q at the same height along k), `None` when p or q
-/// lies on the axis (any θ, or none).
-fn subproblem1(p: Vec3, q: Vec3, k: Vec3) -> Option<f64> {
-    let pp = p - k * k.dot(p);
-    let qp = q - k * k.dot(q);
-    if pp.length() < TOL || qp.length() < TOL {
-        return None;
-    }
-    Some(k.dot(pp.cross(qp)).atan2(pp.dot(qp)))
-}
-
-/// Every θ with `hᵀ rot(k, θ) p = d` (none, one or two): `A cos θ + B sin θ = C`.
-fn subproblem4(h: Vec3, p: Vec3, k: Vec3, d: f64) -> Roots {
-    let along = k * k.dot(p);
-    let a = h.dot(p - along);
-    let b = h.dot(k.cross(p));
-    let c = d - h.dot(along);
-    let r = a.hypot(b);
-    let scale = h.length() * p.length() + d.abs() + 1.0;
-    if r < TOL * scale || c.abs() > r + 1e-12 * scale {
-        return Roots::default();
-    }
-    let phi = b.atan2(a);
-    let spread = (c / r).clamp(-1.0, 1.0).acos();
-    if spread < 1e-12 {
-        Roots {
-            values: [phi, 0.0],
-            len: 1,
-        }
-    } else {
-        Roots {
-            values: [phi + spread, phi - spread],
-            len: 2,
-        }
-    }
-}
-
-/// Up to two angles, without allocating (the solver's inner loops run per solve).
-#[derive(Default)]
-struct Roots {
-    values: [f64; 2],
-    len: usize,
-}
-
-impl IntoIterator for Roots {
-    type Item = f64;
-    type IntoIter = std::iter::Take<std::array::IntoIter<f64, 2>>;
-    fn into_iter(self) -> Self::IntoIter {
-        self.values.into_iter().take(self.len)
-    }
-}
-
-/// The point where the lines (a + s u) and (b + t v) meet, `None` if they do not.
-fn intersection(a: Vec3, u: Vec3, b: Vec3, v: Vec3) -> Option<Vec3> {
-    let n = u.cross(v);
-    let nn = n.length_squared();
-    if nn < TOL {
-        return None;
-    }
-    let w = b - a;
-    if (w.dot(n)).abs() / nn.sqrt() > 1e-7 {
-        return None; // skew lines: a common normal of non-zero length
-    }
-    let s = w.cross(v).dot(n) / nn;
-    Some(a + u * s)
-}
-
-fn any_perpendicular(k: Vec3) -> Vec3 {
-    let t = if k.x.abs() < 0.9 { Vec3::X } else { Vec3::Y };
-    k.cross(t).normalize()
 }

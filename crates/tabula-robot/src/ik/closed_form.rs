@@ -1,0 +1,76 @@
+//! What every closed-form solver does with its candidate angles: map them to chain
+//! variables within the limits (the whole turn nearest the seed), keep those that forward
+//! kinematics confirms, drop duplicates, and rank them nearest the seed first.
+
+use super::{IkMode, IkSolution, joint_distance, pose_error};
+use crate::Chain;
+use tabula_geom::Pose;
+
+/// A returned solution reaches the target within this (m, rad).
+pub(crate) const ACCEPT: f64 = 1e-6;
+
+/// Chain variables from joint angles (θ, before each element's multiplier and offset):
+/// the 2π-equivalent nearest the seed within the limits, `None` if a joint has none.
+pub(crate) fn within_limits<const N: usize>(
+    chain: &Chain,
+    theta: &[f64; N],
+    seed: &[f64],
+) -> Option<[f64; N]> {
+    let tau = std::f64::consts::TAU;
+    let mut out = [0.0; N];
+    for i in 0..N {
+        let e = &chain.elements[i];
+        let q = (theta[i] - e.offset) / e.multiplier;
+        let (lo, hi) = (chain.lower[i] - 1e-9, chain.upper[i] + 1e-9);
+        // The whole turn of q nearest the seed, else the nearest one inside.
+        let near = q + ((seed[i] - q) / tau).round() * tau;
+        let best = [near, near - tau, near + tau]
+            .into_iter()
+            .filter(|v| (lo..=hi).contains(v))
+            .min_by(|a, b| (a - seed[i]).abs().total_cmp(&(b - seed[i]).abs()))
+            .or_else(|| {
+                (-4..=4)
+                    .map(|k| q + f64::from(k) * tau)
+                    .find(|v| (lo..=hi).contains(v))
+            })?;
+        out[i] = best.clamp(chain.lower[i], chain.upper[i]);
+    }
+    Some(out)
+}
+
+/// Adds the candidate to `found` when it is within the limits, reaches `target` (by the
+/// chain's own FK) and is not already there.
+pub(crate) fn keep_verified<const N: usize>(
+    chain: &Chain,
+    theta: &[f64; N],
+    target: &Pose,
+    seed: &[f64],
+    found: &mut Vec<IkSolution>,
+) {
+    let Some(joints) = within_limits(chain, theta, seed) else {
+        return;
+    };
+    let reached = chain.fk_unchecked(&joints);
+    let (position_error, rotation_error) = pose_error(&reached, target, IkMode::Full);
+    if position_error > ACCEPT || rotation_error > ACCEPT {
+        return;
+    }
+    if found
+        .iter()
+        .any(|s| joint_distance(chain, &s.joints, &joints) < 1e-6)
+    {
+        return;
+    }
+    found.push(IkSolution {
+        joints: joints.to_vec(),
+        position_error,
+        rotation_error,
+    });
+}
+
+/// Nearest the seed first.
+pub(crate) fn rank(chain: &Chain, found: &mut [IkSolution], seed: &[f64]) {
+    found.sort_by(|a, b| {
+        joint_distance(chain, &a.joints, seed).total_cmp(&joint_distance(chain, &b.joints, seed))
+    });
+}
