@@ -75,9 +75,7 @@ impl SphericalShoulderIk {
         if off_axis(shoulder) < 1e-6 || off_axis(wrist) < 1e-6 {
             return None;
         }
-        for i in 0..3 {
-            o[i] = shoulder;
-        }
+        o[..3].fill(shoulder);
         o[4] = wrist;
         o[5] = wrist;
         // |SW| varies only with joint 4; |W tip| only with joint 7 (5 and 6 turn about W).
@@ -148,7 +146,8 @@ impl SphericalShoulderIk {
     fn sweep(&self, seed7: f64) -> impl Iterator<Item = f64> + use<> {
         let pi = std::f64::consts::PI;
         let (mut lo, mut hi) = (self.chain.lower[6], self.chain.upper[6]);
-        if !(hi - lo <= 2.0 * pi) {
+        // A continuous joint (or limits wider than a turn): a turn either way.
+        if hi - lo > 2.0 * pi || !(hi - lo).is_finite() {
             (lo, hi) = (seed7 - pi, seed7 + pi);
         }
         let start = seed7.clamp(lo, hi);
