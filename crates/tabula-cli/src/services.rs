@@ -11,7 +11,7 @@ use anyhow::{Result, anyhow, bail};
 use serde::Deserialize;
 use serde_json::{Value, json};
 use std::time::{Duration, Instant};
-use tabula_geom::{CloudFile, Pose, Vec3};
+use tabula_geom::{CloudFile, Vec3};
 use tabula_robot::description::RobotDescription;
 use tabula_robot::ik::{IkMode, NumericIkParams};
 use tabula_robot::model::RobotModel;
@@ -206,11 +206,7 @@ fn perceive(r: PerceiveRequest) -> Result<Value> {
     } else {
         None
     };
-    let file = CloudFile {
-        cloud,
-        colors: None,
-        viewpoint: Pose::IDENTITY,
-    };
+    let file = CloudFile::plain(cloud);
     let params = tabula_perception::TabletopParams::default();
     let perceived = tabula_perception::frame::perceive(&file, pose, None, &[], &params)?;
     Ok(perceived.to_json(None, None))

@@ -71,7 +71,10 @@ pub struct CaptureArgs {
     camera: Option<String>,
     #[arg(long)]
     out: PathBuf,
-    /// Also write per-pixel ground-truth labels as JSON.
+    /// Also write per-pixel ground-truth labels: JSON (every entity, with names), or
+    /// with a `.pcd` path the frame's grid with a `label` field — each object's entity
+    /// label, 0 for the table, floor, robot and no return (`perceive --score F
+    /// --truth-format plain` reads it).
     #[arg(long)]
     labels: Option<PathBuf>,
     /// Noise seed.
@@ -312,6 +315,38 @@ fn settle(scene: &std::path::Path, json: bool) -> Result<()> {
     Ok(())
 }
 
+/// The frame (optical frame) with a `label` field holding only the objects' labels.
+fn object_labels_pcd(
+    world: &SimWorld,
+    frame: &tabula_sim::camera::DepthFrame,
+    path: &std::path::Path,
+) -> Result<()> {
+    let is_object = |l: u32| {
+        l > 0
+            && world
+                .entities
+                .get(l as usize - 1)
+                .is_some_and(|e| e.kind == tabula_sim::world::EntityKind::Object)
+    };
+    let labels: Vec<u32> = frame
+        .labels
+        .iter()
+        .map(|&l| if is_object(l) { l } else { 0 })
+        .collect();
+    let mut out = std::io::BufWriter::new(
+        std::fs::File::create(path).with_context(|| format!("--labels {}", path.display()))?,
+    );
+    let extras = tabula_geom::PcdExtras {
+        labels: Some(&labels),
+        ..Default::default()
+    };
+    frame
+        .cloud
+        .write_pcd_with(&mut out, tabula_geom::PcdEncoding::Binary, &extras)
+        .and_then(|()| std::io::Write::flush(&mut out))
+        .with_context(|| format!("--labels {}", path.display()))
+}
+
 /// `sim capture`: one frame of a scene camera written as PCD or PLY (and its labels).
 fn capture_to_file(a: &CaptureArgs) -> Result<()> {
     let (scene, mut world) = load(&a.scene)?;
@@ -327,8 +362,16 @@ fn capture_to_file(a: &CaptureArgs) -> Result<()> {
         world: a.world,
     };
     frame.write_file(&a.out, how)?;
-    if let Some(path) = &a.labels {
-        frame.write_labels(path)?;
+    match &a.labels {
+        Some(path)
+            if path
+                .extension()
+                .is_some_and(|e| e.eq_ignore_ascii_case("pcd")) =>
+        {
+            object_labels_pcd(&world, &frame, path)?
+        }
+        Some(path) => frame.write_labels(path)?,
+        None => {}
     }
     let p = frame.world_from_camera;
     let [r, pi, y] = rpy_from_quat(p.rotation);

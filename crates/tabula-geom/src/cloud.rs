@@ -12,13 +12,15 @@ pub struct PointCloud {
     pub points: Vec<Vec3>,
 }
 
-/// A cloud as a sensor file carries it: its points, their colours when the file has
-/// them (one per point, grid kept), and the sensor's pose in the cloud's frame (PCD's
-/// `VIEWPOINT`; identity when the file says nothing).
+/// A cloud as a sensor file carries it: its points, their colours and labels when the
+/// file has them (one per point, grid kept), and the sensor's pose in the cloud's frame
+/// (PCD's `VIEWPOINT`; identity when the file says nothing).
 #[derive(Debug, Clone, PartialEq)]
 pub struct CloudFile {
     pub cloud: PointCloud,
     pub colors: Option<Vec<[u8; 3]>>,
+    /// PCL's `label` field: a segmentation (0 none, k segment k) or a ground truth.
+    pub labels: Option<Vec<u32>>,
     pub viewpoint: Pose,
 }
 
@@ -28,6 +30,7 @@ impl CloudFile {
         Self {
             cloud,
             colors: None,
+            labels: None,
             viewpoint: Pose::IDENTITY,
         }
     }
@@ -125,28 +128,40 @@ impl PointCloud {
 
     /// Writes PCD v0.7 (fields x y z, float32), keeping NaN points so the grid survives.
     pub fn write_pcd(&self, out: &mut impl Write, encoding: PcdEncoding) -> std::io::Result<()> {
-        self.write_pcd_with(out, encoding, &Pose::IDENTITY, None)
+        self.write_pcd_with(out, encoding, &PcdExtras::default())
     }
 
-    /// Writes PCD v0.7 with the sensor pose as `VIEWPOINT` (x y z qw qx qy qz) and,
-    /// when given (one per point), colours as PCL's packed float `rgb` field.
+    /// Writes PCD v0.7 with the sensor pose as `VIEWPOINT` (x y z qw qx qy qz) and, when
+    /// given (one per point), colours as PCL's packed float `rgb` field and labels as its
+    /// `label` field (uint32, as `pcl::PointXYZRGBL` and `pcl_viewer` read it).
     pub fn write_pcd_with(
         &self,
         out: &mut impl Write,
         encoding: PcdEncoding,
-        viewpoint: &Pose,
-        colors: Option<&[[u8; 3]]>,
+        extras: &PcdExtras<'_>,
     ) -> std::io::Result<()> {
-        let colors = colors.filter(|c| c.len() == self.points.len());
-        let (t, q) = (viewpoint.translation, viewpoint.rotation);
-        let (fields, size, kind, count) = if colors.is_some() {
-            ("x y z rgb", "4 4 4 4", "F F F F", "1 1 1 1")
-        } else {
-            ("x y z", "4 4 4", "F F F", "1 1 1")
+        let n = self.points.len();
+        let colors = extras.colors.filter(|c| c.len() == n);
+        let labels = extras.labels.filter(|l| l.len() == n);
+        let (t, q) = (extras.viewpoint.translation, extras.viewpoint.rotation);
+        // (name, type) of each field; every one is 4 bytes, one value.
+        let mut fields = vec![("x", "F"), ("y", "F"), ("z", "F")];
+        if colors.is_some() {
+            fields.push(("rgb", "F"));
+        }
+        if labels.is_some() {
+            fields.push(("label", "U"));
+        }
+        let column = |f: &dyn Fn(&(&str, &str)) -> String| {
+            fields.iter().map(f).collect::<Vec<_>>().join(" ")
         };
         write!(
             out,
-            "# .PCD v0.7 - Point Cloud Data file format\nVERSION 0.7\nFIELDS {fields}\nSIZE {size}\nTYPE {kind}\nCOUNT {count}\nWIDTH {}\nHEIGHT {}\nVIEWPOINT {} {} {} {} {} {} {}\nPOINTS {}\nDATA {}\n",
+            "# .PCD v0.7 - Point Cloud Data file format\nVERSION 0.7\nFIELDS {}\nSIZE {}\nTYPE {}\nCOUNT {}\nWIDTH {}\nHEIGHT {}\nVIEWPOINT {} {} {} {} {} {} {}\nPOINTS {n}\nDATA {}\n",
+            column(&|f| f.0.to_string()),
+            column(&|_| "4".to_string()),
+            column(&|f| f.1.to_string()),
+            column(&|_| "1".to_string()),
             self.width,
             self.height,
             t.x,
@@ -156,7 +171,6 @@ impl PointCloud {
             q.x,
             q.y,
             q.z,
-            self.points.len(),
             match encoding {
                 PcdEncoding::Ascii => "ascii",
                 PcdEncoding::Binary => "binary",
@@ -176,26 +190,55 @@ impl PointCloud {
                     } else {
                         write!(out, "nan nan nan")?;
                     }
-                    match packed(k) {
-                        // `{:e}` of an f32 reads back to the same bits.
-                        Some(c) => writeln!(out, " {c:e}")?,
-                        None => writeln!(out)?,
+                    // `{:e}` of an f32 reads back to the same bits.
+                    if let Some(c) = packed(k) {
+                        write!(out, " {c:e}")?;
                     }
+                    if let Some(l) = labels {
+                        write!(out, " {}", l[k])?;
+                    }
+                    writeln!(out)?;
                 }
             }
-            PcdEncoding::Binary if colors.is_none() => self.write_xyz_f32_le(out)?,
+            PcdEncoding::Binary if colors.is_none() && labels.is_none() => {
+                self.write_xyz_f32_le(out)?
+            }
             PcdEncoding::Binary => {
-                let mut buf = Vec::with_capacity(self.points.len() * 16);
+                let mut buf = Vec::with_capacity(n * 20);
                 for (k, p) in self.points.iter().enumerate() {
                     for v in [p.x, p.y, p.z] {
                         buf.extend_from_slice(&(v as f32).to_le_bytes());
                     }
-                    buf.extend_from_slice(&packed(k).unwrap_or(0.0).to_le_bytes());
+                    if let Some(c) = packed(k) {
+                        buf.extend_from_slice(&c.to_le_bytes());
+                    }
+                    if let Some(l) = labels {
+                        buf.extend_from_slice(&l[k].to_le_bytes());
+                    }
                 }
                 out.write_all(&buf)?;
             }
         }
         Ok(())
+    }
+}
+
+/// What a PCD file may carry beside the points: the sensor's pose and, one per point,
+/// colours and labels.
+#[derive(Debug, Clone, Copy)]
+pub struct PcdExtras<'a> {
+    pub viewpoint: Pose,
+    pub colors: Option<&'a [[u8; 3]]>,
+    pub labels: Option<&'a [u32]>,
+}
+
+impl Default for PcdExtras<'_> {
+    fn default() -> Self {
+        Self {
+            viewpoint: Pose::IDENTITY,
+            colors: None,
+            labels: None,
+        }
     }
 }
 

@@ -26,6 +26,8 @@ pub mod polygon;
 pub mod raster;
 pub mod shape_cache;
 pub use angles::*;
-pub use cloud::{CloudFile, PcdEncoding, PointCloud, bounds, packed_voxel_key, voxel_key};
+pub use cloud::{
+    CloudFile, PcdEncoding, PcdExtras, PointCloud, bounds, packed_voxel_key, voxel_key,
+};
 pub use pcd::{PcdError, read_pcd, read_pcd_file};
 pub use ply::{PlyEncoding, PlyError, read_ply, read_ply_mesh, write_ply};

@@ -1,9 +1,10 @@
 //! Reading PCD files (ascii, binary, binary_compressed) into a [`PointCloud`].
 //!
 //! The x, y, z fields become points; a packed `rgb` or `rgba` field (PCL's layout:
-//! 0x00RRGGBB in a float's or an unsigned int's bits) becomes colours; `VIEWPOINT`
-//! becomes the sensor pose in the cloud's frame. Other fields (normals, labels) are
-//! skipped by their declared size. Every size from the header is checked arithmetic
+//! 0x00RRGGBB in a float's or an unsigned int's bits) becomes colours; a `label` field
+//! (PCL's segmentation labels, any integer type) becomes labels; `VIEWPOINT` becomes the
+//! sensor pose in the cloud's frame. Other fields (normals, curvature) are skipped by
+//! their declared size. Every size from the header is checked arithmetic
 //! and checked against the body before anything is allocated; every malformed header,
 //! short body or non-numeric value is a [`PcdError`].
 
@@ -131,8 +132,25 @@ fn ascii_rgb_bits(tok: &str, f: &Field, line: usize) -> Result<u32, PcdError> {
     }
 }
 
-/// Points and their colours, if any.
-type Decoded = (Vec<Vec3>, Option<Vec<[u8; 3]>>);
+/// Points, and their colours and labels when the file has them.
+struct Decoded {
+    points: Vec<Vec3>,
+    colors: Option<Vec<[u8; 3]>>,
+    labels: Option<Vec<u32>>,
+}
+
+/// A `label` value as PCL's unsigned label: any integer type, or a float holding a whole
+/// number; anything else (negative, fractional, NaN) is an error, not a silent 0.
+fn label_of(v: f64, k: usize) -> Result<u32, PcdError> {
+    if v >= 0.0 && v <= f64::from(u32::MAX) && v.fract() == 0.0 {
+        Ok(v as u32)
+    } else {
+        err(format!(
+            "point {}: label {v} is not a non-negative integer",
+            k + 1
+        ))
+    }
+}
 
 /// Points (fields `xyz`) and colours (field `colour`) of `n` binary points, from the
 /// bytes of field `i` of point `k` whatever the layout (point-major binary, field-major
@@ -140,25 +158,36 @@ type Decoded = (Vec<Vec3>, Option<Vec<[u8; 3]>>);
 fn decode<'a>(
     n: usize,
     fields: &[Field],
-    xyz: [usize; 3],
-    colour: Option<usize>,
+    c: &Columns,
     at: &dyn Fn(usize, usize) -> &'a [u8],
-) -> Decoded {
-    let pts = (0..n)
+) -> Result<Decoded, PcdError> {
+    let points = (0..n)
         .map(|k| {
-            let [x, y, z] = xyz.map(|i| read_value(at(i, k), &fields[i]));
+            let [x, y, z] = c.xyz.map(|i| read_value(at(i, k), &fields[i]));
             Vec3::new(x, y, z)
         })
         .collect();
-    let cols = colour.map(|c| {
+    let colors = c.colour.map(|i| {
         (0..n)
             .map(|k| {
-                let b = at(c, k);
+                let b = at(i, k);
                 unpack_rgb(u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
             })
             .collect()
     });
-    (pts, cols)
+    let labels = match c.label {
+        Some(i) => Some(
+            (0..n)
+                .map(|k| label_of(read_value(at(i, k), &fields[i]), k))
+                .collect::<Result<_, _>>()?,
+        ),
+        None => None,
+    };
+    Ok(Decoded {
+        points,
+        colors,
+        labels,
+    })
 }
 
 /// Parses PCD bytes into a cloud (points only; see [`read_pcd_file`] for colours and
@@ -319,6 +348,7 @@ fn viewpoint(rest: &[&str]) -> Result<Pose, PcdError> {
 struct Columns {
     xyz: [usize; 3],
     colour: Option<usize>,
+    label: Option<usize>,
 }
 
 fn too_short<T>(what: &str, have: usize, need: Option<usize>) -> Result<T, PcdError> {
@@ -336,6 +366,7 @@ fn read_ascii(body: &[u8], n: usize, h: &PcdHeader, c: &Columns) -> Result<Decod
     let [ix, iy, iz] = c.xyz;
     let mut pts = Vec::new();
     let mut cols = Vec::new();
+    let mut labels = Vec::new();
     for (k, line) in text.lines().filter(|l| !l.trim().is_empty()).enumerate() {
         if k >= n {
             break;
@@ -357,8 +388,15 @@ fn read_ascii(body: &[u8], n: usize, h: &PcdHeader, c: &Columns) -> Result<Decod
                 k + 1,
             )?));
         }
+        if let Some(li) = c.label {
+            labels.push(label_of(v(li)?, k)?);
+        }
     }
-    Ok((pts, c.colour.map(|_| cols)))
+    Ok(Decoded {
+        points: pts,
+        colors: c.colour.map(|_| cols),
+        labels: c.label.map(|_| labels),
+    })
 }
 
 /// `DATA binary`: point-major rows of `stride` bytes.
@@ -369,9 +407,7 @@ fn read_binary(body: &[u8], n: usize, h: &PcdHeader, c: &Columns) -> Result<Deco
         return too_short("binary data", body.len(), need);
     }
     let offs = h.offsets(&|f| f.size * f.count);
-    Ok(decode(n, &h.fields, c.xyz, c.colour, &|i, k| {
-        &body[k * stride + offs[i]..]
-    }))
+    decode(n, &h.fields, c, &|i, k| &body[k * stride + offs[i]..])
 }
 
 /// `DATA binary_compressed`: an LZF block of field-major columns (all x, then all y, …).
@@ -397,9 +433,9 @@ fn read_compressed(body: &[u8], n: usize, h: &PcdHeader, c: &Columns) -> Result<
     let raw = lzf_decompress(&body[8..8 + csize], usize_)?;
     let starts = h.offsets(&|f| f.size * f.count * n);
     let fields = &h.fields;
-    Ok(decode(n, fields, c.xyz, c.colour, &|i, k| {
+    decode(n, fields, c, &|i, k| {
         &raw[starts[i] + k * fields[i].size * fields[i].count..]
-    }))
+    })
 }
 
 /// Parses PCD bytes: points, colours if the file has an `rgb`/`rgba` field, and the
@@ -414,30 +450,33 @@ pub fn read_pcd_file(bytes: &[u8]) -> Result<CloudFile, PcdError> {
     let colour = index("rgb")
         .or_else(|| index("rgba"))
         .filter(|&i| h.fields[i].size == 4 && h.fields[i].count == 1);
+    let label = index("label").filter(|&i| h.fields[i].count == 1);
     let columns = Columns {
         xyz: [ix, iy, iz],
         colour,
+        label,
     };
     let body = &bytes[h.body_start..];
-    let (cloud_points, colors) = match h.data.as_str() {
+    let decoded = match h.data.as_str() {
         "ascii" => read_ascii(body, n, &h, &columns)?,
         "binary" => read_binary(body, n, &h, &columns)?,
         "binary_compressed" => read_compressed(body, n, &h, &columns)?,
         other => return err(format!("unknown DATA encoding `{}`", clip(other))),
     };
-    if cloud_points.len() != n {
+    if decoded.points.len() != n {
         return err(format!(
             "{} points read, header says {n}",
-            cloud_points.len()
+            decoded.points.len()
         ));
     }
     Ok(CloudFile {
         cloud: PointCloud {
             width: w,
             height,
-            points: cloud_points,
+            points: decoded.points,
         },
-        colors,
+        colors: decoded.colors,
+        labels: decoded.labels,
         viewpoint: h.viewpoint,
     })
 }
@@ -496,15 +535,33 @@ mod tests {
             Quat::from_rotation_z(0.7) * Quat::from_rotation_x(-2.0),
         );
         let colours = [[255u8, 0, 10], [1, 2, 3]];
+        let labels: Vec<u32> = (0..cloud.points.len() as u32)
+            .map(|k| k * 100_003)
+            .collect();
         for enc in [PcdEncoding::Ascii, PcdEncoding::Binary] {
             let mut bytes = Vec::new();
-            cloud
-                .write_pcd_with(&mut bytes, enc, &viewpoint, Some(&colours))
-                .unwrap();
+            let extras = crate::PcdExtras {
+                viewpoint,
+                colors: Some(&colours),
+                labels: Some(&labels),
+            };
+            cloud.write_pcd_with(&mut bytes, enc, &extras).unwrap();
             let back = read_pcd_file(&bytes).unwrap();
             assert_eq!(back.colors.as_deref(), Some(&colours[..]), "{enc:?}");
+            assert_eq!(back.labels.as_deref(), Some(&labels[..]), "{enc:?}");
             assert!((back.viewpoint.translation - viewpoint.translation).length() < 1e-9);
             assert!(back.viewpoint.rotation.dot(viewpoint.rotation).abs() > 1.0 - 1e-9);
+        }
+        // mOSD's layout: x y z rgba label, labels U4; a fractional or negative label is
+        // an error.
+        let mosd = b"VERSION .7\nFIELDS x y z rgba label\nSIZE 4 4 4 4 4\nTYPE F F F U U\nCOUNT 1 1 1 1 1\nWIDTH 2\nHEIGHT 1\nPOINTS 2\nDATA ascii\n1 2 3 0 1\nnan nan nan 0 21\n";
+        assert_eq!(read_pcd_file(mosd).unwrap().labels, Some(vec![1, 21]));
+        for bad in ["2.5", "-1", "nan"] {
+            let text = format!(
+                "FIELDS x y z label\nSIZE 4 4 4 4\nTYPE F F F F\nCOUNT 1 1 1 1\nWIDTH 1\nHEIGHT 1\nPOINTS 1\nDATA ascii\n1 2 3 {bad}\n"
+            );
+            let e = read_pcd_file(text.as_bytes()).unwrap_err();
+            assert!(e.0.contains("label"), "{bad}: {e}");
         }
         // PCL's `VIEWPOINT tx ty tz qw qx qy qz`: w first.
         let pcl = b"VERSION 0.7\nFIELDS x y z rgba\nSIZE 4 4 4 4\nTYPE F F F U\nCOUNT 1 1 1 1\nWIDTH 1\nHEIGHT 1\nVIEWPOINT 0 0 0 0 1 0 0\nPOINTS 1\nDATA ascii\n1 2 3 4278255360\n";

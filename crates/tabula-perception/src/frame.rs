@@ -113,15 +113,37 @@ pub fn perceive(
 impl Perceived {
     /// What `perceive --json` prints (`placement`: the answer to `--place`, if asked;
     /// `colors`: the file's, for each object's mean colour).
+    /// One label per point of the input, PCL's convention for segmentations: 0 not an
+    /// object (the table, the background, no depth), k ≥ 1 segment k — the whole objects
+    /// first (`objects[k − 1]`), then the objects cut by the frame's edge (`--json`'s
+    /// `label` keys).
+    pub fn segment_labels(&self) -> Vec<u32> {
+        let t = &self.result;
+        let mut labels = vec![0u32; self.cloud.points.len()];
+        for (k, o) in t.objects.iter().chain(&t.partial).enumerate() {
+            for &i in &o.indices {
+                if let Some(l) = labels.get_mut(i) {
+                    *l = k as u32 + 1;
+                }
+            }
+        }
+        labels
+    }
+
     pub fn to_json(
         &self,
         placement: Option<Option<Placement>>,
         colors: Option<&[[u8; 3]]>,
     ) -> Value {
         let t = &self.result;
-        let object = |o: &TableObject| object_json(o, colors);
-        let objects: Vec<_> = t.objects.iter().map(object).collect();
-        let partial: Vec<_> = t.partial.iter().map(object).collect();
+        // Labels as `segment_labels` gives them: whole objects first, then the cut ones.
+        let whole = t.objects.len();
+        let objects: Vec<_> = (t.objects.iter().enumerate())
+            .map(|(k, o)| object_json(o, k + 1, colors))
+            .collect();
+        let partial: Vec<_> = (t.partial.iter().enumerate())
+            .map(|(k, o)| object_json(o, whole + k + 1, colors))
+            .collect();
         let surfaces: Vec<_> = self.surfaces.surfaces.iter().map(surface_json).collect();
         json!({
             "partial_objects": partial,
@@ -143,8 +165,9 @@ impl Perceived {
     }
 }
 
-fn object_json(o: &TableObject, colors: Option<&[[u8; 3]]>) -> Value {
+fn object_json(o: &TableObject, label: usize, colors: Option<&[[u8; 3]]>) -> Value {
     json!({
+        "label": label,
         "points": o.indices.len(),
         "size": arr(o.obb.half_extents * 2.0),
         "yaw": box_yaw(o),

@@ -11,6 +11,7 @@ pub mod freespace;
 mod kd;
 pub mod params;
 pub mod plane;
+pub mod score;
 pub mod segment;
 pub mod selffilter;
 pub mod support;

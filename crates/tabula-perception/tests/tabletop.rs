@@ -279,7 +279,14 @@ fn a_world_frame_pcd_with_its_viewpoint_is_the_camera_frame_with_the_pose() {
     let world = to_world(&world_from_camera, &camera);
     let mut bytes = Vec::new();
     world
-        .write_pcd_with(&mut bytes, PcdEncoding::Binary, &world_from_camera, None)
+        .write_pcd_with(
+            &mut bytes,
+            PcdEncoding::Binary,
+            &tabula_geom::PcdExtras {
+                viewpoint: world_from_camera,
+                ..Default::default()
+            },
+        )
         .unwrap();
     let file = tabula_geom::read_pcd_file(&bytes).unwrap();
     let p = SupportParams::default();

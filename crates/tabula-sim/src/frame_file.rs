@@ -54,7 +54,14 @@ impl DepthFrame {
                 let viewpoint = &self.world_from_camera;
                 self.cloud
                     .transformed(viewpoint)
-                    .write_pcd_with(&mut out, encoding, viewpoint, None)
+                    .write_pcd_with(
+                        &mut out,
+                        encoding,
+                        &tabula_geom::PcdExtras {
+                            viewpoint: *viewpoint,
+                            ..Default::default()
+                        },
+                    )
                     .map_err(io)?;
             } else {
                 self.cloud.write_pcd(&mut out, encoding).map_err(io)?;

@@ -1,6 +1,8 @@
 //! `tabula perceive`: surfaces, the table, its objects and its free space in a PCD or
 //! PLY frame, with an optional robot self-filter and a top-view report.
 
+mod truth;
+
 use anyhow::{Context, Result, bail};
 use clap::Args;
 use std::path::{Path, PathBuf};
@@ -59,6 +61,18 @@ pub struct PerceiveArgs {
     /// Write a top view of the table (top.png, top.svg) into this folder.
     #[arg(long)]
     report: Option<PathBuf>,
+    /// Write the segmentation as a labelled cloud (PCD, PCL's convention): the input's
+    /// grid with a `label` field, 0 not an object, k ≥ 1 segment k (`--json`'s `label`).
+    #[arg(long, value_name = "OUT.pcd")]
+    labels: Option<PathBuf>,
+    /// Score the segmentation against a ground truth on the same grid: a PCD with a
+    /// `label` field or a PNG of labels. Prints the overlap precision, recall and F
+    /// (OSD/OCID's), the objects found at IoU ≥ 0.5 and the extra segments.
+    #[arg(long, value_name = "GT.pcd|GT.png")]
+    score: Option<PathBuf>,
+    /// How the ground truth's labels name objects (default: mosd for a PCD, ocid for a PNG).
+    #[arg(long, value_enum, requires = "score")]
+    truth_format: Option<truth::TruthFormat>,
 }
 
 fn pose_arg(v: &[f64], what: &str) -> Result<Pose> {
@@ -141,7 +155,21 @@ pub fn run(a: PerceiveArgs) -> Result<()> {
     // A footprint that fits nowhere is "no solution": exit status 2 after the report.
     let no_place = matches!(placement, Some(None));
     let colors = file.colors.as_deref();
-    let json = || perceived.to_json(placement, colors);
+    let labels = perceived.segment_labels();
+    if let Some(path) = &a.labels {
+        truth::write_labels(path, &file, &labels)?;
+    }
+    let scored = match &a.score {
+        Some(path) => Some(truth::score_against(path, a.truth_format, &file, &labels)?),
+        None => None,
+    };
+    let json = || {
+        let mut v = perceived.to_json(placement, colors);
+        if let Some(s) = &scored {
+            v["score"] = serde_json::to_value(s).unwrap_or_default();
+        }
+        v
+    };
     if let Some(dir) = &a.report {
         let footprint = placement.flatten().zip(a.place.as_deref());
         perceive_page(dir, result, map, footprint, Some((cloud, colors)), &json())?;
@@ -156,6 +184,9 @@ pub fn run(a: PerceiveArgs) -> Result<()> {
         return Ok(());
     }
     for line in perceived_lines(&perceived, placement, colors) {
+        println!("{line}");
+    }
+    for line in scored.iter().flat_map(truth::score_lines) {
         println!("{line}");
     }
     if no_place {
