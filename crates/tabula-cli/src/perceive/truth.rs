@@ -13,8 +13,12 @@ use tabula_perception::score::{SegmentationScore, score};
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum TruthFormat {
     /// mOSD (PCL's data, `segmentation/mOSD`): 0 nothing, 1–9 parts of the table,
-    /// 10·k + j part j of object k. The default for a PCD.
+    /// 10·k + j part j of object k, scored by object (its parts merged, as the
+    /// dataset's `merge_object_parts.sh` does). The default for a PCD.
     Mosd,
+    /// mOSD scored by part: every label ≥ 10 its own object (a geometry-only method
+    /// cannot know that an occluded object's disjoint parts are one).
+    MosdParts,
     /// OCID / OSD label images: 0 background, 1 the table, every other value an object.
     /// The default for a PNG.
     Ocid,
@@ -77,8 +81,9 @@ pub fn score_against(
 pub fn objects_of(raw: &[u32], format: TruthFormat) -> Vec<u32> {
     raw.iter()
         .map(|&l| match format {
-            TruthFormat::Mosd if l < 10 => 0,
+            TruthFormat::Mosd | TruthFormat::MosdParts if l < 10 => 0,
             TruthFormat::Mosd => l / 10,
+            TruthFormat::MosdParts => l,
             TruthFormat::Ocid if l <= 1 => 0,
             TruthFormat::Ocid | TruthFormat::Plain => l,
         })
@@ -151,6 +156,10 @@ mod tests {
     fn each_format_names_its_objects() {
         let raw = [0, 1, 9, 10, 11, 23, 2];
         assert_eq!(objects_of(&raw, TruthFormat::Mosd), [0, 0, 0, 1, 1, 2, 0]);
+        assert_eq!(
+            objects_of(&raw, TruthFormat::MosdParts),
+            [0, 0, 0, 10, 11, 23, 0]
+        );
         assert_eq!(
             objects_of(&raw, TruthFormat::Ocid),
             [0, 0, 9, 10, 11, 23, 2]
