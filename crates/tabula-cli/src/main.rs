@@ -324,10 +324,27 @@ fn main() {
         std::process::exit(exit::NO_SOLUTION);
     }
     if let Err(e) = result {
-        eprintln!(
-            "error: {}",
-            tabula_geom::input::clip(&format!("{e:#}"), 1000)
-        );
+        eprintln!("error: {}", tabula_geom::input::clip(&one_line(&e), 1000));
         std::process::exit(exit::ERROR);
     }
+}
+
+/// The error and its causes joined by ": ", each cause said once: many errors already
+/// quote their source in their own message (`{path}: {source}`), which anyhow's `{:#}`
+/// would print twice.
+fn one_line(e: &anyhow::Error) -> String {
+    let mut line = String::new();
+    let mut last = String::new();
+    for cause in e.chain() {
+        let text = cause.to_string();
+        if last.contains(&text) {
+            continue;
+        }
+        if !line.is_empty() {
+            line.push_str(": ");
+        }
+        line.push_str(&text);
+        last = text;
+    }
+    line
 }

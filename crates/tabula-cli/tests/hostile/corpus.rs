@@ -5,6 +5,7 @@ mod commands;
 mod descriptions;
 mod flags;
 mod heavy;
+mod labels;
 mod meshes;
 mod moveit;
 mod numbers;
@@ -116,6 +117,7 @@ pub fn all(root: &Path) -> Vec<Case> {
     };
     special_files::special_files(&mut c);
     pcd::pcd(&mut c);
+    labels::labels(&mut c);
     ply::ply(&mut c);
     meshes::meshes(&mut c);
     urdf::urdf(&mut c);
