@@ -231,6 +231,8 @@ fn extract_from(
         keep: &keep,
         locals: &locals,
         plane: &plane,
+        grid: organized.then_some(cloud.width),
+        viewpoint,
     };
     let labels = match carrier_of {
         None if organized => segment_organized(cloud, viewpoint, &above, &keep, &locals, &plane, p),
@@ -260,6 +262,9 @@ struct Seen<'a> {
     keep: &'a [bool],
     locals: &'a Locals,
     plane: &'a Plane,
+    /// The sensor's grid width when the cloud is organized, and where the sensor is.
+    grid: Option<usize>,
+    viewpoint: Vec3,
 }
 
 impl Seen<'_> {
@@ -319,7 +324,8 @@ impl Seen<'_> {
             })
             .collect();
         if known.is_some() {
-            regions = standing(pts, plane, regions, threshold, p);
+            let occluded = self.grid.map(|width| (width, self.viewpoint));
+            regions = standing(pts, plane, regions, (threshold, occluded), p);
         }
         claim_object_bases(pts, plane, &mut table.inliers, &mut regions, threshold);
         let (mut partial, mut objects): (Vec<TableObject>, Vec<TableObject>) = regions
@@ -337,13 +343,15 @@ impl Seen<'_> {
 /// Around a support found without a world pose, the regions that are objects standing
 /// on it: no wider or taller than `max_object_extent` (walls and rows of furniture seen
 /// at a floor's edge are background), and resting — their lowest points reach down to
-/// the support, or to the top of a resting region under them (a stack); a cluster
-/// hanging in the air is part of something else.
+/// the support, or to the top of a resting region under them (a stack), or (on a
+/// sensor's grid, `occluded` = its width and the sensor) they are hidden below by a
+/// nearer region (an object standing behind another); a cluster hanging in the air is
+/// part of something else.
 fn standing(
     pts: &[Vec3],
     plane: &Plane,
     regions: Vec<Vec<usize>>,
-    threshold: f64,
+    (threshold, occluded): (f64, Option<(usize, Vec3)>),
     p: &TabletopParams,
 ) -> Vec<Vec<usize>> {
     let (u, v) = plane_basis(plane.normal);
@@ -411,27 +419,39 @@ fn standing(
         // Resting on a region: some of this one's bottom points have that region's top
         // right beside or under them at their own height (a box on a box), not its side
         // rising past them (a strip cut off an object's face).
+        // Or its lowest points at the height of that region's top over the same ground
+        // (a box lying across another, overhanging it towards the camera: the top it
+        // rests on is hidden under it, the bottom edge seen is in the air).
         let on = |r: &usize| {
             let under = &extents[*r];
-            e.lo.cmple(under.hi).all()
-                && under.lo.cmple(e.hi).all()
-                && regions[k].iter().any(|&i| {
-                    let h = plane.distance(pts[i]);
-                    let c = column(i);
-                    h <= e.lowest + p.rest_tolerance
-                        && (-1..=1).any(|dx| {
-                            (-1..=1).any(|dy| {
-                                tops[*r]
-                                    .get(&[c[0] + dx, c[1] + dy])
-                                    .is_some_and(|t| (h - t).abs() <= p.rest_tolerance)
+            let overlap = e.lo.cmple(under.hi).all() && under.lo.cmple(e.hi).all();
+            overlap && (e.lowest - under.highest).abs() <= p.rest_tolerance
+                || overlap
+                    && regions[k].iter().any(|&i| {
+                        let h = plane.distance(pts[i]);
+                        let c = column(i);
+                        h <= e.lowest + p.rest_tolerance
+                            && (-1..=1).any(|dx| {
+                                (-1..=1).any(|dy| {
+                                    tops[*r]
+                                        .get(&[c[0] + dx, c[1] + dy])
+                                        .is_some_and(|t| (h - t).abs() <= p.rest_tolerance)
+                                })
                             })
-                        })
-                })
+                    })
         };
         // On the support; or on a resting region and, as an object must be above the
         // table, at least `min_stacked_height` tall above what it rests on.
         let stacked = e.highest - e.lowest >= p.min_stacked_height && resting.iter().any(on);
-        if e.lowest <= ground || stacked {
+        let hidden = || {
+            occluded.is_some_and(|(width, sensor)| {
+                let bottom = e.lowest + p.rest_tolerance;
+                bottom_occluded(pts, &regions, k, (width, sensor), |i| {
+                    plane.distance(pts[i]) <= bottom
+                })
+            })
+        };
+        if e.lowest <= ground || stacked || hidden() {
             resting.push(k);
         }
     }
@@ -441,6 +461,42 @@ fn standing(
         .into_iter()
         .filter_map(|k| regions[k].take())
         .collect()
+}
+
+/// Whether most of region `k`'s bottom points (`is_bottom`) have, within 3 pixels on the
+/// sensor's grid, a point of another region at least 1 cm nearer the sensor: what held
+/// the region up is hidden behind that one.
+fn bottom_occluded(
+    pts: &[Vec3],
+    regions: &[Vec<usize>],
+    k: usize,
+    (width, sensor): (usize, Vec3),
+    is_bottom: impl Fn(usize) -> bool,
+) -> bool {
+    const RADIUS: i64 = 3;
+    let others: rustc_hash::FxHashSet<usize> = (regions.iter().enumerate())
+        .filter(|&(r, _)| r != k)
+        .flat_map(|(_, r)| r.iter().copied())
+        .collect();
+    let (w, n) = (width as i64, pts.len() as i64);
+    let (mut bottom, mut hidden) = (0usize, 0usize);
+    for &i in regions[k].iter().filter(|&&i| is_bottom(i)) {
+        bottom += 1;
+        let depth = pts[i].distance(sensor);
+        let (x, y) = (i as i64 % w, i as i64 / w);
+        let nearer = (-RADIUS..=RADIUS).any(|dy| {
+            (-RADIUS..=RADIUS).any(|dx| {
+                let (nx, ny) = (x + dx, y + dy);
+                let j = ny * w + nx;
+                (0..w).contains(&nx)
+                    && (0..n).contains(&j)
+                    && others.contains(&(j as usize))
+                    && pts[j as usize].distance(sensor) < depth - 0.01
+            })
+        });
+        hidden += usize::from(nearer);
+    }
+    bottom > 0 && 2 * hidden >= bottom
 }
 
 /// Pieces within `gap` (m) of an object cut by the frame's edge are more of what the
