@@ -425,9 +425,10 @@ fn standing(
         let on = |r: &usize| {
             let under = &extents[*r];
             let overlap = e.lo.cmple(under.hi).all() && under.lo.cmple(e.hi).all();
-            overlap && (e.lowest - under.highest).abs() <= p.rest_tolerance
-                || overlap
-                    && regions[k].iter().any(|&i| {
+            let across = (e.lowest - under.highest).abs() <= p.rest_tolerance;
+            overlap
+                && (across
+                    || regions[k].iter().any(|&i| {
                         let h = plane.distance(pts[i]);
                         let c = column(i);
                         h <= e.lowest + p.rest_tolerance
@@ -438,7 +439,7 @@ fn standing(
                                         .is_some_and(|t| (h - t).abs() <= p.rest_tolerance)
                                 })
                             })
-                    })
+                    }))
         };
         // On the support; or on a resting region and, as an object must be above the
         // table, at least `min_stacked_height` tall above what it rests on.
