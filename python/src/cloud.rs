@@ -89,17 +89,24 @@ fn labels(p: &Perceived, n: usize) -> Vec<i32> {
     out
 }
 
-/// One frame's perception: `(json, labels)`, the JSON being `tabula perceive --json`'s
-/// and `labels` the points' (shape of the cloud without its last axis).
+/// One frame's perception: `(json, labels, segments)`, the JSON being `tabula perceive
+/// --json`'s, `labels` the points' (shape of the cloud without its last axis) and
+/// `segments` the same in PCL's convention (`perceive --labels`: 0 not an object, k the
+/// object whose JSON `label` is k).
 #[pyfunction]
 #[pyo3(signature = (points, world_from_camera=None, up=None, params=None))]
+#[allow(clippy::type_complexity)]
 pub fn perceive<'py>(
     py: Python<'py>,
     points: PyReadonlyArrayDyn<'py, f64>,
     world_from_camera: Option<Vec<Vec<f64>>>,
     up: Option<[f64; 3]>,
     params: Option<(String, String)>,
-) -> PyResult<(String, Bound<'py, PyArrayDyn<i32>>)> {
+) -> PyResult<(
+    String,
+    Bound<'py, PyArrayDyn<i32>>,
+    Bound<'py, PyArrayDyn<u32>>,
+)> {
     let params: TabletopParams = match &params {
         Some((kind, text)) => crate::params::parse(kind, text)?,
         None => TabletopParams::default(),
@@ -127,6 +134,9 @@ pub fn perceive<'py>(
         .detach(|| perceive_frame(&file, pose, up, &[], &params))
         .map_err(value_error)?;
     let json = perceived.to_json(None, None).to_string();
-    let labels = ArrayD::from_shape_vec(shape, labels(&perceived, n)).map_err(value_error)?;
-    Ok((json, labels.into_pyarray(py)))
+    let labels =
+        ArrayD::from_shape_vec(shape.clone(), labels(&perceived, n)).map_err(value_error)?;
+    let segments =
+        ArrayD::from_shape_vec(shape, perceived.segment_labels()).map_err(value_error)?;
+    Ok((json, labels.into_pyarray(py), segments.into_pyarray(py)))
 }

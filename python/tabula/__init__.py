@@ -174,7 +174,9 @@ def _params(params) -> Optional[Tuple[str, str]]:
 def perceive(points, up=None, world_from_camera=None, params=None) -> dict:
     """One frame's perception: the table, the objects on it, every horizontal surface,
     the free space — ``tabula perceive --json``'s content — plus ``labels``, one per
-    point (-1 none, 0 the table, k + 1 object k, -2 objects cut by the frame's edge).
+    point (-1 none, 0 the table, k + 1 object k, -2 objects cut by the frame's edge),
+    and ``segments``, one per point in PCL's convention as ``tabula perceive --labels``
+    writes it (uint32: 0 not an object, k the object or cut object whose ``label`` is k).
 
     ``points``: ``(h, w, 3)`` (organized, the sensor's grid) or ``(n, 3)``, NaN for no
     point. The frame is set by ``world_from_camera`` (4, 4), else by ``up`` (the world's
@@ -188,9 +190,10 @@ def perceive(points, up=None, world_from_camera=None, params=None) -> dict:
     up = None if up is None else _vector(up, "up").tolist()
     if up is not None and len(up) != 3:
         raise ValueError("up must have 3 values")
-    text, labels = _tabula.perceive(arr, pose, up, _params(params))
+    text, labels, segments = _tabula.perceive(arr, pose, up, _params(params))
     out = json.loads(text)
     out["labels"] = labels
+    out["segments"] = segments
     return out
 
 

@@ -86,6 +86,10 @@ def test_cloud_files_and_perception_of_a_simulated_table(tmp_path):
     assert out["objects"] and out["table"]["points"] > 1000
     assert out["labels"].shape == points.shape[:2]
     assert (out["labels"] == 0).sum() == out["table"]["points"]
+    # PCL's convention beside it: object k of the JSON has label k.
+    assert out["segments"].shape == points.shape[:2] and out["segments"].dtype == np.uint32
+    for o in out["objects"]:
+        assert (out["segments"] == o["label"]).sum() == o["points"]
     cloud, colors, viewpoint = tabula.read_cloud(ROOT / "data" / "real" / "kinect_laptop_box.pcd")
     assert cloud.shape == (480, 640, 3) and viewpoint.shape == (4, 4)
     assert np.isnan(cloud).any() and np.isfinite(cloud).any()
