@@ -1,10 +1,32 @@
-//! What every closed-form solver does with its candidate angles: map them to chain
-//! variables within the limits (the whole turn nearest the seed), keep those that forward
-//! kinematics confirms, drop duplicates, and rank them nearest the seed first.
+//! What every closed-form solver does: read the chain's axes at zero, then with its
+//! candidate angles map them to chain variables within the limits (the whole turn
+//! nearest the seed), keep those that forward kinematics confirms, drop duplicates, and
+//! rank them nearest the seed first.
 
 use super::{IkMode, IkSolution, joint_distance, pose_error};
 use crate::Chain;
-use tabula_geom::Pose;
+use tabula_geom::{Pose, Vec3};
+
+/// The chain in product-of-exponentials form: each joint's axis and a point on it at
+/// zero (base frame), and the tip at zero — `None` unless the chain has `N` revolute
+/// joints, one variable each in order, with multiplier ±1 (what the closed forms
+/// assume).
+pub(crate) fn axes_at_zero<const N: usize>(chain: &Chain) -> Option<([Vec3; N], [Vec3; N], Pose)> {
+    if chain.elements.len() != N || chain.dof() != N {
+        return None;
+    }
+    let mut frame = Pose::IDENTITY;
+    let (mut h, mut o) = ([Vec3::ZERO; N], [Vec3::ZERO; N]);
+    for (i, e) in chain.elements.iter().enumerate() {
+        if e.prismatic || e.var != i || (e.multiplier.abs() - 1.0).abs() > 1e-12 {
+            return None;
+        }
+        frame *= e.pre;
+        h[i] = (frame.rotation * e.axis).normalize();
+        o[i] = frame.translation;
+    }
+    Some((h, o, frame * chain.tip_offset))
+}
 
 /// A returned solution reaches the target within this (m, rad).
 pub(crate) const ACCEPT: f64 = 1e-6;

@@ -13,7 +13,7 @@
 //!
 //! Every candidate is checked by forward kinematics before it is returned.
 
-use super::closed_form::{keep_verified, rank};
+use super::closed_form::{axes_at_zero, keep_verified, rank};
 use super::subproblems::{TOL, any_perpendicular, intersection, subproblem1, subproblem4};
 use super::{IkError, IkMode, IkSolution, IkSolver, validate_request};
 use crate::Chain;
@@ -35,20 +35,7 @@ impl ThreeParallelIk {
     /// revolute joints, one variable each with multiplier ±1, axes 2–4 parallel, axes 1
     /// and 2 not, axes 5 and 6 meeting in a point).
     pub fn new(chain: &Chain) -> Option<Self> {
-        if chain.elements.len() != 6 || chain.dof() != 6 {
-            return None;
-        }
-        let mut frame = Pose::IDENTITY;
-        let (mut h, mut o) = ([Vec3::ZERO; 6], [Vec3::ZERO; 6]);
-        for (i, e) in chain.elements.iter().enumerate() {
-            if e.prismatic || e.var != i || (e.multiplier.abs() - 1.0).abs() > 1e-12 {
-                return None;
-            }
-            frame *= e.pre;
-            h[i] = (frame.rotation * e.axis).normalize();
-            o[i] = frame.translation;
-        }
-        let tip_zero = frame * chain.tip_offset;
+        let (h, mut o, tip_zero) = axes_at_zero::<6>(chain)?;
         let parallel = |a: Vec3, b: Vec3| a.cross(b).length() < TOL;
         if !(parallel(h[1], h[2]) && parallel(h[1], h[3])) || parallel(h[0], h[1]) {
             return None;

@@ -16,7 +16,7 @@
 //! seed's outward until one is found, so the answer is on the seed's side of the
 //! self-motion; every candidate is checked by forward kinematics.
 
-use super::closed_form::{keep_verified, rank};
+use super::closed_form::{axes_at_zero, keep_verified, rank};
 use super::subproblems::{any_perpendicular, intersection, subproblem1, subproblem2, subproblem3};
 use super::{IkError, IkMode, IkSolution, IkSolver, validate_request};
 use crate::Chain;
@@ -49,20 +49,7 @@ impl SphericalShoulderIk {
     /// revolute joints, one variable each with multiplier ±1, axes 1–3 meeting in one
     /// point, axes 5 and 6 meeting, axis 4 through neither point).
     pub fn new(chain: &Chain) -> Option<Self> {
-        if chain.elements.len() != 7 || chain.dof() != 7 {
-            return None;
-        }
-        let mut frame = Pose::IDENTITY;
-        let (mut h, mut o) = ([Vec3::ZERO; 7], [Vec3::ZERO; 7]);
-        for (i, e) in chain.elements.iter().enumerate() {
-            if e.prismatic || e.var != i || (e.multiplier.abs() - 1.0).abs() > 1e-12 {
-                return None;
-            }
-            frame *= e.pre;
-            h[i] = (frame.rotation * e.axis).normalize();
-            o[i] = frame.translation;
-        }
-        let tip_zero = frame * chain.tip_offset;
+        let (h, mut o, tip_zero) = axes_at_zero::<7>(chain)?;
         // Axes 1 and 3 may be one line at zero (Z–Y–Z shoulders): 1∩2 and 2∩3 suffice.
         let shoulder = intersection(o[0], h[0], o[1], h[1])?;
         let s23 = intersection(o[1], h[1], o[2], h[2])?;
