@@ -3,7 +3,7 @@
 //! nearest the seed), keep those that forward kinematics confirms, drop duplicates, and
 //! rank them nearest the seed first.
 
-use super::{IkMode, IkSolution, joint_distance, pose_error};
+use super::{IkError, IkMode, IkSolution, joint_distance, pose_error, validate_request};
 use crate::Chain;
 use tabula_geom::{Pose, Vec3};
 
@@ -62,7 +62,7 @@ pub(crate) fn within_limits<const N: usize>(
 
 /// Adds the candidate to `found` when it is within the limits, reaches `target` (by the
 /// chain's own FK) and is not already there.
-pub(crate) fn keep_verified<const N: usize>(
+fn keep_verified<const N: usize>(
     chain: &Chain,
     theta: &[f64; N],
     target: &Pose,
@@ -91,8 +91,39 @@ pub(crate) fn keep_verified<const N: usize>(
 }
 
 /// Nearest the seed first.
-pub(crate) fn rank(chain: &Chain, found: &mut [IkSolution], seed: &[f64]) {
+fn rank(chain: &Chain, found: &mut [IkSolution], seed: &[f64]) {
     found.sort_by(|a, b| {
         joint_distance(chain, &a.joints, seed).total_cmp(&joint_distance(chain, &b.joints, seed))
     });
+}
+
+/// The front door of a closed form: a valid request for a full pose.
+pub(crate) fn check_full_pose(
+    chain: &Chain,
+    target: &Pose,
+    mode: IkMode,
+    seed: &[f64],
+) -> Result<(), IkError> {
+    validate_request(chain, target, mode, seed)?;
+    if mode != IkMode::Full {
+        return Err(IkError::UnsupportedMode(
+            "orientation-free goals (closed form is for full poses)",
+        ));
+    }
+    Ok(())
+}
+
+/// The candidates that are solutions ([`keep_verified`]), nearest the seed first.
+pub(crate) fn verified<const N: usize>(
+    chain: &Chain,
+    candidates: &[[f64; N]],
+    target: &Pose,
+    seed: &[f64],
+) -> Vec<IkSolution> {
+    let mut found = Vec::with_capacity(candidates.len());
+    for theta in candidates {
+        keep_verified(chain, theta, target, seed, &mut found);
+    }
+    rank(chain, &mut found, seed);
+    found
 }

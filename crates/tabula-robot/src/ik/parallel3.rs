@@ -13,9 +13,9 @@
 //!
 //! Every candidate is checked by forward kinematics before it is returned.
 
-use super::closed_form::{axes_at_zero, keep_verified, rank};
+use super::closed_form::{axes_at_zero, check_full_pose, verified};
 use super::subproblems::{TOL, any_perpendicular, intersection, subproblem1, subproblem4};
-use super::{IkError, IkMode, IkSolution, IkSolver, validate_request};
+use super::{IkError, IkMode, IkSolution, IkSolver};
 use crate::Chain;
 use tabula_geom::{Mat3, Pose, Vec3};
 /// The solver of one matching chain.
@@ -108,21 +108,12 @@ impl IkSolver for ThreeParallelIk {
     }
 
     fn solve(&self, target: &Pose, mode: IkMode, seed: &[f64]) -> Result<Vec<IkSolution>, IkError> {
-        validate_request(&self.chain, target, mode, seed)?;
-        if mode != IkMode::Full {
-            return Err(IkError::UnsupportedMode(
-                "orientation-free goals (closed form is for full poses)",
-            ));
-        }
-        let mut found: Vec<IkSolution> = Vec::with_capacity(8);
+        check_full_pose(&self.chain, target, mode, seed)?;
         let (candidates, count) = self.candidates(target);
-        for theta in &candidates[..count] {
-            keep_verified(&self.chain, theta, target, seed, &mut found);
-        }
+        let found = verified(&self.chain, &candidates[..count], target, seed);
         if found.is_empty() {
             return Err(IkError::NoSolution);
         }
-        rank(&self.chain, &mut found, seed);
         Ok(found)
     }
 }

@@ -16,9 +16,9 @@
 //! seed's outward until one is found, so the answer is on the seed's side of the
 //! self-motion; every candidate is checked by forward kinematics.
 
-use super::closed_form::{axes_at_zero, keep_verified, rank};
+use super::closed_form::{axes_at_zero, check_full_pose, verified};
 use super::subproblems::{any_perpendicular, intersection, subproblem1, subproblem2, subproblem3};
-use super::{IkError, IkMode, IkSolution, IkSolver, validate_request};
+use super::{IkError, IkMode, IkSolution, IkSolver};
 use crate::Chain;
 use tabula_geom::{Mat3, Pose, Vec3};
 
@@ -158,13 +158,8 @@ impl SphericalShoulderIk {
     /// first.
     fn solutions_at(&self, target: &Pose, q7: f64, seed: &[f64]) -> Vec<IkSolution> {
         let e7 = &self.chain.elements[6];
-        let mut found: Vec<IkSolution> = Vec::with_capacity(8);
         let (candidates, count) = self.candidates(target, e7.multiplier * q7 + e7.offset);
-        for theta in &candidates[..count] {
-            keep_verified(&self.chain, theta, target, seed, &mut found);
-        }
-        rank(&self.chain, &mut found, seed);
-        found
+        verified(&self.chain, &candidates[..count], target, seed)
     }
 }
 
@@ -174,12 +169,7 @@ impl IkSolver for SphericalShoulderIk {
     }
 
     fn solve(&self, target: &Pose, mode: IkMode, seed: &[f64]) -> Result<Vec<IkSolution>, IkError> {
-        validate_request(&self.chain, target, mode, seed)?;
-        if mode != IkMode::Full {
-            return Err(IkError::UnsupportedMode(
-                "orientation-free goals (closed form is for full poses)",
-            ));
-        }
+        check_full_pose(&self.chain, target, mode, seed)?;
         if (target.translation - self.shoulder).length() > self.reach + 1e-6 {
             return Err(IkError::NoSolution);
         }
