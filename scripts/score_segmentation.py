@@ -36,11 +36,12 @@ def main():
     ap.add_argument("--format", default="mosd")
     ap.add_argument("--tabula", default=str(Path(__file__).resolve().parents[1] / "target/release/tabula"))
     ap.add_argument("--quiet", action="store_true")
+    ap.add_argument("--params", help="a TOML of pipeline parameters for every frame")
     a = ap.parse_args()
     frames = sorted(Path(a.folder).glob("*.pcd"), key=lambda p: (len(p.stem), p.stem))
     rows = {}
     for f in frames:
-        out = subprocess.run([a.tabula, "perceive", "--cloud", str(f), "--score", str(f),
+        out = subprocess.run([a.tabula, "perceive", "--cloud", str(f)] + (["--params", a.params] if a.params else []) + [ "--score", str(f),
                               "--truth-format", a.format, "--json"], capture_output=True, text=True)
         if out.returncode != 0:
             print(f"{f.stem}: {out.stderr.strip()}", file=sys.stderr)

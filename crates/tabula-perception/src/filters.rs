@@ -348,7 +348,7 @@ pub fn radius_outliers(
 }
 
 /// Largest half window (pixels) a normal is fitted over.
-const MAX_WINDOW: usize = 15;
+pub(crate) const MAX_WINDOW: usize = 15;
 
 /// Normal estimation parameters.
 #[derive(Debug, Clone, serde::Deserialize, serde::Serialize)]

@@ -26,13 +26,15 @@ fn concave(pa: Vec3, na: Vec3, pb: Vec3, nb: Vec3, cos_tol: f64) -> bool {
 /// Step test: two flat tops parallel to the table at different heights, side by side
 /// (touching objects of different heights). Local-plane centroids average the sensor
 /// noise; only table-parallel planes count, because near the edges of side faces the
-/// windows mix two faces and their centroids shift.
+/// windows mix two faces and their centroids shift. The offset is measured along the
+/// planes' mean normal, not the table's up: two points of one top tilted by 20° (a box
+/// leaning on another) differ in height by more than the tolerance a crease band apart.
 fn step(ca: Vec3, na: Vec3, cb: Vec3, nb: Vec3, up: Vec3, cos_tol: f64, tolerance: f64) -> bool {
     na.is_finite()
         && nb.is_finite()
         && na.dot(up).abs() >= cos_tol
         && nb.dot(up).abs() >= cos_tol
-        && up.dot(ca - cb).abs() > tolerance
+        && (na + nb).normalize_or_zero().dot(ca - cb).abs() > tolerance
 }
 
 /// Pairs of regions that are one surface cut apart by crease bands (see
@@ -213,9 +215,13 @@ fn split_by_tops(
                 }
             }
         }
-        let mid = heights.len() / 2;
-        let median = *heights.select_nth_unstable_by(mid, f64::total_cmp).1;
-        patches.push((members, median));
+        heights.sort_unstable_by(f64::total_cmp);
+        let decile = |k: usize| heights[(heights.len() - 1) * k / 10];
+        // A top is level: a face tilted 20° (a box leaning on another) passes the
+        // up-facing test in fragments, each at its own height, and is not two tops.
+        if decile(9) - decile(1) <= 2.0 * p.step_tolerance {
+            patches.push((members, decile(5)));
+        }
     }
     // Levels: big patches, those within the step tolerance of each other joined.
     let min_patch = 30.max(region.len() / 20);
@@ -290,6 +296,32 @@ pub(crate) fn segment_organized(
         (x >= 0 && y >= 0 && (x as usize) < w && (y as usize) < h)
             .then(|| y as usize * w + x as usize)
     };
+    let r = p.normals.window.clamp(1, crate::filters::MAX_WINDOW) as isize;
+    let tilt_blur = |i: usize| {
+        let (x, y) = ((i % w) as isize, (i / w) as isize);
+        let mut pitch = f64::INFINITY;
+        for (dx, dy) in [(1, 0), (-1, 0), (0, 1), (0, -1)] {
+            if let Some(j) = at(x + dx, y + dy).filter(|&j| above[j]) {
+                pitch = pitch.min(pts[j].distance(pts[i]));
+            }
+        }
+        let range = pts[i].distance(eye);
+        let quantum = p.cluster_range_gain * range * range;
+        let (mut near, mut far) = (range, range);
+        for yy in y - r..=y + r {
+            for xx in x - r..=x + r {
+                if let Some(j) = at(xx, yy).filter(|&j| above[j]) {
+                    let d = pts[j].distance(eye);
+                    (near, far) = (near.min(d), far.max(d));
+                }
+            }
+        }
+        if far - near >= 2.0 * quantum || !pitch.is_finite() {
+            0.0
+        } else {
+            (quantum / (2.0 * r as f64 * pitch)).atan()
+        }
+    };
     let crease: Vec<bool> = (0..pts.len())
         .map(|i| {
             if !above[i] {
@@ -302,11 +334,15 @@ pub(crate) fn segment_organized(
                     return false;
                 };
                 let ((na, ca), (nb, cb)) = (locals.get(a), locals.get(b));
-                above[a]
-                    && above[b]
-                    && pts[a].distance(pts[b]) <= reach
-                    && (concave(pts[a], na, pts[b], nb, cos_tol)
-                        || step(ca, na, cb, nb, up, cos_tol, p.step_tolerance))
+                if !(above[a] && above[b] && pts[a].distance(pts[b]) <= reach) {
+                    return false;
+                }
+                let blurred = || {
+                    let tol = p.concavity_tolerance + tilt_blur(a) + tilt_blur(b);
+                    na.angle_between(nb) < tol
+                };
+                (concave(pts[a], na, pts[b], nb, cos_tol) && !blurred())
+                    || step(ca, na, cb, nb, up, cos_tol, p.step_tolerance)
             })
         })
         .collect();

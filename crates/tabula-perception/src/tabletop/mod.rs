@@ -6,6 +6,7 @@
 //! The segmentation itself lives in [`crate::segment`].
 
 mod describe;
+mod occluded;
 mod prism;
 
 use describe::describe;
@@ -238,6 +239,11 @@ fn extract_from(
         None if organized => segment_organized(cloud, viewpoint, &above, &keep, &locals, &plane, p),
         None => segment_unorganized(pts, &above, &prism, &keep, &locals, &plane, p),
         Some(carrier_of) => seen.segment_by_carriers(&prism, (carriers, carrier_of), p),
+    };
+    let labels = if organized {
+        occluded::join_occluded(pts, cloud.width, viewpoint, &plane, labels)
+    } else {
+        labels
     };
     times.segmentation = ms(t);
 
