@@ -1,0 +1,60 @@
+//! An object seen in two pieces on either side of a nearer one (a low box behind a
+//! tall one, as in mOSD's "occluded objects" frames) is one object; two boxes of one
+//! height behind the same occluder, turned differently, stay two.
+
+use tabula_perception::{TabletopParams, extract, to_world};
+use tabula_sim::{Camera, PhysicsParams, Scene, SimWorld};
+
+/// The objects `extract` finds in a frame of `objects` (scene TOML) on a table whose
+/// top is at z = 0.72, seen from above the table's near edge.
+fn objects_seen(objects: &str) -> Vec<Vec<tabula_geom::Vec3>> {
+    let text = format!(
+        "[[furniture]]\nname = \"table\"\nkind = \"table\"\npose = {{ xyz = [0.7, 0.0, 0.0] }}\n\
+         size = [0.8, 1.0, 0.72]\n\n{objects}\n\
+         [[camera]]\nname = \"eye\"\nlook_at = {{ eye = [0.05, 0.0, 1.35], target = [0.75, 0.0, 0.72] }}\n"
+    );
+    let scene = Scene::parse(&text, "occluded.toml").unwrap();
+    let world = SimWorld::from_scene(&scene, PhysicsParams::default()).unwrap();
+    let camera = Camera::from_spec(&scene.cameras[0], &world).unwrap();
+    let frame = tabula_sim::camera::capture(&world, &camera, 1);
+    let cloud = to_world(&frame.world_from_camera, &frame.cloud);
+    let t = extract(
+        &cloud,
+        frame.world_from_camera.translation,
+        &TabletopParams::default(),
+    )
+    .unwrap();
+    t.objects
+        .iter()
+        .chain(&t.partial)
+        .map(|o| o.indices.iter().map(|&i| cloud.points[i]).collect())
+        .collect()
+}
+
+const OCCLUDER: &str = "[[object]]\nname = \"tall\"\nshape = { box = [0.05, 0.05, 0.25] }\n\
+                        pose = { xyz = [0.55, 0.0, 0.845] }\n";
+
+#[test]
+fn a_box_behind_a_tall_one_is_one_object_in_two_pieces() {
+    let behind = "[[object]]\nname = \"low\"\nshape = { box = [0.06, 0.30, 0.07] }\n\
+                  pose = { xyz = [0.72, 0.0, 0.755] }\n";
+    let seen = objects_seen(&format!("{OCCLUDER}\n{behind}"));
+    assert_eq!(seen.len(), 2, "{} objects", seen.len());
+    let low = seen
+        .iter()
+        .find(|p| p.iter().all(|q| q.z < 0.80))
+        .expect("the low box");
+    // Both ends are in it, and not the middle the tall box hides.
+    assert!(low.iter().any(|q| q.y < -0.1) && low.iter().any(|q| q.y > 0.1));
+    assert!(!low.iter().any(|q| q.y.abs() < 0.01 && q.x > 0.68));
+}
+
+#[test]
+fn two_boxes_turned_differently_behind_one_are_two() {
+    let behind = "[[object]]\nname = \"left\"\nshape = { box = [0.06, 0.12, 0.07] }\n\
+                  pose = { xyz = [0.72, -0.09, 0.755] }\n\n\
+                  [[object]]\nname = \"right\"\nshape = { box = [0.06, 0.12, 0.07] }\n\
+                  pose = { xyz = [0.74, 0.10, 0.755], rpy = [0.0, 0.0, 0.7] }\n";
+    let seen = objects_seen(&format!("{OCCLUDER}\n{behind}"));
+    assert_eq!(seen.len(), 3, "{} objects", seen.len());
+}
