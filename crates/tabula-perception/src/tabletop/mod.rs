@@ -5,6 +5,7 @@
 //!
 //! The segmentation itself lives in [`crate::segment`].
 
+mod containers;
 mod describe;
 mod occluded;
 mod prism;
@@ -241,7 +242,8 @@ fn extract_from(
         Some(carrier_of) => seen.segment_by_carriers(&prism, (carriers, carrier_of), p),
     };
     let labels = if organized {
-        occluded::join_occluded(pts, cloud.width, viewpoint, &plane, labels)
+        let joined = occluded::join_occluded(pts, cloud.width, viewpoint, &plane, labels);
+        containers::join_insides(pts, cloud.width, &plane, joined)
     } else {
         labels
     };
