@@ -115,7 +115,7 @@ fn rim(
         .sum::<f64>()
         / band.len() as f64)
         .sqrt();
-    (radius >= RADIUS[0] && radius <= RADIUS[1] && rms <= MAX_RIM_RESIDUAL).then_some(Rim {
+    ((RADIUS[0]..=RADIUS[1]).contains(&radius) && rms <= MAX_RIM_RESIDUAL).then_some(Rim {
         centre,
         radius,
         height,

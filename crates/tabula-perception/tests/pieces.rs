@@ -1,6 +1,7 @@
-//! An object seen in two pieces on either side of a nearer one (a low box behind a
-//! tall one, as in mOSD's "occluded objects" frames) is one object; two boxes of one
-//! height behind the same occluder, turned differently, stay two.
+//! One object seen in pieces is one object: a low box on either side of a tall one in
+//! front of it (mOSD's "occluded objects" frames), an open container whose inside the
+//! rim cuts from its outside (its "cylindric objects" frames: bowls, mugs); two boxes of
+//! one height behind the same occluder, turned differently, stay two.
 
 use tabula_perception::{TabletopParams, extract, to_world};
 use tabula_sim::{Camera, PhysicsParams, Scene, SimWorld};
@@ -57,4 +58,43 @@ fn two_boxes_turned_differently_behind_one_are_two() {
                   pose = { xyz = [0.74, 0.10, 0.755], rpy = [0.0, 0.0, 0.7] }\n";
     let seen = objects_seen(&format!("{OCCLUDER}\n{behind}"));
     assert_eq!(seen.len(), 3, "{} objects", seen.len());
+}
+
+/// An open tube (a mug without handle or bottom: the table is its bottom) of `radius`
+/// and `height`, its wall 5 mm thick, as a prism: a ring with a 2 mm slit at the back.
+fn tube(name: &str, at: [f64; 2], radius: f64, height: f64) -> String {
+    let slit = 0.001 / radius;
+    let arc = |r: f64, reverse: bool| -> Vec<String> {
+        let mut a: Vec<String> = (0..=48)
+            .map(|k| {
+                let t = slit + (std::f64::consts::TAU - 2.0 * slit) * k as f64 / 48.0;
+                format!("[{:.5}, {:.5}]", r * t.cos(), r * t.sin())
+            })
+            .collect();
+        if reverse {
+            a.reverse();
+        }
+        a
+    };
+    let mut outline = arc(radius, false);
+    outline.extend(arc(radius - 0.005, true));
+    format!(
+        "[[object]]\nname = \"{name}\"\nshape = {{ prism = {{ outline = [{}], length = {height} }} }}\n\
+         pose = {{ xyz = [{}, {}, {}] }}\n",
+        outline.join(", "),
+        at[0],
+        at[1],
+        0.72 + height / 2.0
+    )
+}
+
+#[test]
+fn an_open_container_is_one_object_inside_and_out() {
+    let mugs = format!(
+        "{}\n{}",
+        tube("mug", [0.75, -0.12], 0.045, 0.09),
+        tube("pot", [0.8, 0.12], 0.08, 0.07)
+    );
+    let seen = objects_seen(&mugs);
+    assert_eq!(seen.len(), 2, "{} objects", seen.len());
 }
