@@ -275,6 +275,79 @@ fn split_by_tops(
     parts
 }
 
+/// How far a pixel's normal may be off because the sensor's depth comes in steps: where
+/// the normal window spans under two steps of depth (a surface facing the sensor), its
+/// tilt is known only to within one step across the window. Worked out on demand (only
+/// candidate creases need it) and kept.
+struct TiltBlur<'a> {
+    pts: &'a [Vec3],
+    above: &'a [bool],
+    width: usize,
+    eye: Vec3,
+    /// Half size of the normals' window (pixels).
+    r: isize,
+    /// Depth step at range z: `gain · z²` (the clustering's sensor model).
+    gain: f64,
+    memo: Vec<std::cell::Cell<f32>>,
+}
+
+impl<'a> TiltBlur<'a> {
+    fn new(cloud: &'a PointCloud, above: &'a [bool], eye: Vec3, p: &TabletopParams) -> Self {
+        Self {
+            pts: &cloud.points,
+            above,
+            width: cloud.width,
+            eye,
+            r: p.normals.window.clamp(1, crate::filters::MAX_WINDOW) as isize,
+            gain: p.cluster_range_gain,
+            memo: vec![std::cell::Cell::new(f32::NAN); cloud.points.len()],
+        }
+    }
+
+    fn pixel(&self, x: isize, y: isize) -> Option<usize> {
+        let height = (self.pts.len() / self.width.max(1)) as isize;
+        (x >= 0 && y >= 0 && x < self.width as isize && y < height)
+            .then(|| y as usize * self.width + x as usize)
+            .filter(|&j| self.above[j])
+    }
+
+    /// The blur (rad) of pixel `i`'s normal.
+    fn at(&self, i: usize) -> f64 {
+        let known = self.memo[i].get();
+        if !known.is_nan() {
+            return known as f64;
+        }
+        let blur = self.work_out(i);
+        self.memo[i].set(blur as f32);
+        blur
+    }
+
+    fn work_out(&self, i: usize) -> f64 {
+        let (x, y) = ((i % self.width) as isize, (i / self.width) as isize);
+        let pitch = [(1, 0), (-1, 0), (0, 1), (0, -1)]
+            .iter()
+            .filter_map(|&(dx, dy)| self.pixel(x + dx, y + dy))
+            .map(|j| self.pts[j].distance(self.pts[i]))
+            .fold(f64::INFINITY, f64::min);
+        let range = self.pts[i].distance(self.eye);
+        let quantum = self.gain * range * range;
+        let (mut near, mut far) = (range, range);
+        for yy in y - self.r..=y + self.r {
+            for xx in x - self.r..=x + self.r {
+                if let Some(j) = self.pixel(xx, yy) {
+                    let d = self.pts[j].distance(self.eye);
+                    (near, far) = (near.min(d), far.max(d));
+                }
+            }
+        }
+        if far - near >= 2.0 * quantum || !pitch.is_finite() {
+            0.0
+        } else {
+            (quantum / (2.0 * self.r as f64 * pitch)).atan()
+        }
+    }
+}
+
 /// `eye` is the sensor's position: neighbouring pixels are one object while closer
 /// than the cluster tolerance grown with the depth noise at their range.
 pub(crate) fn segment_organized(
@@ -296,32 +369,7 @@ pub(crate) fn segment_organized(
         (x >= 0 && y >= 0 && (x as usize) < w && (y as usize) < h)
             .then(|| y as usize * w + x as usize)
     };
-    let r = p.normals.window.clamp(1, crate::filters::MAX_WINDOW) as isize;
-    let tilt_blur = |i: usize| {
-        let (x, y) = ((i % w) as isize, (i / w) as isize);
-        let mut pitch = f64::INFINITY;
-        for (dx, dy) in [(1, 0), (-1, 0), (0, 1), (0, -1)] {
-            if let Some(j) = at(x + dx, y + dy).filter(|&j| above[j]) {
-                pitch = pitch.min(pts[j].distance(pts[i]));
-            }
-        }
-        let range = pts[i].distance(eye);
-        let quantum = p.cluster_range_gain * range * range;
-        let (mut near, mut far) = (range, range);
-        for yy in y - r..=y + r {
-            for xx in x - r..=x + r {
-                if let Some(j) = at(xx, yy).filter(|&j| above[j]) {
-                    let d = pts[j].distance(eye);
-                    (near, far) = (near.min(d), far.max(d));
-                }
-            }
-        }
-        if far - near >= 2.0 * quantum || !pitch.is_finite() {
-            0.0
-        } else {
-            (quantum / (2.0 * r as f64 * pitch)).atan()
-        }
-    };
+    let blur = TiltBlur::new(cloud, above, eye, p);
     let crease: Vec<bool> = (0..pts.len())
         .map(|i| {
             if !above[i] {
@@ -338,7 +386,7 @@ pub(crate) fn segment_organized(
                     return false;
                 }
                 let blurred = || {
-                    let tol = p.concavity_tolerance + tilt_blur(a) + tilt_blur(b);
+                    let tol = p.concavity_tolerance + blur.at(a) + blur.at(b);
                     na.angle_between(nb) < tol
                 };
                 (concave(pts[a], na, pts[b], nb, cos_tol) && !blurred())
