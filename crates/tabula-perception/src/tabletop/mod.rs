@@ -333,7 +333,7 @@ impl Seen<'_> {
             .collect();
         if known.is_some() {
             let occluded = self.grid.map(|width| (width, self.viewpoint));
-            regions = standing(pts, plane, regions, (threshold, occluded), p);
+            regions = standing(pts, plane, regions, (threshold, occluded, edge.as_ref()), p);
         }
         claim_object_bases(pts, plane, &mut table.inliers, &mut regions, threshold);
         let (mut partial, mut objects): (Vec<TableObject>, Vec<TableObject>) = regions
@@ -353,13 +353,13 @@ impl Seen<'_> {
 /// at a floor's edge are background), and resting — their lowest points reach down to
 /// the support, or to the top of a resting region under them (a stack), or (on a
 /// sensor's grid, `occluded` = its width and the sensor) they are hidden below by a
-/// nearer region (an object standing behind another); a cluster hanging in the air is
-/// part of something else.
+/// nearer region (an object standing behind another), or the frame's `edge` cuts them
+/// at their lowest; a cluster hanging in the air is part of something else.
 fn standing(
     pts: &[Vec3],
     plane: &Plane,
     regions: Vec<Vec<usize>>,
-    (threshold, occluded): (f64, Option<(usize, Vec3)>),
+    (threshold, occluded, edge): (f64, Option<(usize, Vec3)>, Option<&FrameEdge>),
     p: &TabletopParams,
 ) -> Vec<Vec<usize>> {
     let (u, v) = plane_basis(plane.normal);
@@ -460,7 +460,16 @@ fn standing(
                 })
             })
         };
-        if e.lowest <= ground || stacked || hidden() {
+        // Cut by the frame's edge at its lowest: what it stands on is out of view (a
+        // book at the bottom of the image shows its top only).
+        let cut = || {
+            edge.is_some_and(|edge| {
+                regions[k]
+                    .iter()
+                    .any(|&i| edge.near(i) && plane.distance(pts[i]) <= e.lowest + p.rest_tolerance)
+            })
+        };
+        if e.lowest <= ground || stacked || hidden() || cut() {
             resting.push(k);
         }
     }
