@@ -19,6 +19,9 @@ use std::sync::Mutex;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::{Duration, Instant};
 
+/// Cases with their place in the corpus (their run folder's name).
+type Numbered<'a> = Vec<(usize, &'a Case)>;
+
 const TIME_LIMIT: Duration = Duration::from_secs(20);
 const MEMORY_LIMIT_KIB: i64 = 1 << 20;
 
@@ -199,7 +202,7 @@ fn every_hostile_input_gets_a_clean_answer_in_time_and_memory() {
     // The heavy cases (10,000 bodies settling, half a million triangles) use every core
     // themselves: each runs alone after the others, so its budget measures it and not
     // whatever shared the machine with it.
-    let (heavy, light): (Vec<(usize, &Case)>, Vec<(usize, &Case)>) = cases
+    let (heavy, light): (Numbered, Numbered) = cases
         .iter()
         .enumerate()
         .partition(|(_, c)| c.name.starts_with("heavy-"));

@@ -4,6 +4,7 @@
 //! The outside's rim is a circle on the table's plane; what lies inside that circle,
 //! touches the outside on the grid and rises no higher than its rim is the inside.
 
+use super::joins;
 use crate::plane::Plane;
 use crate::surfaces::plane_basis;
 use tabula_geom::{Vec2, Vec3};
@@ -37,7 +38,7 @@ pub(super) fn join_insides(
     pts: &[Vec3],
     width: usize,
     table: &Plane,
-    mut regions: Vec<Vec<usize>>,
+    regions: Vec<Vec<usize>>,
 ) -> Vec<Vec<usize>> {
     if width == 0 || regions.len() < 2 || regions.len() > 512 {
         return regions;
@@ -45,51 +46,23 @@ pub(super) fn join_insides(
     let (u, v) = plane_basis(table.normal);
     let flat = |i: usize| Vec2::new(pts[i].dot(u), pts[i].dot(v));
     let rims: Vec<Option<Rim>> = regions.iter().map(|m| rim(pts, table, m, &flat)).collect();
-    let mut label = vec![u32::MAX; pts.len()];
-    for (r, members) in regions.iter().enumerate() {
-        for &i in members {
-            label[i] = r as u32;
-        }
-    }
-    let mut into: Vec<usize> = (0..regions.len()).collect();
+    let label = joins::labels(pts.len(), &regions);
+    let mut pairs = Vec::new();
     for (a, inside) in regions.iter().enumerate() {
         let best = rims
             .iter()
             .enumerate()
-            .filter(|&(b, r)| b != a && r.is_some())
-            .filter(|(b, r)| {
-                let r = r.as_ref().unwrap();
-                within(pts, table, inside, r, &flat) && touches(&label, width, inside, *b as u32)
+            .filter(|&(b, _)| b != a)
+            .filter_map(|(b, r)| r.as_ref().map(|r| (b, r)))
+            .filter(|&(b, r)| {
+                within(pts, table, inside, r, &flat) && touches(&label, width, inside, b as u32)
             })
-            .max_by(|x, y| {
-                x.1.as_ref()
-                    .unwrap()
-                    .radius
-                    .total_cmp(&y.1.as_ref().unwrap().radius)
-            });
+            .max_by(|x, y| x.1.radius.total_cmp(&y.1.radius));
         if let Some((b, _)) = best {
-            into[a] = b;
+            pairs.push((a, b));
         }
     }
-    // Follow each piece to the outside it joins (an outside joins nothing bigger: a
-    // chain ends where a piece joins itself or a cycle would start).
-    for a in 0..regions.len() {
-        let mut b = into[a];
-        let mut hops = 0;
-        while into[b] != b && hops < regions.len() {
-            b = into[b];
-            hops += 1;
-        }
-        if b != a && into[b] == b {
-            let moved = std::mem::take(&mut regions[a]);
-            regions[b].extend(moved);
-        }
-    }
-    regions.retain(|r| !r.is_empty());
-    for r in &mut regions {
-        r.sort_unstable();
-    }
-    regions
+    joins::merge(regions, &pairs)
 }
 
 /// The circle through a piece's highest band, when it is one.

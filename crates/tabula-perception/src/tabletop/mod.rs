@@ -7,6 +7,7 @@
 
 mod containers;
 mod describe;
+mod joins;
 mod occluded;
 mod prism;
 

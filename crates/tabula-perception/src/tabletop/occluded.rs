@@ -3,6 +3,7 @@
 //! everything between them on the sensor's grid is nearer the sensor (the occluder),
 //! so nothing in view separates them.
 
+use super::joins;
 use crate::filters::{scatter, smallest_eigenvector};
 use crate::plane::Plane;
 use crate::surfaces::plane_basis;
@@ -47,59 +48,34 @@ pub(super) fn join_occluded(
     width: usize,
     eye: Vec3,
     table: &Plane,
-    mut regions: Vec<Vec<usize>>,
+    regions: Vec<Vec<usize>>,
 ) -> Vec<Vec<usize>> {
     if width == 0 || regions.len() < 2 || regions.len() > 512 {
         return regions;
     }
-    let mut label = vec![u32::MAX; pts.len()];
-    for (r, members) in regions.iter().enumerate() {
-        for &i in members {
-            label[i] = r as u32;
-        }
-    }
+    let label = joins::labels(pts.len(), &regions);
     let pieces: Vec<Option<Piece>> = regions
         .iter()
         .map(|m| piece(pts, width, table, m))
         .collect();
-    let mut parent: Vec<usize> = (0..regions.len()).collect();
-    fn root(parent: &[usize], mut r: usize) -> usize {
-        while parent[r] != r {
-            r = parent[r];
-        }
-        r
-    }
+    let grid = Grid {
+        pts,
+        width,
+        eye,
+        label: &label,
+    };
+    let mut pairs = Vec::new();
     for a in 0..regions.len() {
         for b in a + 1..regions.len() {
             let (Some(pa), Some(pb)) = (&pieces[a], &pieces[b]) else {
                 continue;
             };
-            let grid = Grid {
-                pts,
-                width,
-                eye,
-                label: &label,
-            };
             if alike(pa, pb) && grid.hidden_between((a, &regions[a]), (b, &regions[b]), pb) {
-                let (ra, rb) = (root(&parent, a), root(&parent, b));
-                if ra != rb {
-                    parent[rb] = ra;
-                }
+                pairs.push((a, b));
             }
         }
     }
-    for r in 0..regions.len() {
-        let into = root(&parent, r);
-        if into != r {
-            let moved = std::mem::take(&mut regions[r]);
-            regions[into].extend(moved);
-        }
-    }
-    regions.retain(|r| !r.is_empty());
-    for r in &mut regions {
-        r.sort_unstable();
-    }
-    regions
+    joins::merge(regions, &pairs)
 }
 
 fn piece(pts: &[Vec3], width: usize, table: &Plane, members: &[usize]) -> Option<Piece> {
