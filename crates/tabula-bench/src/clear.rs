@@ -6,7 +6,7 @@ use crate::spec::TrialSpec;
 use crate::stats::wilson;
 use anyhow::{Result, anyhow};
 use serde::{Deserialize, Serialize};
-use tabula_sim::generate::{ClearSuite, clearing_scene};
+use tabula_sim::generate::{ClearSuite, RobotMount, clearing_scene_with};
 use tabula_sim::judge::{ClearSetup, ClearVerdict};
 use tabula_sim::{SimDriver, SimWorld};
 use tabula_tasks::clear::{ClearError, ClearParams, ClearReport, ClearRequest, Stats};
@@ -110,7 +110,17 @@ pub struct Trial {
 
 /// Scene `s` of `suite`, cleared and judged.
 pub fn trial(suite: ClearSuite, s: u64, params: &ClearParams) -> Result<Trial> {
-    let text = clearing_scene(suite, s);
+    trial_with(suite, s, params, None)
+}
+
+/// [`trial`] with another robot in the cell (`mount`, see [`crate::mount`]).
+pub fn trial_with(
+    suite: ClearSuite,
+    s: u64,
+    params: &ClearParams,
+    mount: Option<&RobotMount>,
+) -> Result<Trial> {
+    let text = clearing_scene_with(suite, s, mount);
     let scene = tabula_sim::Scene::parse(&text, "generated")?;
     let world = SimWorld::from_scene(&scene, Default::default())?;
     let (out, _) = clear_in(world, None, (params, None), s, |_| {})?;

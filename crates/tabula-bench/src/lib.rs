@@ -9,6 +9,7 @@ pub mod demo;
 pub mod ik;
 pub mod judged;
 pub mod motion_plan;
+pub mod mount;
 pub mod perception;
 pub mod pick_place;
 pub mod place;

@@ -70,6 +70,11 @@ pub enum BenchCommand {
         /// First scene seed (scenes use seed, seed + 1, …).
         #[arg(long, default_value_t = 1, value_parser = crate::args::seed)]
         seed: u64,
+        /// Clear with this robot (a .urdf or .xacro file, its gripper from `--srdf` or a
+        /// TOML beside it) instead of seed 002's WAM: it stands where its arm reaches the
+        /// whole table and the bin.
+        #[arg(long)]
+        robot: Option<String>,
         /// Parameters (TOML, `ClearParams`).
         #[arg(long)]
         params: Option<std::path::PathBuf>,
@@ -179,17 +184,21 @@ pub fn run(c: BenchCommand, report: Option<&std::path::Path>) -> Result<()> {
             save_failures,
             json,
             spread,
+            robot,
             ..
-        } => crate::clear::bench(&crate::trials::SuiteRun {
-            suite: &suite,
-            count: scenes,
-            seed,
-            params: params.as_deref(),
-            save_failures: save_failures.as_deref(),
-            json,
-            report,
-            spread: &spread,
-        }),
+        } => crate::clear::bench(
+            robot.as_deref(),
+            &crate::trials::SuiteRun {
+                suite: &suite,
+                count: scenes,
+                seed,
+                params: params.as_deref(),
+                save_failures: save_failures.as_deref(),
+                json,
+                report,
+                spread: &spread,
+            },
+        ),
         BenchCommand::Place {
             print_params: true, ..
         } => crate::tasks::print_params::<tabula_tasks::place::PlaceParams>(),

@@ -5,7 +5,7 @@ use anyhow::{Result, anyhow, bail};
 use clap::Args;
 use tabula_bench::clear::{ClearRun as ClearJson, Summary};
 use tabula_bench::report::{Recorded, Report, recorded};
-use tabula_sim::generate::{ClearSuite, clearing_scene};
+use tabula_sim::generate::{ClearSuite, RobotMount, clearing_scene_with};
 use tabula_tasks::clear::ClearParams;
 
 #[derive(Args)]
@@ -94,6 +94,34 @@ pub fn run(a: ClearArgs) -> Result<()> {
         })
 }
 
+/// The user's robot placed in the clearing cell; the scene names its files by absolute
+/// path, so a saved failure loads from anywhere.
+fn mount_of(file: &str, b: &crate::trials::SuiteRun<'_>) -> Result<RobotMount> {
+    if b.spread.workers.is_some() {
+        bail!("--robot with --workers: the workers clear with seed 002's WAM; run it here");
+    }
+    let robot = tabula_robot::robots::load(file)?;
+    let absolute = |p: &std::path::Path| -> Result<String> {
+        Ok(std::path::absolute(p)?.display().to_string())
+    };
+    let options = tabula_robot::robots::default_options();
+    let srdf = match &options.srdf {
+        Some(s) => Some(absolute(s)?),
+        None => None,
+    };
+    let mount = tabula_bench::mount::clearing_mount(
+        &robot,
+        &absolute(std::path::Path::new(file))?,
+        srdf.as_deref(),
+        &options.xacro_args,
+    )?;
+    eprintln!(
+        "{file}: on a stand at {:?}, starting at {:?}",
+        mount.xyz, mount.joints
+    );
+    Ok(mount)
+}
+
 fn print_summary(out: &ClearJson) {
     for line in tabula_bench::report::clear::summary_lines(out) {
         println!("{line}");
@@ -102,18 +130,24 @@ fn print_summary(out: &ClearJson) {
 
 /// `tabula bench clear`: every scene of a suite cleared in the simulator (both cores,
 /// one scene each, or spread over workers), judged by physics.
-pub fn bench(b: &crate::trials::SuiteRun<'_>) -> Result<()> {
+pub fn bench(robot: Option<&str>, b: &crate::trials::SuiteRun<'_>) -> Result<()> {
     let suite = b.suite;
     let which: ClearSuite = suite.parse().map_err(|e: String| anyhow!(e))?;
     let params: ClearParams = load_params(b.params)?;
-    let runs = b.run("clear", |s| tabula_bench::clear::trial(which, s, &params))?;
+    let mount = match robot {
+        Some(file) => Some(mount_of(file, b)?),
+        None => None,
+    };
+    let runs = b.run("clear", |s| {
+        tabula_bench::clear::trial_with(which, s, &params, mount.as_ref())
+    })?;
     if let Some(dir) = b.save_failures {
         for t in &runs {
             if !t.row.success || t.row.collisions > 0 {
                 std::fs::create_dir_all(dir)?;
                 std::fs::write(
                     dir.join(format!("{suite}-{}.toml", t.row.seed)),
-                    clearing_scene(which, t.row.seed),
+                    clearing_scene_with(which, t.row.seed, mount.as_ref()),
                 )?;
             }
         }

@@ -34,13 +34,37 @@ fn describe(name: &str) -> Result<()> {
         robot.label, robot.model.name
     );
     print!("{}", toml::to_string(&robot.description)?);
+    for &frame in &robot.model.added_frames {
+        println!("{}", added_frame_note(&robot.model, frame));
+    }
     let Some(srdf) = &robot.srdf else {
         return Ok(());
     };
-    for ee in &srdf.end_effectors {
+    let used = |ee: &&tabula_robot::srdf::EndEffector| {
+        robot.description.grippers.iter().any(|g| g.name == ee.name)
+    };
+    for ee in srdf.end_effectors.iter().filter(|e| !used(e)) {
         println!("{}", gripper_template(&robot, ee));
     }
     Ok(())
+}
+
+/// A grasp frame read off the SRDF's end effector is not in the URDF: the TOML above
+/// names it, so saving the TOML needs the frame in the URDF too.
+fn added_frame_note(model: &tabula_robot::RobotModel, frame: usize) -> String {
+    let link = &model.links[frame];
+    let Some(joint) = link.parent_joint.map(|j| &model.joints[j]) else {
+        return String::new();
+    };
+    let [x, y, z] = joint.parent_from_joint.translation.to_array();
+    format!(
+        "\n# `{0}` is not in the URDF: tabula adds it between the finger pads. To keep this\n\
+         # TOML beside the URDF, add the frame to the URDF:\n\
+         # <link name=\"{0}\"/>\n\
+         # <joint name=\"{1}\" type=\"fixed\"><parent link=\"{2}\"/><child link=\"{0}\"/>\
+         <origin xyz=\"{x:.4} {y:.4} {z:.4}\"/></joint>",
+        link.name, joint.name, model.links[joint.parent].name
+    )
 }
 
 /// A commented `[[gripper]]` for an SRDF end effector: its links and first moving joint

@@ -111,7 +111,7 @@ pub fn load_with(name_or_path: &str, options: &LoadOptions) -> Result<NamedRobot
 }
 
 fn load_file(p: &Path, options: &LoadOptions) -> Result<NamedRobot, RobotError> {
-    let model = RobotModel::from_file_with(p, &options.xacro_args, &options.packages)?;
+    let mut model = RobotModel::from_file_with(p, &options.xacro_args, &options.packages)?;
     // `arm.urdf` → `arm.toml`; `arm.urdf.xacro` → `arm.urdf.toml` or `arm.toml`.
     let stem = p.with_extension("");
     let beside = |ext: &str| {
@@ -166,6 +166,10 @@ fn load_file(p: &Path, options: &LoadOptions) -> Result<NamedRobot, RobotError> 
         },
         (None, _) => RobotDescription::minimal(&model, &model.name),
     };
+    let mut description = description;
+    if let Some(s) = &srdf {
+        crate::description::attach_grippers(&mut model, s, &mut description);
+    }
     let mut robot = NamedRobot::new(model, description, &p.display().to_string());
     robot.srdf = srdf;
     Ok(robot)

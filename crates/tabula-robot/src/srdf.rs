@@ -274,6 +274,42 @@ impl Srdf {
         !(self.disabled.is_empty() && self.disabled_default.is_empty())
     }
 
+    /// The links of a group as srdfdom counts them: its links, each joint's child, every
+    /// link along its chains, and its subgroups' links (each group visited once, so a
+    /// subgroup cycle ends).
+    pub fn group_links(&self, group: &str, model: &RobotModel) -> BTreeSet<usize> {
+        let mut links = BTreeSet::new();
+        let mut seen = HashSet::new();
+        let mut todo = vec![group];
+        while let Some(name) = todo.pop() {
+            let Some(g) = self.groups.iter().find(|g| g.name == name) else {
+                continue;
+            };
+            if !seen.insert(name) {
+                continue;
+            }
+            links.extend(g.links.iter().filter_map(|l| model.link(l).ok()));
+            links.extend(
+                g.joints
+                    .iter()
+                    .filter_map(|j| model.joint(j))
+                    .map(|j| model.joints[j].child),
+            );
+            for (base, tip) in &g.chains {
+                let (Ok(base), Ok(mut link)) = (model.link(base), model.link(tip)) else {
+                    continue;
+                };
+                links.insert(link);
+                while let Some(j) = model.links[link].parent_joint.filter(|_| link != base) {
+                    link = model.joints[j].parent;
+                    links.insert(link);
+                }
+            }
+            todo.extend(g.subgroups.iter().map(String::as_str));
+        }
+        links
+    }
+
     /// Whether the pair of links is allowed to touch by this SRDF.
     pub fn allows(&self, a: &str, b: &str) -> bool {
         let same = |(x, y): &(String, String)| (x == a && y == b) || (x == b && y == a);

@@ -6,6 +6,9 @@
 //! here, so no other crate spells a robot's joint names.
 
 mod check;
+mod end_effector;
+
+pub use end_effector::{attach_grippers, gripper_from_end_effector};
 
 use crate::ik::{ArmSide, Golem3Ik, Golem3Params, IkSolver, NumericIk, NumericIkParams};
 use crate::{Chain, RobotError, RobotModel};

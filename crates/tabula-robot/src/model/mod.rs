@@ -118,6 +118,8 @@ pub struct RobotModel {
     /// What the URDF says that was ignored, one sentence each (a `<mimic>` on a fixed
     /// joint), for the caller to warn about.
     pub ignored: Vec<String>,
+    /// Frames added after loading ([`Self::add_fixed_frame`]): not in the URDF.
+    pub added_frames: Vec<usize>,
 }
 
 impl RobotModel {
@@ -209,6 +211,7 @@ impl RobotModel {
             joint_index,
             unreadable_meshes: meshes.unreadable.into_inner(),
             ignored,
+            added_frames: Vec::new(),
         })
     }
 
@@ -247,6 +250,51 @@ impl RobotModel {
                 known: known.join(", "),
             }
         })
+    }
+
+    /// Adds a frame without geometry fixed to `parent` (a grasp frame the URDF lacks),
+    /// joined by a fixed joint `<name>_joint`; `Err` when either name is taken.
+    pub fn add_fixed_frame(
+        &mut self,
+        parent: usize,
+        name: &str,
+        parent_from_frame: Pose,
+    ) -> Result<usize, RobotError> {
+        let joint_name = format!("{name}_joint");
+        if self.link_index.contains_key(name) || self.joint_index.contains_key(&joint_name) {
+            return Err(RobotError::Description(format!(
+                "cannot add frame `{name}`: the name is taken"
+            )));
+        }
+        let (link, joint) = (self.links.len(), self.joints.len());
+        self.links.push(Link {
+            name: name.into(),
+            parent_joint: Some(joint),
+            child_joints: Vec::new(),
+            collision: Vec::new(),
+            visual: Vec::new(),
+            mass: 0.0,
+        });
+        self.joints.push(Joint {
+            name: joint_name.clone(),
+            kind: JointKind::Fixed,
+            parent,
+            child: link,
+            parent_from_joint: parent_from_frame,
+            axis: Vec3::Z,
+            limits: JointLimits {
+                lower: 0.0,
+                upper: 0.0,
+                velocity: 0.0,
+                effort: 0.0,
+            },
+            mimic: None,
+        });
+        self.links[parent].child_joints.push(joint);
+        self.link_index.insert(name.into(), link);
+        self.joint_index.insert(joint_name, joint);
+        self.added_frames.push(link);
+        Ok(link)
     }
 
     /// Index of a joint by name.

@@ -56,16 +56,79 @@ enum Objects {
 /// of it reachable from above by the WAM on its stand), the bin.
 pub const CLEAR_TABLE_CENTER: [f64; 2] = [0.62, 0.0];
 const CLEAR_TABLE_SIZE: [f64; 2] = [0.7, 1.0];
-const CLEAR_REGION_CENTER: [f64; 2] = [0.58, 0.0];
-const CLEAR_REGION_HALF: [f64; 2] = [0.17, 0.25];
+pub const CLEAR_REGION_CENTER: [f64; 2] = [0.58, 0.0];
+pub const CLEAR_REGION_HALF: [f64; 2] = [0.17, 0.25];
+/// The bin's footprint centre and its height (m).
+pub const CLEAR_BIN_CENTER: [f64; 2] = [0.0, 0.6];
+pub const CLEAR_BIN_HEIGHT: f64 = 0.45;
+/// The stand's footprint (m): a robot stands on it beside the table.
+const CLEAR_STAND_SIDE: f64 = 0.3;
+
+/// Where a robot of the user's stands in the clearing cell in place of the WAM: on the
+/// stand at `xyz` (its top at `xyz.z`), starting at `joints`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RobotMount {
+    /// The robot's URDF or xacro file (absolute, or relative to where the scene is read).
+    pub urdf: String,
+    pub srdf: Option<String>,
+    pub xacro_args: Vec<(String, String)>,
+    pub xyz: [f64; 3],
+    pub joints: std::collections::BTreeMap<String, f64>,
+}
+
+impl RobotMount {
+    /// The scene's `[[robot]]` and the stand under it.
+    fn write(&self, s: &mut String) {
+        let quoted = |v: &str| toml::Value::String(v.to_string()).to_string();
+        let [x, y, z] = self.xyz;
+        let _ = writeln!(
+            s,
+            "[[furniture]]\nname = \"stand\"\nkind = \"table\"\npose = {{ xyz = [{x:?}, {y:?}, 0.0] }}\nsize = [{CLEAR_STAND_SIDE:?}, {CLEAR_STAND_SIDE:?}, {z:?}]\n"
+        );
+        let _ = writeln!(
+            s,
+            "[[robot]]\nname = \"robot\"\nurdf = {}",
+            quoted(&self.urdf)
+        );
+        if let Some(srdf) = &self.srdf {
+            let _ = writeln!(s, "srdf = {}", quoted(srdf));
+        }
+        if !self.xacro_args.is_empty() {
+            let args: Vec<String> = self
+                .xacro_args
+                .iter()
+                .map(|(k, v)| format!("{} = {}", quoted(k), quoted(v)))
+                .collect();
+            let _ = writeln!(s, "xacro_args = {{ {} }}", args.join(", "));
+        }
+        let joints: Vec<String> = self
+            .joints
+            .iter()
+            .map(|(k, v)| format!("{} = {v:?}", quoted(k)))
+            .collect();
+        let _ = writeln!(
+            s,
+            "pose = {{ xyz = [{x:?}, {y:?}, {z:?}] }}\njoints = {{ {} }}\n",
+            joints.join(", ")
+        );
+    }
+}
 /// Widest object across its narrower side: seed 002's gripper opens 7 cm.
 const CLEAR_GRIP: f64 = 0.06;
 
 /// A clearing scene of `suite` drawn by `seed` (TOML; same inputs, same text): the WAM
 /// on a stand beside a table, the bin beside it, an overhead camera, the objects.
 pub fn clearing_scene(suite: ClearSuite, seed: u64) -> String {
+    clearing_scene_with(suite, seed, None)
+}
+
+/// [`clearing_scene`] with another robot on the stand (`mount`), the same objects.
+pub fn clearing_scene_with(suite: ClearSuite, seed: u64, mount: Option<&RobotMount>) -> String {
     if suite == ClearSuite::Seed {
-        return crate::builtin::CLUTTER.to_string();
+        return match mount {
+            None => crate::builtin::CLUTTER.to_string(),
+            Some(m) => seed_scene_with(m),
+        };
     }
     let mut rng = ChaCha8Rng::seed_from_u64(seed ^ 0xC1EA_7AB1);
     let area = Area {
@@ -107,9 +170,16 @@ pub fn clearing_scene(suite: ClearSuite, seed: u64) -> String {
         "[[furniture]]\nname = \"table\"\nkind = \"table\"\npose = {{ xyz = [{}, {}, 0.0] }}\nsize = [{}, {}, {TABLE_TOP}]\n",
         CLEAR_TABLE_CENTER[0], CLEAR_TABLE_CENTER[1], CLEAR_TABLE_SIZE[0], CLEAR_TABLE_SIZE[1]
     );
+    if mount.is_none() {
+        let _ = writeln!(
+            s,
+            "[[furniture]]\nname = \"stand\"\nkind = \"table\"\nsize = [{CLEAR_STAND_SIDE:?}, {CLEAR_STAND_SIDE:?}, 0.6]\n"
+        );
+    }
     let _ = writeln!(
         s,
-        "[[furniture]]\nname = \"stand\"\nkind = \"table\"\nsize = [0.3, 0.3, 0.6]\n\n[[furniture]]\nname = \"bin\"\nkind = \"bin\"\npose = {{ xyz = [0.0, 0.6, 0.0] }}\nsize = [0.4, 0.4, 0.45]\n"
+        "[[furniture]]\nname = \"bin\"\nkind = \"bin\"\npose = {{ xyz = [{:?}, {:?}, 0.0] }}\nsize = [0.4, 0.4, {CLEAR_BIN_HEIGHT:?}]\n",
+        CLEAR_BIN_CENTER[0], CLEAR_BIN_CENTER[1]
     );
     match placed {
         Objects::Placed(placed) => write_objects(&mut s, &mut rng, &placed),
@@ -119,14 +189,33 @@ pub fn clearing_scene(suite: ClearSuite, seed: u64) -> String {
             }
         }
     }
+    match mount {
+        Some(m) => m.write(&mut s),
+        None => s.push_str(WAM_ON_STAND),
+    }
     let _ = writeln!(
         s,
-        "[[robot]]\nname = \"wam\"\nurdf = \"wam\"\npose = {{ xyz = [0.0, 0.0, 0.6] }}\njoints = {{ wam_joint2 = -1.9, wam_joint4 = 2.6 }}\n\n[[camera]]\nname = \"overhead\"\nlook_at = {{ eye = [{0}, {1}, 1.75], target = [{0}, {1}, {TABLE_TOP}] }}",
+        "\n[[camera]]\nname = \"overhead\"\nlook_at = {{ eye = [{0}, {1}, 1.75], target = [{0}, {1}, {TABLE_TOP}] }}",
         CLEAR_TABLE_CENTER[0], CLEAR_TABLE_CENTER[1]
     );
     if suite == ClearSuite::Pile {
         return settle_pile(&s, &mut rng).unwrap_or(s);
     }
+    s
+}
+
+/// Seed 002's WAM on its stand, tucked (`scenes/clutter.toml`).
+const WAM_ON_STAND: &str = "[[robot]]\nname = \"wam\"\nurdf = \"wam\"\npose = { xyz = [0.0, 0.0, 0.6] }\njoints = { wam_joint2 = -1.9, wam_joint4 = 2.6 }\n";
+
+/// Seed 002's scene with `mount` in place of the WAM and its stand.
+fn seed_scene_with(mount: &RobotMount) -> String {
+    let stand = "[[furniture]]\nname = \"stand\"\nkind = \"table\"\npose = { xyz = [0.0, 0.0, 0.0] }\nsize = [0.3, 0.3, 0.6]\n";
+    let text = crate::builtin::CLUTTER.replace(stand, "");
+    let (objects, rest) = text.split_once("[[robot]]").unwrap_or((&text, ""));
+    let camera = rest.find("[[camera]]").map_or("", |i| &rest[i..]);
+    let mut s = objects.to_string();
+    mount.write(&mut s);
+    s.push_str(camera);
     s
 }
 
@@ -296,6 +385,64 @@ fn pile(rng: &mut ChaCha8Rng) -> Vec<Placed> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    fn mount() -> RobotMount {
+        RobotMount {
+            urdf: "/robots/my \"arm\".urdf".into(),
+            srdf: Some("/robots/arm.srdf".into()),
+            xacro_args: vec![("hand".into(), "true".into())],
+            xyz: [0.06, 0.0, 0.7],
+            joints: [("j1".to_string(), -0.5)].into_iter().collect(),
+        }
+    }
+
+    /// Another robot takes the WAM's place on a stand of its height; the objects, the
+    /// table, the bin and the camera stay as they are.
+    #[test]
+    fn a_mounted_robot_replaces_the_wam_and_its_stand() {
+        let m = mount();
+        for suite in [ClearSuite::Seed, ClearSuite::Random, ClearSuite::Grid] {
+            let plain = crate::Scene::parse(&clearing_scene(suite, 3), "plain").unwrap();
+            let text = clearing_scene_with(suite, 3, Some(&m));
+            let scene = crate::Scene::parse(&text, "mounted").unwrap();
+            let [robot] = scene.robots.as_slice() else {
+                panic!("{suite:?}: {} robots", scene.robots.len())
+            };
+            assert_eq!(robot.urdf, m.urdf);
+            assert_eq!(robot.srdf, m.srdf);
+            assert_eq!(
+                robot.xacro_args.get("hand").map(String::as_str),
+                Some("true")
+            );
+            assert_eq!(robot.pose.xyz, m.xyz);
+            assert_eq!(robot.joints, m.joints);
+            let stands: Vec<_> = scene
+                .furniture
+                .iter()
+                .filter(|f| f.name.get_ref() == "stand")
+                .collect();
+            assert_eq!(stands.len(), 1, "{suite:?}");
+            assert_eq!(stands[0].size, Some([0.3, 0.3, 0.7]));
+            assert_eq!(stands[0].pose.xyz, [0.06, 0.0, 0.0]);
+            assert_eq!(scene.objects.len(), plain.objects.len());
+            assert_eq!(scene.cameras.len(), plain.cameras.len());
+            assert_eq!(scene.furniture.len(), plain.furniture.len());
+        }
+    }
+
+    /// Without a mount the scene text is what it was before mounts existed (the
+    /// benchmarks' rows stay comparable).
+    #[test]
+    fn the_wam_cell_is_written_as_before() {
+        let text = clearing_scene(ClearSuite::Random, 5);
+        let cell = "[[furniture]]\nname = \"stand\"\nkind = \"table\"\nsize = [0.3, 0.3, 0.6]\n\n\
+                    [[furniture]]\nname = \"bin\"\nkind = \"bin\"\npose = { xyz = [0.0, 0.6, 0.0] }\n\
+                    size = [0.4, 0.4, 0.45]\n\n[[object]]";
+        assert!(text.contains(cell), "{text}");
+        let tail = "joints = { wam_joint2 = -1.9, wam_joint4 = 2.6 }\n\n[[camera]]\nname = \"overhead\"\n\
+                    look_at = { eye = [0.62, 0, 1.75], target = [0.62, 0, 0.72] }";
+        assert!(text.ends_with(&format!("{tail}\n")), "{text}");
+    }
 
     /// Every pile object can be taken from above however it lands: a box's two
     /// smaller sides fit the grip (any face it rests on has one of them), a cylinder's

@@ -63,8 +63,8 @@ impl TableView<'_> {
         };
         // The palm above the neighbours along the path (`palm_over`) while the fingers
         // still cover at least the object's top 2 cm.
-        let palm_clear = (palm_over + params.clearance - hand.finger_length).min(o.top - 0.02);
-        let tip_z = (o.top - hand.finger_length)
+        let palm_clear = (palm_over + params.clearance - hand.beyond_palm).min(o.top - 0.02);
+        let tip_z = (o.top - hand.beyond_palm)
             .max(o.bottom + params.fingertip_clearance)
             .max(palm_clear);
         let probe = hand.pose(Vec3::ZERO, closing, up);

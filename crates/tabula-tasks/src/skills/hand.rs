@@ -81,6 +81,9 @@ pub struct Hand {
     pub tip: f64,
     /// Finger length along the approach (m).
     pub finger_length: f64,
+    /// How far the fingers reach beyond the palm along the approach (m): what can pass
+    /// below an object's top while the palm stays above it.
+    pub beyond_palm: f64,
     /// The tool frame's approach and closing axes (unit).
     pub approach: Vec3,
     pub closing: Vec3,
@@ -138,6 +141,10 @@ impl Hand {
         let closed_fingers = shapes_at(limits.lower, &fingers)?;
         let approach = gripper.approach();
         let (lo, hi) = extent_along(&closed_fingers, approach);
+        // A palm that wraps the fingers' roots (the Panda's hand) meets what the
+        // fingers reach over before their roots do.
+        let palm = shapes_at(limits.lower, &[gripper.palm.as_str()])?;
+        let (_, palm_end) = extent_along(&palm, approach);
         // The gap is linear in the finger joint (see `Gripper::width_at`).
         let span = gripper.open_width - gripper.closed_width;
         let levels = (span / OPENING_STEP).ceil().max(0.0) as usize;
@@ -157,6 +164,7 @@ impl Hand {
             closed: shapes_at(limits.lower, &all)?,
             tip: hi,
             finger_length: hi - lo,
+            beyond_palm: hi - lo.max(palm_end.min(hi)),
             closed_fingers,
             open_fingers: shapes_at(limits.upper, &fingers)?,
             approach,
