@@ -98,6 +98,8 @@ fn the_hand_model_comes_from_the_urdf() {
     let h = hand();
     // The WAM's fingers: 6 cm long, tips 2.25 cm beyond the tool frame.
     assert!((h.finger_length - 0.06).abs() < 1e-9, "{}", h.finger_length);
+    // The palm box ends where the fingers start: all of them reach beyond it.
+    assert!((h.beyond_palm - 0.06).abs() < 1e-9, "{}", h.beyond_palm);
     assert!((h.tip - 0.0225).abs() < 1e-9, "{}", h.tip);
     assert_eq!(h.open_width, 0.07);
 }
