@@ -1,6 +1,8 @@
 //! SRDF reading (srdfdom's schema, checked against the URDF as MoveIt does) and the
 //! default arm of a URDF without any description.
 
+mod common;
+
 use tabula_robot::RobotModel;
 use tabula_robot::description::RobotDescription;
 use tabula_robot::srdf::Srdf;
@@ -8,15 +10,7 @@ use tabula_robot::srdf::Srdf;
 /// A 4-DOF arm with a flange, a hand with two prismatic fingers (one mimics the other),
 /// a tool frame, and a self-collision helper link, as franka_description builds them.
 fn arm_urdf() -> String {
-    let mut s = String::from(r#"<robot name="arm"><link name="base"/>"#);
-    let mut parent = "base".to_string();
-    for k in 1..=4 {
-        s += &format!(
-            r#"<link name="link{k}"/><joint name="j{k}" type="revolute"><parent link="{parent}"/><child link="link{k}"/><origin xyz="0 0 0.2"/><axis xyz="0 {y} 1"/><limit lower="-2" upper="2" effort="1" velocity="1"/></joint>"#,
-            y = k % 2
-        );
-        parent = format!("link{k}");
-    }
+    let mut s = common::revolute_chain(4);
     s += r#"<link name="link4_sc"/><joint name="j4_sc" type="fixed"><parent link="link4"/><child link="link4_sc"/></joint>
     <link name="flange"/><joint name="jf" type="fixed"><parent link="link4"/><child link="flange"/><origin xyz="0 0 0.1"/></joint>
     <link name="hand"/><joint name="jh" type="fixed"><parent link="flange"/><child link="hand"/></joint>

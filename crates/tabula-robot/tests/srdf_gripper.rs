@@ -1,6 +1,8 @@
 //! A parallel gripper read off an SRDF end effector and the URDF's finger geometry: the
 //! widths, axes and grasp frame the tasks need, without a hand-written description.
 
+mod common;
+
 use tabula_geom::Vec3;
 use tabula_robot::RobotModel;
 use tabula_robot::description::{RobotDescription, attach_grippers};
@@ -10,15 +12,7 @@ use tabula_robot::srdf::Srdf;
 /// along y from 6 cm below the palm's origin, 0–4 cm each, the second mimicking the
 /// first; `extra` is added inside `<robot>`; `finger_kind` is the first finger's joint.
 fn urdf(extra: &str, finger_kind: &str) -> String {
-    let mut s = String::from(r#"<robot name="arm"><link name="base"/>"#);
-    let mut parent = "base".to_string();
-    for k in 1..=3 {
-        s += &format!(
-            r#"<link name="link{k}"/><joint name="j{k}" type="revolute"><parent link="{parent}"/><child link="link{k}"/><origin xyz="0 0 0.2"/><axis xyz="0 {y} 1"/><limit lower="-2" upper="2" effort="1" velocity="1"/></joint>"#,
-            y = k % 2
-        );
-        parent = format!("link{k}");
-    }
+    let mut s = common::revolute_chain(3);
     let finger = |name: &str, side: f64| {
         format!(
             r#"<link name="{name}"><collision><origin xyz="0 {y} 0.025"/><geometry><box size="0.02 0.01 0.05"/></geometry></collision></link>"#,
