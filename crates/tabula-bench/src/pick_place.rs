@@ -6,6 +6,7 @@ use crate::judged::run_in;
 use anyhow::Result;
 use serde::Serialize;
 use tabula_geom::Vec3;
+use tabula_sim::generate::{RobotMount, ShelfTask};
 use tabula_sim::judge::PlaceVerdict;
 use tabula_sim::{SimDriver, SimWorld};
 use tabula_tasks::pick_place::{PickPlaceOutcome, PickPlaceParams, PickPlaceRequest};
@@ -51,9 +52,26 @@ pub fn pick_place_in(
     on_start: impl FnOnce(&mut SimDriver),
 ) -> Result<(PickPlaceRun, SimWorld)> {
     let dry_run = world.kinematic_only;
+    let params = &with_scene_camera(&world, params);
     let (outcome, verdict, world) =
         run_in::<PickPlace>(world, robot, (request, params, &()), seed, on_start)?;
     Ok((PickPlaceRun::of(outcome, verdict, dry_run), world))
+}
+
+/// `params` looking with the scene's one camera when it has none of the name asked (a
+/// fixed arm under an overhead camera has no `head`); the name asked otherwise, so a
+/// missing camera among several is still an error naming it.
+fn with_scene_camera(world: &SimWorld, params: &PickPlaceParams) -> PickPlaceParams {
+    let mut params = params.clone();
+    if let ([only], Err(_)) = (world.cameras.as_slice(), world.camera(&params.camera)) {
+        tracing::info!(
+            "pick-place: no camera `{}` in the scene; looking with its only camera `{}`",
+            params.camera,
+            only.name.get_ref()
+        );
+        params.camera = only.name.get_ref().clone();
+    }
+    params
 }
 
 /// One generated shelf task's row (`bench pick-place`).
@@ -70,7 +88,19 @@ pub struct BenchRow {
 
 /// Generated shelf task `seed` moved by Golem-III and judged.
 pub fn trial(seed: u64) -> Result<BenchRow> {
-    let task = tabula_sim::generate::golem_shelf_task(seed);
+    run_task(seed, tabula_sim::generate::golem_shelf_task(seed))
+}
+
+/// Task `seed` of the table family with `mount`'s robot (`bench pick-place --robot`):
+/// an object standing alone on the clearing cell's table taken to a free spot of it.
+pub fn table_trial(seed: u64, mount: &RobotMount) -> Result<BenchRow> {
+    let task = tabula_sim::generate::table_pick_place_task(seed, mount)
+        .ok_or_else(|| anyhow::anyhow!("table task {seed}: no object stands alone"))?;
+    run_task(seed, task)
+}
+
+/// One generated task moved by the scene's robot and judged.
+fn run_task(seed: u64, task: ShelfTask) -> Result<BenchRow> {
     let scene = tabula_sim::Scene::parse(&task.scene, "generated")?;
     let world = SimWorld::from_scene(&scene, Default::default())?;
     let request = PickPlaceRequest {

@@ -1,11 +1,12 @@
-//! A robot brought with its MoveIt package clears a table: MoveIt's tutorial Panda
-//! (`data/robots/panda_moveit`: the published URDF and SRDF, nothing written for it),
-//! its gripper read off the SRDF's end effector, placed in the clearing cell by its reach.
+//! A robot brought with its MoveIt package clears a table and picks and places by
+//! coordinates: MoveIt's tutorial Panda (`data/robots/panda_moveit`: the published URDF
+//! and SRDF, nothing written for it), its gripper read off the SRDF's end effector,
+//! placed in the clearing cell by its reach.
 
 use tabula_bench::clear::trial_with;
 use tabula_bench::mount::clearing_mount;
-use tabula_robot::robots::{LoadOptions, load_with};
-use tabula_sim::generate::ClearSuite;
+use tabula_robot::robots::{LoadOptions, NamedRobot, load_with};
+use tabula_sim::generate::{ClearSuite, RobotMount};
 use tabula_tasks::clear::ClearParams;
 
 fn data(path: &str) -> String {
@@ -15,8 +16,8 @@ fn data(path: &str) -> String {
     )
 }
 
-#[test]
-fn moveits_panda_clears_a_generated_table_with_the_hand_its_srdf_names() {
+/// The Panda loaded from its URDF and SRDF, and where it stands in the clearing cell.
+fn panda() -> (NamedRobot, RobotMount) {
     let urdf = data("moveit_resources_panda_description/urdf/panda.urdf");
     let srdf = data("panda.srdf");
     let options = LoadOptions {
@@ -24,6 +25,13 @@ fn moveits_panda_clears_a_generated_table_with_the_hand_its_srdf_names() {
         ..Default::default()
     };
     let robot = load_with(&urdf, &options).unwrap();
+    let mount = clearing_mount(&robot, &urdf, Some(&srdf), &[]).unwrap();
+    (robot, mount)
+}
+
+#[test]
+fn moveits_panda_clears_a_generated_table_with_the_hand_its_srdf_names() {
+    let (robot, mount) = panda();
     let arm = robot.description.arm("panda_arm").unwrap();
     let hand = robot
         .description
@@ -36,7 +44,6 @@ fn moveits_panda_clears_a_generated_table_with_the_hand_its_srdf_names() {
     assert!((hand.open_width - 0.08).abs() < 2e-3, "{hand:?}");
     assert_eq!(arm.tip, hand.tool_link);
 
-    let mount = clearing_mount(&robot, &urdf, Some(&srdf), &[]).unwrap();
     // Its shoulder must be above the table top to reach down onto the far side.
     assert!(mount.xyz[2] > 0.5 && mount.xyz[2] < 0.9, "{mount:?}");
     // Six objects, two touching (the suite's scene 2).
@@ -49,4 +56,13 @@ fn moveits_panda_clears_a_generated_table_with_the_hand_its_srdf_names() {
         row.in_bin, row.objects, row.stop
     );
     assert_eq!(row.off_table, 0);
+}
+
+#[test]
+fn moveits_panda_picks_an_object_off_the_table_and_places_it_by_coordinates() {
+    let (_, mount) = panda();
+    // Task 2 of the table family: a side grasp, the pick camera the scene's overhead one.
+    let row = tabula_bench::pick_place::table_trial(2, &mount).unwrap();
+    assert!(row.success, "{:?}", row.error);
+    assert!(row.target_error_cm < 2.0, "{}", row.target_error_cm);
 }

@@ -41,6 +41,11 @@ pub enum BenchCommand {
         /// Generated variants (seeds 1..=N) besides scenes/golem_shelves.toml.
         #[arg(long, default_value_t = 20, value_parser = crate::args::count_u64)]
         variants: u64,
+        /// Run the table family with this robot (a .urdf or .xacro file, its gripper from
+        /// `--srdf` or a TOML beside it) instead of Golem-III's shelves: an object standing
+        /// alone on the clearing cell's table taken to a free spot of it.
+        #[arg(long)]
+        robot: Option<String>,
         #[arg(long)]
         json: bool,
     },
@@ -166,7 +171,11 @@ pub fn run(c: BenchCommand, report: Option<&std::path::Path>) -> Result<()> {
             layout,
             json,
         } => frames(&clouds, reps.max(1), &layout, json, report),
-        BenchCommand::PickPlace { variants, json } => pick_place(variants, json, report),
+        BenchCommand::PickPlace {
+            variants,
+            robot,
+            json,
+        } => pick_place(variants, robot.as_deref(), json, report),
         BenchCommand::Tidy {
             tasks,
             seed,
@@ -230,15 +239,27 @@ pub fn run(c: BenchCommand, report: Option<&std::path::Path>) -> Result<()> {
 }
 
 /// Runs the generated shelf tasks (both cores, one task each) and prints a table.
-fn pick_place(variants: u64, json: bool, report: Option<&std::path::Path>) -> Result<()> {
+fn pick_place(
+    variants: u64,
+    robot: Option<&str>,
+    json: bool,
+    report: Option<&std::path::Path>,
+) -> Result<()> {
     use rayon::prelude::*;
     use tabula_bench::pick_place::BenchRow as PickPlaceRow;
+    let mount = match robot {
+        Some(file) => Some(crate::clear::robot_mount(file)?),
+        None => None,
+    };
     let progress = crate::progress::steps(variants, "tasks");
     let rows: Vec<Result<PickPlaceRow>> = (1..=variants)
         .into_par_iter()
         .map(|seed| {
             let _tick = crate::progress::Tick(&progress);
-            tabula_bench::pick_place::trial(seed)
+            match &mount {
+                Some(m) => tabula_bench::pick_place::table_trial(seed, m),
+                None => tabula_bench::pick_place::trial(seed),
+            }
         })
         .collect();
     progress.finish_and_clear();

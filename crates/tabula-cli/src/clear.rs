@@ -94,12 +94,10 @@ pub fn run(a: ClearArgs) -> Result<()> {
         })
 }
 
-/// The user's robot placed in the clearing cell; the scene names its files by absolute
-/// path, so a saved failure loads from anywhere.
-fn mount_of(file: &str, b: &crate::trials::SuiteRun<'_>) -> Result<RobotMount> {
-    if b.spread.workers.is_some() {
-        bail!("--robot with --workers: the workers clear with seed 002's WAM; run it here");
-    }
+/// The user's robot placed in the clearing cell (`--robot` of `bench clear` and `bench
+/// pick-place`); the scene names its files by absolute path, so a saved scene loads
+/// from anywhere.
+pub fn robot_mount(file: &str) -> Result<RobotMount> {
     let robot = tabula_robot::robots::load(file)?;
     let absolute = |p: &std::path::Path| -> Result<String> {
         Ok(std::path::absolute(p)?.display().to_string())
@@ -134,8 +132,11 @@ pub fn bench(robot: Option<&str>, b: &crate::trials::SuiteRun<'_>) -> Result<()>
     let suite = b.suite;
     let which: ClearSuite = suite.parse().map_err(|e: String| anyhow!(e))?;
     let params: ClearParams = load_params(b.params)?;
+    if robot.is_some() && b.spread.workers.is_some() {
+        bail!("--robot with --workers: the workers clear with seed 002's WAM; run it here");
+    }
     let mount = match robot {
-        Some(file) => Some(mount_of(file, b)?),
+        Some(file) => Some(robot_mount(file)?),
         None => None,
     };
     let runs = b.run("clear", |s| {

@@ -41,9 +41,11 @@ pub(super) fn grasp_candidates(
         let r = grasp.world_from_tool().rotation;
         let some_pre = pregrasp_offsets(grasp, job.params).into_iter().any(|back| {
             let pre = Pose::from_parts(grasp.world_from_tool().translation + back, r);
-            group.ik(&pre, job.start).is_ok()
+            // Collision-free: a pre-grasp in the scene (the Panda's wrist on the table
+            // under a low side grasp) ends every plan at its first step.
+            group.valid_ik(&pre, job.start).is_ok()
         });
-        group.ik(&grasp.world_from_tool(), job.start).is_ok()
+        group.valid_ik(&grasp.world_from_tool(), job.start).is_ok()
             && some_pre
             && !placements(group, job, grasp, job.start).is_empty()
     };

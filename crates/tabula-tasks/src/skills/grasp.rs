@@ -242,6 +242,9 @@ pub struct SideGrasps {
     pub top: bool,
 }
 
+/// A side grasp's fingertips reach at least this far past the object's near face (m).
+const MIN_PAD_OVERLAP: f64 = 0.01;
+
 impl Default for SideGrasps {
     fn default() -> Self {
         Self {
@@ -301,7 +304,10 @@ impl GraspPlanner for SideGrasps {
         let facing = Self::facing(target);
         let h = target.top - target.bottom;
         let side_z = target.bottom + (h / 2.0).max(self.min_grasp_height);
-        let top_z = target.bottom + (h - 0.03).max(self.min_grasp_height);
+        // From above the palm stays above the top as it does beside the object below.
+        let palm_behind = hand.beyond_palm - hand.tip;
+        let top_z = (target.bottom + (h - 0.03).max(self.min_grasp_height))
+            .max(target.top - palm_behind + self.finger_clearance);
         let tops = self
             .top
             .then_some((GraspKind::Top, std::f64::consts::FRAC_PI_2, top_z));
@@ -319,11 +325,27 @@ impl GraspPlanner for SideGrasps {
                 .iter()
                 .map(|&t| (GraspKind::Side, t, side_z))
                 .chain(tops);
+            // The palm stays outside the object: a side grasp goes no deeper than the
+            // fingers reach beyond the palm allows (the Panda's hand: 2.5 cm behind
+            // the pads' middle), and not so shallow that the pads miss the object.
+            let near_side = target.width_along(Vec2::new(yaw.cos(), yaw.sin())) / 2.0;
+            let deepest = palm_behind - near_side - self.finger_clearance;
+            let shallowest = MIN_PAD_OVERLAP - near_side - hand.tip;
             for (kind, tilt, z) in kinds {
                 let a = Vec3::new(yaw.cos() * tilt.cos(), yaw.sin() * tilt.cos(), -tilt.sin());
                 let r = tool_rotation(hand.approach, hand.closing, a, c3);
                 let turned = tool_rotation(hand.approach, hand.closing, a, -c3);
-                for (depth, rise) in self.offsets(kind, h) {
+                let mut offsets = self.offsets(kind, h);
+                if kind == GraspKind::Side {
+                    if deepest < shallowest {
+                        continue;
+                    }
+                    for o in &mut offsets {
+                        o.0 = o.0.min(deepest);
+                    }
+                    offsets.dedup();
+                }
+                for (depth, rise) in offsets {
                     let at = c.extend(z) + a * depth + up * rise;
                     let score = k.unsigned_abs() as f64 * self.yaw_step
                         + tilt
