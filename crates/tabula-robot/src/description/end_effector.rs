@@ -247,7 +247,7 @@ fn round_points(radius: f64, half_height: f64) -> Vec<Vec3> {
 /// Gives every arm without a gripper the SRDF end effector on it (its `parent_group`,
 /// or its tip as `parent_link`) when that is a parallel gripper; the arm's tip becomes
 /// the grasp frame, as the tasks plan for it. An end effector that is not a parallel
-/// gripper leaves its arm without one, with a warning saying why.
+/// gripper leaves its arm without one, logged (info) with why.
 pub fn attach_grippers(
     model: &mut RobotModel,
     srdf: &Srdf,
@@ -271,7 +271,10 @@ pub fn attach_grippers(
                     g
                 }
                 Err(why) => {
-                    tracing::warn!(
+                    // Not a warning: a rigid tool or a linkage hand is a normal robot
+                    // (MotionBenchMaker's Panda has its fingers fixed); a task that needs
+                    // a gripper says there is none, and `-v` says why.
+                    tracing::info!(
                         "SRDF end effector `{}` of arm `{}` is not used as a gripper: {why}",
                         ee.name,
                         arm.name

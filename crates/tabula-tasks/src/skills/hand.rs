@@ -32,7 +32,7 @@ impl HandArm {
                 .collect(),
         };
         if names.is_empty() {
-            return Err(SkillError::Robot("no arm with a gripper".into()));
+            return Err(SkillError::Robot(super::NO_GRIPPER.into()));
         }
         names
             .into_iter()

@@ -12,6 +12,11 @@
 //! * [`reach`]: which object to pick with which hand.
 //! * [`world`]: the seen objects in the planning world.
 
+/// What a task says when the robot has no gripper to grasp with, and how to give it one.
+pub const NO_GRIPPER: &str = "no arm with a gripper (an SRDF end effector counts when \
+    its fingers are prismatic, one mimicking the other; otherwise describe the gripper in \
+    a TOML beside the URDF: `tabula robot describe` prints a template)";
+
 pub mod base;
 pub mod grasp;
 pub mod hand;
@@ -44,7 +49,7 @@ pub fn arm_with_gripper(
             .iter()
             .find(|a| a.gripper.is_some())
             .map(|a| a.name.clone())
-            .ok_or_else(|| SkillError::Robot("no arm with a gripper".into()))?,
+            .ok_or_else(|| SkillError::Robot(NO_GRIPPER.into()))?,
     };
     let arm = robot
         .description
