@@ -66,3 +66,15 @@ fn moveits_panda_picks_an_object_off_the_table_and_places_it_by_coordinates() {
     assert!(row.success, "{:?}", row.error);
     assert!(row.target_error_cm < 2.0, "{}", row.target_error_cm);
 }
+
+#[test]
+fn the_panda_places_where_its_forearm_clears_the_table_and_lifts_beside_the_place_spot() {
+    let (_, mount) = panda();
+    // Task 10: the placement first planned put link 7 on the table under a level side
+    // placement; task 19: the place spot 14 cm from the object, whose support slab
+    // reached under the object as it was lifted.
+    for task in [10, 19] {
+        let row = tabula_bench::pick_place::table_trial(task, &mount).unwrap();
+        assert!(row.success, "task {task}: {:?}", row.error);
+    }
+}

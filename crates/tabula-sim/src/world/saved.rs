@@ -13,10 +13,20 @@ pub(crate) const MAX_LOAD_OVERLAP: f64 = 5e-3;
 /// How far apart the saved poses are set when taken apart: within the load limit.
 const SAVED_OVERLAP: f64 = 1e-3;
 
-/// For every collider, the colliders the physics pairs it with (its broad phase found
-/// their bounds near): the only ones it can sink into, so saving stays linear in the
-/// number of contacts rather than quadratic in the number of objects.
+/// For every collider of an object, the colliders whose bounds come within
+/// [`NEAR`] of its own: the only ones it can sink into, or be moved into when it is
+/// taken out of another.
 type Near = FxHashMap<ColliderHandle, Vec<ColliderHandle>>;
+
+/// A wedged object is lifted in steps of this (m) …
+const LIFT_STEP: f64 = 0.005;
+/// … at most this many (a metre).
+const LIFT_STEPS: usize = 200;
+
+/// How far apart bounds may be for their colliders to count as neighbours (m): more
+/// than a body is moved when taken apart (the physics' contact pairs alone missed the
+/// body a move pushed it into).
+const NEAR: f64 = 0.02;
 
 impl SimWorld {
     /// Every object's pose as a scene file would place it: where the physics has it,
@@ -33,27 +43,76 @@ impl SimWorld {
             .collect();
         let by_body: FxHashMap<RigidBodyHandle, usize> =
             bodies.iter().enumerate().map(|(k, &b)| (b, k)).collect();
-        let mut near = Near::default();
-        for pair in self.physics.narrow_phase.contact_pairs() {
-            near.entry(pair.collider1).or_default().push(pair.collider2);
-            near.entry(pair.collider2).or_default().push(pair.collider1);
-        }
-        for _ in 0..10 {
+        let near = self.near_colliders(&by_body);
+        let is_free: Vec<bool> = poses.iter().map(|(n, _)| !held.contains(n)).collect();
+        let free = |i: usize| is_free[i];
+        for _ in 0..50 {
             let mut moved = false;
-            for (i, &body) in bodies.iter().enumerate() {
-                if held.contains(&poses[i].0) {
-                    continue;
-                }
+            for (i, &body) in bodies.iter().enumerate().filter(|(i, _)| free(*i)) {
                 if let Some(step) = self.way_out(&poses, &by_body, &near, body) {
                     poses[i].1.translation += step;
                     moved = true;
                 }
             }
             if !moved {
-                break;
+                return poses;
+            }
+        }
+        // Wedged (between a finger and its neighbours, each way out leads into another):
+        // lifted until clear of everything, to fall back when the scene is loaded.
+        let everything: Vec<ColliderHandle> =
+            self.physics.colliders.iter().map(|(h, _)| h).collect();
+        for (i, &body) in bodies.iter().enumerate() {
+            if !free(i) || self.way_out(&poses, &by_body, &near, body).is_none() {
+                continue;
+            }
+            let mut all = Near::default();
+            for &own in self.physics.bodies[body].colliders() {
+                all.insert(own, everything.clone());
+            }
+            for _ in 0..LIFT_STEPS {
+                if self.way_out(&poses, &by_body, &all, body).is_none() {
+                    break;
+                }
+                poses[i].1.translation.z += LIFT_STEP;
             }
         }
         poses
+    }
+
+    /// The neighbours of every collider of `bodies`: bounds sorted along x and swept,
+    /// so a scene of thousands of objects costs its neighbour pairs, not every pair.
+    fn near_colliders(&self, objects: &FxHashMap<RigidBodyHandle, usize>) -> Near {
+        let mut spans: Vec<(f64, f64, ColliderHandle, Aabb)> = self
+            .physics
+            .colliders
+            .iter()
+            .map(|(h, c)| {
+                let b = c.compute_aabb().loosened(NEAR / 2.0);
+                (b.mins.x, b.maxs.x, h, b)
+            })
+            .collect();
+        spans.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let of_object = |h: ColliderHandle| {
+            self.physics.colliders[h]
+                .parent()
+                .is_some_and(|b| objects.contains_key(&b))
+        };
+        let mut near = Near::default();
+        for (i, a) in spans.iter().enumerate() {
+            for b in spans[i + 1..].iter().take_while(|b| b.0 <= a.1) {
+                if !a.3.intersects(&b.3) {
+                    continue;
+                }
+                if of_object(a.2) {
+                    near.entry(a.2).or_default().push(b.2);
+                }
+                if of_object(b.2) {
+                    near.entry(b.2).or_default().push(a.2);
+                }
+            }
+        }
+        near
     }
 
     /// How to move the object of `body` out of the deepest thing it sinks into too far,

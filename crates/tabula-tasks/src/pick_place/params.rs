@@ -26,8 +26,10 @@ pub struct PickPlaceParams {
     pub place_approach: f64,
     /// Retreat after opening (m), SPEC §6: 0.1 m min.
     pub place_retreat: f64,
-    /// Room left between each open finger and the object (m).
+    /// Room left between each open finger and the object (m) …
     pub finger_clearance: f64,
+    /// … or less, down to this, for an object that leaves the open hand less room (m).
+    pub min_finger_clearance: f64,
     /// The tool point stays at least this far above the support (m): the fingertips
     /// must not scrape the board.
     pub min_grasp_height: f64,
@@ -78,6 +80,7 @@ impl Default for PickPlaceParams {
             place_approach: 0.10,
             place_retreat: 0.10,
             finger_clearance: 0.01,
+            min_finger_clearance: 0.005,
             min_grasp_height: 0.035,
             yaw_range: 1.5,
             yaw_step: 0.05,
@@ -110,6 +113,7 @@ impl Validate for PickPlaceParams {
             ("place_approach", self.place_approach),
             ("place_retreat", self.place_retreat),
             ("finger_clearance", self.finger_clearance),
+            ("min_finger_clearance", self.min_finger_clearance),
             ("min_grasp_height", self.min_grasp_height),
             ("yaw_range", self.yaw_range),
             ("sweep_radius", self.sweep_radius),
@@ -130,6 +134,7 @@ impl PickPlaceParams {
     pub fn grasp_planner(&self) -> SideGrasps {
         SideGrasps {
             finger_clearance: self.finger_clearance,
+            min_finger_clearance: self.min_finger_clearance,
             min_grasp_height: self.min_grasp_height,
             yaw_range: self.yaw_range,
             yaw_step: self.yaw_step,

@@ -263,11 +263,13 @@ impl Chooser<'_> {
             let hand =
                 Hand::new(robot, &gripper).map_err(|e| PickPlaceError::Driver(e.to_string()))?;
             let start = group.arm_values(self.state);
+            let landing = Job::landing_world(&group.world)?;
             let job = Job {
                 scene: self.scene,
                 request: self.request,
                 params,
                 start: &start,
+                landing: &landing,
             };
             let candidates = grasp_candidates(&group, &job, &hand)?;
             marks.mark(&format!("{} grasp candidates for {arm}", candidates.len()));

@@ -29,8 +29,15 @@ pub(super) struct Occupancy {
     place_support: Option<(SharedShape, Pose)>,
 }
 
-/// A slab whose top is at `z`, under the seen surface points of a column.
-fn support_slab(points: &[Vec3], z: f64) -> Option<(SharedShape, Pose)> {
+/// A slab whose top is at `z`, under the seen surface points of a column, kept off
+/// the footprint `avoid` (lo, hi): a place spot near the object on the same table
+/// gives a slab whose box reaches under the object, which then "touches" the place
+/// support as it is lifted.
+fn support_slab(
+    points: &[Vec3],
+    z: f64,
+    avoid: Option<(Vec2, Vec2)>,
+) -> Option<(SharedShape, Pose)> {
     let near: Vec<Vec2> = points
         .iter()
         .filter(|q| (q.z - z).abs() <= 0.015)
@@ -39,18 +46,42 @@ fn support_slab(points: &[Vec3], z: f64) -> Option<(SharedShape, Pose)> {
     if near.len() < 10 {
         return None;
     }
-    let lo = near
+    let mut lo = near
         .iter()
         .fold(Vec2::splat(f64::INFINITY), |a, b| a.min(*b));
-    let hi = near
+    let mut hi = near
         .iter()
         .fold(Vec2::splat(f64::NEG_INFINITY), |a, b| a.max(*b));
+    if let Some(avoid) = avoid {
+        clip_off(&mut lo, &mut hi, avoid);
+    }
     let half = ((hi - lo) / 2.0).max(Vec2::splat(0.005));
     let thickness = 0.02;
     Some((
         SharedShape::cuboid(half.x, half.y, thickness / 2.0),
         Pose::from_translation(((lo + hi) / 2.0).extend(z - thickness / 2.0)),
     ))
+}
+
+/// Shrinks the box `lo..hi` on the side facing the box `avoid` until they no longer
+/// overlap (nothing when they do not).
+fn clip_off(lo: &mut Vec2, hi: &mut Vec2, (avoid_lo, avoid_hi): (Vec2, Vec2)) {
+    let overlaps = lo.x < avoid_hi.x && avoid_lo.x < hi.x && lo.y < avoid_hi.y && avoid_lo.y < hi.y;
+    if !overlaps {
+        return;
+    }
+    let toward = (avoid_lo + avoid_hi) / 2.0 - (*lo + *hi) / 2.0;
+    match (
+        toward.x.abs() >= toward.y.abs(),
+        toward.x > 0.0,
+        toward.y > 0.0,
+    ) {
+        (true, true, _) => hi.x = hi.x.min(avoid_lo.x),
+        (true, false, _) => lo.x = lo.x.max(avoid_hi.x),
+        (false, _, true) => hi.y = hi.y.min(avoid_lo.y),
+        (false, _, false) => lo.y = lo.y.max(avoid_hi.y),
+    }
+    *hi = hi.max(*lo);
 }
 
 fn in_column(q: Vec3, center: Vec2, radius: f64, z: f64) -> bool {
@@ -221,6 +252,12 @@ fn occupancy(
 ) -> Occupancy {
     let column_radius = object.rect.size.length() / 2.0 + 0.04;
     let pick_xy = object.rect.center;
+    // Beyond the planner's padding (1 cm) around the held object.
+    let margin = Vec2::splat(0.025);
+    let footprint = (
+        object.aabb.mins.truncate() - margin,
+        object.aabb.maxs.truncate() + margin,
+    );
     let place_xy = request.place.truncate();
     let in_pick = |q: &Vec3| in_column(*q, pick_xy, column_radius, object.bottom);
     let in_place = |q: &Vec3| in_column(*q, place_xy, column_radius, support.z);
@@ -236,7 +273,7 @@ fn occupancy(
             .copied()
             .filter(|q| !in_pick(q) && !in_place(q))
             .collect(),
-        pick_support: support_slab(&pick_column, object.bottom),
-        place_support: support_slab(&place_column, support.z),
+        pick_support: support_slab(&pick_column, object.bottom, None),
+        place_support: support_slab(&place_column, support.z, Some(footprint)),
     }
 }

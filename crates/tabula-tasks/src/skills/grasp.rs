@@ -227,6 +227,9 @@ impl GraspPlanner for NarrowPartGrasps {
 pub struct SideGrasps {
     /// Room left between each open finger and the object (m).
     pub finger_clearance: f64,
+    /// … or less, down to this, for an object that leaves the open hand less room
+    /// (a 6 cm box in the Panda's 8 cm hand); such grasps rank after roomier ones (m).
+    pub min_finger_clearance: f64,
     /// The tool point stays at least this far above the support (m).
     pub min_grasp_height: f64,
     /// Approach yaws within ± this of the direction from the arm (rad) …
@@ -249,6 +252,7 @@ impl Default for SideGrasps {
     fn default() -> Self {
         Self {
             finger_clearance: 0.01,
+            min_finger_clearance: 0.005,
             min_grasp_height: 0.035,
             yaw_range: 1.5,
             yaw_step: 0.05,
@@ -269,6 +273,17 @@ impl SideGrasps {
     fn facing(target: &GraspTarget<'_>) -> f64 {
         let toward = target.rect.center - target.arm_base.unwrap_or(Vec3::ZERO).truncate();
         toward.y.atan2(toward.x)
+    }
+
+    /// The room left between each open finger and an object `across` wide: the
+    /// nominal clearance, else what the hand leaves if that is at least the minimum.
+    fn clearance(&self, hand: &Hand, across: f64) -> Option<f64> {
+        if hand.holds(across, self.finger_clearance) {
+            return Some(self.finger_clearance);
+        }
+        let room = (hand.open_width - across) / 2.0;
+        (room < self.finger_clearance && hand.holds(across, self.min_finger_clearance))
+            .then_some(room)
     }
 
     /// The narrowest width of the object across any closing direction tried (m): when
@@ -316,9 +331,9 @@ impl GraspPlanner for SideGrasps {
             let yaw = facing + k as f64 * self.yaw_step;
             let closing = Vec2::new(-yaw.sin(), yaw.cos());
             let across = target.width_along(closing);
-            if !hand.holds(across, self.finger_clearance) {
+            let Some(clearance) = self.clearance(hand, across) else {
                 continue;
-            }
+            };
             let c3 = closing.extend(0.0);
             let kinds = self
                 .tilts
@@ -329,7 +344,7 @@ impl GraspPlanner for SideGrasps {
             // fingers reach beyond the palm allows (the Panda's hand: 2.5 cm behind
             // the pads' middle), and not so shallow that the pads miss the object.
             let near_side = target.width_along(Vec2::new(yaw.cos(), yaw.sin())) / 2.0;
-            let deepest = palm_behind - near_side - self.finger_clearance;
+            let deepest = palm_behind - near_side - clearance;
             let shallowest = MIN_PAD_OVERLAP - near_side - hand.tip;
             for (kind, tilt, z) in kinds {
                 let a = Vec3::new(yaw.cos() * tilt.cos(), yaw.sin() * tilt.cos(), -tilt.sin());
@@ -350,6 +365,7 @@ impl GraspPlanner for SideGrasps {
                     let score = k.unsigned_abs() as f64 * self.yaw_step
                         + tilt
                         + 2.0 * (depth.abs() + rise.abs())
+                        + 20.0 * (self.finger_clearance - clearance)
                         + if kind == GraspKind::Top { 0.5 } else { 0.0 };
                     let grasp = GraspCandidate {
                         kind,
