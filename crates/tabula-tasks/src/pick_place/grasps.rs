@@ -118,39 +118,42 @@ fn ranked_placements<'a>(
     let facing = toward.y.atan2(toward.x);
     let current_yaw = grasp.approach.y.atan2(grasp.approach.x);
     let steps = (params.yaw_range / params.yaw_step.max(1e-3)).ceil() as i64;
-    let ranks = (0..=steps).flat_map(|m| if m == 0 { vec![0] } else { vec![m, -m] });
-    ranks.filter(move |_| base.is_some()).filter_map(move |k| {
-        // Side grasps turn the held object about the vertical with the approach; top
-        // grasps may turn it freely.
-        let turn = match grasp.kind {
-            GraspKind::Side => {
-                tabula_geom::wrap_angle(facing + k as f64 * params.yaw_step - current_yaw)
-            }
-            GraspKind::Top => k as f64 * params.yaw_step,
-        };
-        let spin = Quat::from_rotation_z(turn);
-        let placed_object = Pose::from_parts(
-            Vec3::new(
-                request.place.x,
-                request.place.y,
-                support.z + params.release_height,
-            ),
-            spin * world_from_object.rotation,
-        );
-        let place_tool = placed_object * tool_from_object.inverse();
-        let lands = group
-            .ik(&place_tool, seed)
-            .is_ok_and(|sols| sols.iter().any(|q| job.landing.is_valid(q)));
-        let a = spin * grasp.approach;
-        lands.then(|| {
-            (
-                k.unsigned_abs(),
-                placed_object,
-                place_tool,
-                Vec3::new(a.x, a.y, 0.0).normalize_or(Vec3::X),
-            )
+    let ranks = std::iter::once(0).chain((1..=steps).flat_map(|m| [m, -m]));
+    // No chain base, no placements.
+    ranks
+        .take_while(move |_| base.is_some())
+        .filter_map(move |k| {
+            // Side grasps turn the held object about the vertical with the approach; top
+            // grasps may turn it freely.
+            let turn = match grasp.kind {
+                GraspKind::Side => {
+                    tabula_geom::wrap_angle(facing + k as f64 * params.yaw_step - current_yaw)
+                }
+                GraspKind::Top => k as f64 * params.yaw_step,
+            };
+            let spin = Quat::from_rotation_z(turn);
+            let placed_object = Pose::from_parts(
+                Vec3::new(
+                    request.place.x,
+                    request.place.y,
+                    support.z + params.release_height,
+                ),
+                spin * world_from_object.rotation,
+            );
+            let place_tool = placed_object * tool_from_object.inverse();
+            let lands = group
+                .ik(&place_tool, seed)
+                .is_ok_and(|sols| sols.iter().any(|q| job.landing.is_valid(q)));
+            let a = spin * grasp.approach;
+            lands.then(|| {
+                (
+                    k.unsigned_abs(),
+                    placed_object,
+                    place_tool,
+                    Vec3::new(a.x, a.y, 0.0).normalize_or(Vec3::X),
+                )
+            })
         })
-    })
 }
 
 /// Straight lines out of a pose: `back` along the level approach and up by each rise

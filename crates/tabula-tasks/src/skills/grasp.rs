@@ -493,6 +493,28 @@ mod tests {
     }
 
     #[test]
+    fn an_object_near_the_opening_is_held_with_less_room_but_not_less_than_the_minimum() {
+        let h = hand();
+        let planner = SideGrasps::default();
+        let grasps_of = |narrow: f64| {
+            // Narrow across the direction from the arm: closed across it facing the arm.
+            let size = Vec2::new(h.open_width + 0.05, narrow);
+            let outline = box_outline(Vec2::new(0.6, 0.0), size);
+            let t = target(&outline, 0.1, Some(Vec3::ZERO));
+            let found = planner.candidates(&t, &h, Vec3::Z);
+            for g in &found {
+                check_candidate(g, &h, &t, planner.min_finger_clearance);
+            }
+            found.len()
+        };
+        // 7 mm of room each side: held (the nominal 1 cm does not fit); 4 mm: not.
+        assert!(grasps_of(h.open_width - 0.014) > 0);
+        assert_eq!(grasps_of(h.open_width - 0.008), 0);
+        // With room to spare, held as before.
+        assert!(grasps_of(h.open_width - 0.03) > 0);
+    }
+
+    #[test]
     fn nothing_fits_an_object_wider_than_the_hand_every_way() {
         let h = hand();
         let outline = box_outline(Vec2::new(0.6, 0.0), Vec2::new(0.2, 0.2));
