@@ -12,7 +12,7 @@ use tabula_robot::ik::{IkMode, NumericIkParams};
 use tabula_robot::robots::NamedRobot;
 use tabula_sim::generate::{
     CLEAR_BIN_CENTER, CLEAR_BIN_HEIGHT, CLEAR_REGION_CENTER, CLEAR_REGION_HALF, CLEAR_TABLE_CENTER,
-    RobotMount, TABLE_TOP,
+    CLEAR_TABLE_SIZE, RobotMount, TABLE_TOP,
 };
 use tabula_tasks::skills::hand::tool_rotation;
 
@@ -183,7 +183,8 @@ impl<'a> Reach<'a> {
 }
 
 fn over_table(p: Vec3) -> bool {
-    (p.x - CLEAR_TABLE_CENTER[0]).abs() <= 0.35 && (p.y - CLEAR_TABLE_CENTER[1]).abs() <= 0.5
+    (p.x - CLEAR_TABLE_CENTER[0]).abs() <= CLEAR_TABLE_SIZE[0] / 2.0
+        && (p.y - CLEAR_TABLE_CENTER[1]).abs() <= CLEAR_TABLE_SIZE[1] / 2.0
 }
 
 /// The arm's start (and home between actions): its tucked pose, else the named pose (or

@@ -55,7 +55,7 @@ enum Objects {
 /// The clearing cell: table centre and size, the region objects are put in (every point
 /// of it reachable from above by the WAM on its stand), the bin.
 pub const CLEAR_TABLE_CENTER: [f64; 2] = [0.62, 0.0];
-const CLEAR_TABLE_SIZE: [f64; 2] = [0.7, 1.0];
+pub const CLEAR_TABLE_SIZE: [f64; 2] = [0.7, 1.0];
 pub const CLEAR_REGION_CENTER: [f64; 2] = [0.58, 0.0];
 pub const CLEAR_REGION_HALF: [f64; 2] = [0.17, 0.25];
 /// The bin's footprint centre and its height (m).
