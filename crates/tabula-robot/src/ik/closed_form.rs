@@ -1,9 +1,10 @@
-//! What every closed-form solver does: read the chain's axes at zero, then with its
-//! candidate angles map them to chain variables within the limits (the whole turn
-//! nearest the seed), keep those that forward kinematics confirms, drop duplicates, and
-//! rank them nearest the seed first.
+//! What every closed-form solver does: read the chain's axes at zero, then keep the
+//! candidates that forward kinematics confirms, map them to chain variables within the
+//! limits (the whole turn nearest the seed), drop duplicates, and rank them nearest the
+//! seed first.
 
-use super::{IkError, IkMode, IkSolution, joint_distance, pose_error, validate_request};
+use super::screws::{Candidate, MAX_CANDIDATES, Screws};
+use super::{IkError, IkMode, IkSolution, joint_distance, validate_request};
 use crate::Chain;
 use tabula_geom::{Pose, Vec3};
 
@@ -28,6 +29,13 @@ pub(crate) fn axes_at_zero<const N: usize>(chain: &Chain) -> Option<([Vec3; N], 
     Some((h, o, frame * chain.tip_offset))
 }
 
+/// `v` rounded to the nearest integer, half away from zero, for |v| < 2⁶³ (the std's
+/// `round` is a call into compiler-builtins without SSE4.1, 200 instructions).
+#[inline]
+fn round(v: f64) -> f64 {
+    (if v >= 0.0 { v + 0.5 } else { v - 0.5 }) as i64 as f64
+}
+
 /// A returned solution reaches the target within this (m, rad).
 pub(crate) const ACCEPT: f64 = 1e-6;
 
@@ -42,59 +50,79 @@ pub(crate) fn within_limits<const N: usize>(
     let mut out = [0.0; N];
     for i in 0..N {
         let e = &chain.elements[i];
-        let q = (theta[i] - e.offset) / e.multiplier;
+        // The multiplier is ±1 (see `axes_at_zero`): its own inverse.
+        let q = (theta[i] - e.offset) * e.multiplier;
         let (lo, hi) = (chain.lower[i] - 1e-9, chain.upper[i] + 1e-9);
         // The whole turn of q nearest the seed, else the nearest one inside.
-        let near = q + ((seed[i] - q) / tau).round() * tau;
-        let best = [near, near - tau, near + tau]
-            .into_iter()
-            .filter(|v| (lo..=hi).contains(v))
-            .min_by(|a, b| (a - seed[i]).abs().total_cmp(&(b - seed[i]).abs()))
-            .or_else(|| {
-                (-4..=4)
+        let near = q + round((seed[i] - q) * (1.0 / tau)) * tau;
+        let best = if (lo..=hi).contains(&near) {
+            near
+        } else {
+            // The seed is outside the limits or `near` just past one: the nearer turn
+            // inside, else any.
+            let (below, above) = (near - tau, near + tau);
+            match ((lo..=hi).contains(&below), (lo..=hi).contains(&above)) {
+                (true, true) if (above - seed[i]).abs() < (below - seed[i]).abs() => above,
+                (true, _) => below,
+                (false, true) => above,
+                (false, false) => (-4..=4)
                     .map(|k| q + f64::from(k) * tau)
-                    .find(|v| (lo..=hi).contains(v))
-            })?;
+                    .find(|v| (lo..=hi).contains(v))?,
+            }
+        };
         out[i] = best.clamp(chain.lower[i], chain.upper[i]);
     }
     Some(out)
 }
 
-/// Adds the candidate to `found` when it is within the limits, reaches `target` (by the
-/// chain's own FK) and is not already there.
-fn keep_verified<const N: usize>(
+/// The candidates that reach `target` (by [`Screws::check`]) with every joint within
+/// its limits, as chain variables (the turn nearest the seed), duplicates dropped,
+/// nearest the seed first. At most [`MAX_CANDIDATES`] are looked at.
+pub(crate) fn verified<const N: usize>(
+    screws: &Screws<N>,
     chain: &Chain,
-    theta: &[f64; N],
+    candidates: &[Candidate<N>],
     target: &Pose,
     seed: &[f64],
-    found: &mut Vec<IkSolution>,
-) {
-    let Some(joints) = within_limits(chain, theta, seed) else {
-        return;
-    };
-    let reached = chain.fk_unchecked(&joints);
-    let (position_error, rotation_error) = pose_error(&reached, target, IkMode::Full);
-    if position_error > ACCEPT || rotation_error > ACCEPT {
-        return;
+) -> Vec<IkSolution> {
+    let mut check = screws.check(target);
+    let mut found: Vec<IkSolution> = Vec::with_capacity(candidates.len());
+    // Distances to the seed of `found`, kept sorted with it (insertion: ≤ 8 entries).
+    let mut distances = [0.0; MAX_CANDIDATES];
+    for candidate in candidates.iter().take(MAX_CANDIDATES) {
+        // The limits first: they are cheaper, and reject most on arms with narrow ones.
+        let Some(joints) = within_limits(chain, &candidate.angles, seed) else {
+            continue;
+        };
+        let (position_error, rotation_error) = check.errors(&candidate.turns);
+        if position_error > ACCEPT || rotation_error > ACCEPT {
+            continue;
+        }
+        // Both mapped to the turn nearest the seed: equal answers have equal values.
+        let same = |s: &IkSolution| {
+            let d2: f64 = s
+                .joints
+                .iter()
+                .zip(&joints)
+                .map(|(a, b)| (a - b) * (a - b))
+                .sum();
+            d2 < 1e-12
+        };
+        if found.iter().any(same) {
+            continue;
+        }
+        let distance = joint_distance(chain, &joints, seed);
+        let at = distances[..found.len()].partition_point(|d| *d <= distance);
+        distances.copy_within(at..found.len(), at + 1);
+        distances[at] = distance;
+        let solution = IkSolution {
+            joints: joints.to_vec(),
+            position_error,
+            rotation_error,
+        };
+        found.insert(at, solution);
     }
-    if found
-        .iter()
-        .any(|s| joint_distance(chain, &s.joints, &joints) < 1e-6)
-    {
-        return;
-    }
-    found.push(IkSolution {
-        joints: joints.to_vec(),
-        position_error,
-        rotation_error,
-    });
-}
-
-/// Nearest the seed first.
-fn rank(chain: &Chain, found: &mut [IkSolution], seed: &[f64]) {
-    found.sort_by(|a, b| {
-        joint_distance(chain, &a.joints, seed).total_cmp(&joint_distance(chain, &b.joints, seed))
-    });
+    found
 }
 
 /// The front door of a closed form: a valid request for a full pose.
@@ -111,19 +139,4 @@ pub(crate) fn check_full_pose(
         ));
     }
     Ok(())
-}
-
-/// The candidates that are solutions ([`keep_verified`]), nearest the seed first.
-pub(crate) fn verified<const N: usize>(
-    chain: &Chain,
-    candidates: &[[f64; N]],
-    target: &Pose,
-    seed: &[f64],
-) -> Vec<IkSolution> {
-    let mut found = Vec::with_capacity(candidates.len());
-    for theta in candidates {
-        keep_verified(chain, theta, target, seed, &mut found);
-    }
-    rank(chain, &mut found, seed);
-    found
 }

@@ -7,6 +7,7 @@ mod closed_form;
 mod golem3;
 mod numeric;
 mod parallel3;
+mod screws;
 mod shoulder7;
 mod subproblems;
 
@@ -132,6 +133,7 @@ pub fn pose_error(reached: &Pose, target: &Pose, mode: IkMode) -> (f64, f64) {
 
 /// Joint-space distance used to rank solutions: Euclidean, with revolute
 /// differences wrapped when the joint is continuous.
+#[inline]
 pub fn joint_distance(chain: &Chain, a: &[f64], b: &[f64]) -> f64 {
     a.iter()
         .zip(b)

@@ -14,19 +14,20 @@
 //! Every candidate is checked by forward kinematics before it is returned.
 
 use super::closed_form::{axes_at_zero, check_full_pose, verified};
+use super::screws::{Candidate, MAX_CANDIDATES, Screws};
 use super::subproblems::{TOL, any_perpendicular, intersection, subproblem1, subproblem4};
 use super::{IkError, IkMode, IkSolution, IkSolver};
 use crate::Chain;
 use tabula_geom::{Mat3, Pose, Vec3};
+
 /// The solver of one matching chain.
 #[derive(Debug, Clone)]
 pub struct ThreeParallelIk {
     chain: Chain,
     /// Joint axes and points at zero (base frame), the points on axes 5 and 6 moved to
-    /// their intersection.
-    h: [Vec3; 6],
-    o: [Vec3; 6],
-    /// Tip at zero.
+    /// their intersection, and the tip at zero.
+    screws: Screws<6>,
+    /// The tip's position and rotation at zero.
     tip_zero: Pose,
 }
 
@@ -48,51 +49,58 @@ impl ThreeParallelIk {
         o[5] = meet;
         Some(Self {
             chain: chain.clone(),
-            h,
-            o,
+            screws: Screws::new(h, o, &tip_zero, 1),
             tip_zero,
         })
     }
 
     /// Joint angles (θ, before multiplier and offset) reaching `target`, unchecked: at
     /// most 2 (θ1) × 2 (θ5) × 2 (θ3).
-    fn candidates(&self, target: &Pose) -> ([[f64; 6]; 8], usize) {
-        let (h, o) = (&self.h, &self.o);
+    fn candidates(&self, target: &Pose) -> ([Candidate<6>; MAX_CANDIDATES], usize) {
+        let (h, o) = (&self.screws.h, &self.screws.o);
         let k = h[1];
         let r06 = Mat3::from_quat(target.rotation.normalize())
             * Mat3::from_quat(self.tip_zero.rotation).transpose();
         let p_6t = self.tip_zero.translation - o[5];
         let x = target.translation - o[0] - r06 * p_6t;
-        let mut out = ([[0.0; 6]; 8], 0);
+        let (p23, p34) = (o[2] - o[1], o[3] - o[2]);
+        let v = any_perpendicular(k);
+        let mut out = ([Candidate::default(); MAX_CANDIDATES], 0);
         // 1: hᵀ rot(h1, −θ1) x = h·(o5 − o1)  ⇔  hᵀ rot(−h1, θ1) x = d.
         for t1 in subproblem4(k, x, -h[0], k.dot(o[4] - o[0])) {
-            let r1 = Mat3::from_axis_angle(h[0], t1);
+            let a1 = t1.angle();
+            let r1 = t1.about(h[0]);
             let r16 = r1.transpose() * r06;
+            // 4's right side, δ = R1ᵀ x − p_12 − R234 p_45, before R234.
+            let x1 = r1.transpose() * x - (o[1] - o[0]);
             // 2: hᵀ rot(h5, θ5) h6 = hᵀ R1ᵀ R06 h6.
             for t5 in subproblem4(k, h[5], h[4], k.dot(r16 * h[5])) {
-                let r5 = Mat3::from_axis_angle(h[4], t5);
                 // 3: rot(h6, θ6) (R06ᵀ R1 h) = R5ᵀ h.
-                let Some(t6) = subproblem1(r16.transpose() * k, r5.transpose() * k, h[5]) else {
+                let r5_t_k = t5.inverse().rotate(h[4], k);
+                let Some(t6) = subproblem1(r16.transpose() * k, r5_t_k, h[5]) else {
                     continue;
                 };
-                let r6 = Mat3::from_axis_angle(h[5], t6);
-                let r234 = r16 * r6.transpose() * r5.transpose();
-                let v = any_perpendicular(k);
+                let (a5, a6) = (t5.angle(), t6.angle());
+                let r234 = r16 * t6.about(h[5]).transpose() * t5.about(h[4]).transpose();
                 let Some(t234) = subproblem1(v, r234 * v, k) else {
                     continue;
                 };
-                // 4: δ = R1ᵀ x − p_12 − R234 p_45 = R2 (p_23 + R3 p_34).
-                let delta = r1.transpose() * x - (o[1] - o[0]) - r234 * (o[4] - o[3]);
-                let (p23, p34) = (o[2] - o[1], o[3] - o[2]);
+                let a234 = t234.angle();
+                // 4: δ = R2 (p_23 + R3 p_34).
+                let delta = x1 - r234 * (o[4] - o[3]);
                 let d =
                     (delta.length_squared() - p23.length_squared() - p34.length_squared()) / 2.0;
                 for t3 in subproblem4(p23, p34, h[2], d) {
-                    let arm = p23 + Mat3::from_axis_angle(h[2], t3) * p34;
+                    let arm = p23 + t3.rotate(h[2], p34);
                     let Some(t2) = subproblem1(arm, delta, h[1]) else {
                         continue;
                     };
-                    if out.1 < 8 {
-                        out.0[out.1] = [t1, t2, t3, t234 - t2 - t3, t5, t6];
+                    if out.1 < MAX_CANDIDATES {
+                        let (a2, a3) = (t2.angle(), t3.angle());
+                        out.0[out.1] = Candidate {
+                            turns: [t1, t2, t3, t234.minus(t2).minus(t3), t5, t6],
+                            angles: [a1, a2, a3, a234 - a2 - a3, a5, a6],
+                        };
                         out.1 += 1;
                     }
                 }
@@ -110,7 +118,13 @@ impl IkSolver for ThreeParallelIk {
     fn solve(&self, target: &Pose, mode: IkMode, seed: &[f64]) -> Result<Vec<IkSolution>, IkError> {
         check_full_pose(&self.chain, target, mode, seed)?;
         let (candidates, count) = self.candidates(target);
-        let found = verified(&self.chain, &candidates[..count], target, seed);
+        let found = verified(
+            &self.screws,
+            &self.chain,
+            &candidates[..count],
+            target,
+            seed,
+        );
         if found.is_empty() {
             return Err(IkError::NoSolution);
         }

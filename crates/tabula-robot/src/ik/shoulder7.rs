@@ -17,7 +17,10 @@
 //! self-motion; every candidate is checked by forward kinematics.
 
 use super::closed_form::{axes_at_zero, check_full_pose, verified};
-use super::subproblems::{any_perpendicular, intersection, subproblem1, subproblem2, subproblem3};
+use super::screws::{Candidate, MAX_CANDIDATES, Screws};
+use super::subproblems::{
+    Turn, any_perpendicular, intersection, subproblem1, subproblem2, subproblem3,
+};
 use super::{IkError, IkMode, IkSolution, IkSolver};
 use crate::Chain;
 use tabula_geom::{Mat3, Pose, Vec3};
@@ -32,14 +35,11 @@ const COARSE: i64 = 4;
 #[derive(Debug, Clone)]
 pub struct SphericalShoulderIk {
     chain: Chain,
-    /// Joint axes at zero (base frame).
-    h: [Vec3; 7],
-    /// A point on each axis at zero: S on axes 1–3, W on axes 5 and 6.
-    o: [Vec3; 7],
+    /// Joint axes at zero (base frame), a point on each (S on axes 1–3, W on axes 5
+    /// and 6) and the tip at zero.
+    screws: Screws<7>,
     shoulder: Vec3,
     wrist: Vec3,
-    tip_zero_rotation: Mat3,
-    tip_zero_translation: Vec3,
     /// No configuration puts the tip farther than this from S (m).
     reach: f64,
 }
@@ -71,53 +71,55 @@ impl SphericalShoulderIk {
         Some(Self {
             reach,
             chain: chain.clone(),
-            h,
-            o,
+            screws: Screws::new(h, o, &tip_zero, 0),
             shoulder,
             wrist,
-            tip_zero_rotation: Mat3::from_quat(tip_zero.rotation),
-            tip_zero_translation: tip_zero.translation,
         })
     }
 
     /// Joint angles (θ) reaching `target` with the last joint at `theta7`, unchecked.
-    fn candidates(&self, target: &Pose, theta7: f64) -> ([[f64; 7]; 8], usize) {
-        let (h, o, s, w) = (&self.h, &self.o, self.shoulder, self.wrist);
-        let mut out = ([[0.0; 7]; 8], 0);
+    fn candidates(&self, target: &Pose, theta7: f64) -> ([Candidate<7>; MAX_CANDIDATES], usize) {
+        let (h, o, s, w) = (&self.screws.h, &self.screws.o, self.shoulder, self.wrist);
+        let (tip_rotation, tip_translation) =
+            (self.screws.tip_rotation, self.screws.tip_translation);
+        let mut out = ([Candidate::default(); MAX_CANDIDATES], 0);
         // G = T M⁻¹ E7⁻¹ as x ↦ R_G x + t_G.
-        let r7 = Mat3::from_axis_angle(h[6], theta7);
+        let t7 = Turn::new(theta7);
+        let r7 = t7.about(h[6]);
         let rt = Mat3::from_quat(target.rotation.normalize());
-        let rtm = rt * self.tip_zero_rotation.transpose();
+        let rtm = rt * tip_rotation.transpose();
         let rg = rtm * r7.transpose();
         let g_of = |x: Vec3| {
-            rtm * (r7.transpose() * (x - o[6]) + o[6] - self.tip_zero_translation)
-                + target.translation
+            rtm * (r7.transpose() * (x - o[6]) + o[6] - tip_translation) + target.translation
         };
         let g_inv_of = |y: Vec3| {
-            r7 * (rtm.transpose() * (y - target.translation) + self.tip_zero_translation - o[6])
-                + o[6]
+            r7 * (rtm.transpose() * (y - target.translation) + tip_translation - o[6]) + o[6]
         };
         let gw = g_of(w);
         let g_inv_s = g_inv_of(s) - w;
+        let x = any_perpendicular(h[2]);
         // 1: |rot(h4, θ4)(W − o4) − (S − o4)| = |G W − S|.
         for t4 in subproblem3(w - o[3], s - o[3], h[3], (gw - s).length()) {
-            let r4 = Mat3::from_axis_angle(h[3], t4);
+            let (r4, a4) = (t4.about(h[3]), t4.angle());
             let e4_inv_s = r4.transpose() * (s - o[3]) + o[3] - w;
             // 2: rot(h5, θ5) rot(h6, θ6) (G⁻¹S − W) = E4⁻¹S − W.
             for (t6, minus_t5) in subproblem2(g_inv_s, h[5], e4_inv_s, h[4]) {
-                let t5 = -minus_t5;
-                let r56 = Mat3::from_axis_angle(h[4], t5) * Mat3::from_axis_angle(h[5], t6);
+                let t5 = minus_t5.inverse();
+                let (a5, a6) = (t5.angle(), t6.angle());
+                let r56 = t5.about(h[4]) * t6.about(h[5]);
                 let rh = rg * r56.transpose() * r4.transpose();
                 // 3: rot(h1, θ1) rot(h2, θ2) h3 = R_H h3.
                 for (t2, minus_t1) in subproblem2(h[2], h[1], rh * h[2], h[0]) {
-                    let t1 = -minus_t1;
-                    let r12 = Mat3::from_axis_angle(h[0], t1) * Mat3::from_axis_angle(h[1], t2);
-                    let x = any_perpendicular(h[2]);
+                    let t1 = minus_t1.inverse();
+                    let r12 = t1.about(h[0]) * t2.about(h[1]);
                     let Some(t3) = subproblem1(x, r12.transpose() * rh * x, h[2]) else {
                         continue;
                     };
-                    if out.1 < 8 {
-                        out.0[out.1] = [t1, t2, t3, t4, t5, t6, theta7];
+                    if out.1 < MAX_CANDIDATES {
+                        out.0[out.1] = Candidate {
+                            turns: [t1, t2, t3, t4, t5, t6, t7],
+                            angles: [t1.angle(), t2.angle(), t3.angle(), a4, a5, a6, theta7],
+                        };
                         out.1 += 1;
                     }
                 }
@@ -159,7 +161,13 @@ impl SphericalShoulderIk {
     fn solutions_at(&self, target: &Pose, q7: f64, seed: &[f64]) -> Vec<IkSolution> {
         let e7 = &self.chain.elements[6];
         let (candidates, count) = self.candidates(target, e7.multiplier * q7 + e7.offset);
-        verified(&self.chain, &candidates[..count], target, seed)
+        verified(
+            &self.screws,
+            &self.chain,
+            &candidates[..count],
+            target,
+            seed,
+        )
     }
 }
 
