@@ -1,5 +1,5 @@
 """Closed-form IK anchors side by side with `tabula ik bench` (issue 36): EAIK and IK-Geo
-from PyPI on a URDF's 6R arm, 10,000 FK poses of uniform random joints, every pose
+from PyPI on a URDF's 6R arm (UR-type or spherical wrist), 10,000 FK poses of uniform random joints, every pose
 solved for all solutions. Times are per pose: EAIK's batched solve (its C++ loop, no
 Python per call) and IK-Geo's per-call (Python call included, as it has no batch).
 
@@ -47,9 +47,17 @@ def main():
         f"all solutions within 1e-6 on {solved:.2f} % of the first 2,000"
     )
 
-    geo = Robot.three_parallel_two_intersecting(
-        eaik.getRemodeled_H().T.tolist(), eaik.getRemodeled_P().T.tolist()
-    )
+    # IK-Geo's constructor for EAIK's family (the two 6R families tabula solves).
+    family = str(eaik.getKinematicFamily())
+    if "THREE_INNER_PARALLEL" in family:
+        make = Robot.three_parallel_two_intersecting
+    elif "SPHERICAL" in family and "PARALLEL" in family:
+        make = Robot.spherical_two_parallel
+    elif "SPHERICAL" in family and "INTERSECTING" in family:
+        make = Robot.spherical_two_intersecting
+    else:
+        make = Robot.spherical
+    geo = make(eaik.getRemodeled_H().T.tolist(), eaik.getRemodeled_P().T.tolist())
     # IK-Geo takes EAIK's remodelled axes (points at the intersections) and reads rotation
     # matrices as lists of columns (EAIK's transposed).
     times, found = [], []

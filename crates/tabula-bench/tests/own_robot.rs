@@ -1,7 +1,9 @@
 //! A robot brought with its MoveIt package clears a table and picks and places by
 //! coordinates: MoveIt's tutorial Panda (`data/robots/panda_moveit`: the published URDF
-//! and SRDF, nothing written for it), its gripper read off the SRDF's end effector,
-//! placed in the clearing cell by its reach.
+//! and SRDF, nothing written for it) and a UR5e from Universal Robots' xacro package with
+//! a gripper on its flange (`data/robots/ur5e_gripper`; clearing only — its pick-place
+//! fails on the stand, see BENCHMARKS.md), each gripper read off the SRDF's end effector,
+//! each robot placed in the clearing cell by its reach.
 
 use tabula_bench::clear::trial_with;
 use tabula_bench::mount::clearing_mount;
@@ -10,16 +12,28 @@ use tabula_sim::generate::{ClearSuite, RobotMount};
 use tabula_tasks::clear::ClearParams;
 
 fn data(path: &str) -> String {
-    format!(
-        "{}/../../data/robots/panda_moveit/{path}",
-        env!("CARGO_MANIFEST_DIR")
-    )
+    format!("{}/../../data/robots/{path}", env!("CARGO_MANIFEST_DIR"))
 }
 
 /// The Panda loaded from its URDF and SRDF, and where it stands in the clearing cell.
 fn panda() -> (NamedRobot, RobotMount) {
-    let urdf = data("moveit_resources_panda_description/urdf/panda.urdf");
-    let srdf = data("panda.srdf");
+    robot_and_mount(
+        "panda_moveit/moveit_resources_panda_description/urdf/panda.urdf",
+        "panda_moveit/panda.srdf",
+    )
+}
+
+/// The UR5e with its gripper, expanded from the xacro (`$(find ur_description)` found
+/// beside it), and where it stands.
+fn ur5e() -> (NamedRobot, RobotMount) {
+    robot_and_mount(
+        "ur5e_gripper/ur5e_gripper.urdf.xacro",
+        "ur5e_gripper/ur5e_gripper.srdf",
+    )
+}
+
+fn robot_and_mount(urdf: &str, srdf: &str) -> (NamedRobot, RobotMount) {
+    let (urdf, srdf) = (data(urdf), data(srdf));
     let options = LoadOptions {
         srdf: Some(srdf.clone().into()),
         ..Default::default()
@@ -77,4 +91,24 @@ fn the_panda_places_where_its_forearm_clears_the_table_and_lifts_beside_the_plac
         let row = tabula_bench::pick_place::table_trial(task, &mount).unwrap();
         assert!(row.success, "task {task}: {:?}", row.error);
     }
+}
+
+#[test]
+fn a_ur5e_from_its_xacro_package_clears_a_generated_table_with_the_gripper_its_srdf_names() {
+    let (robot, mount) = ur5e();
+    let arm = robot.description.arm("ur_manipulator").unwrap();
+    let gripper = robot.description.gripper_of(arm).expect("a gripper");
+    assert_eq!(gripper.finger_joint, "gripper_finger_joint");
+    // Two fingers, each 0–42.5 mm from the middle.
+    assert!(gripper.closed_width < 1e-3, "{gripper:?}");
+    assert!((gripper.open_width - 0.085).abs() < 1e-3, "{gripper:?}");
+    let trial = trial_with(ClearSuite::Random, 2, &ClearParams::default(), Some(&mount)).unwrap();
+    let row = &trial.row;
+    assert_eq!(row.objects, 6);
+    assert!(
+        row.success,
+        "{} of {}: {}",
+        row.in_bin, row.objects, row.stop
+    );
+    assert_eq!(row.off_table, 0);
 }

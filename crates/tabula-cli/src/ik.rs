@@ -116,8 +116,16 @@ fn warn_unreadable_meshes(robot: &robots::NamedRobot) {
         eprintln!("warning: {note}");
     }
     let missing = &robot.model.unreadable_meshes;
-    for u in missing.iter().take(5) {
-        eprintln!("warning: {u} (kinematics only; collision checks refuse this robot)");
+    // Collision meshes first: they decide what the robot may be used for.
+    let mut ordered: Vec<_> = missing.iter().collect();
+    ordered.sort_by_key(|u| u.role != "collision");
+    for u in ordered.into_iter().take(5) {
+        let consequence = if u.role == "collision" {
+            "kinematics only; collision checks refuse this robot"
+        } else {
+            "not drawn; planning and the simulator use the collision geometry"
+        };
+        eprintln!("warning: {u} ({consequence})");
     }
     if missing.len() > 5 {
         eprintln!(
@@ -178,18 +186,23 @@ pub fn setup(args: &RobotArgs, kind: SolverKind) -> Result<Setup> {
             Some(Ok(a)) => Some(a),
             _ => None,
         };
-    let parallel3 = tabula_robot::ik::ThreeParallelIk::new(&chain);
+    // 6R closed forms: complete, so nothing numeric behind them.
+    let six_r: Option<(Box<dyn IkSolver>, &'static str)> =
+        tabula_robot::ik::ThreeParallelIk::new(&chain)
+            .map(|p| (Box::new(p) as Box<dyn IkSolver>, "analytic-3-parallel"))
+            .or_else(|| {
+                tabula_robot::ik::SphericalWristIk::new(&chain)
+                    .map(|s| (Box::new(s) as Box<dyn IkSolver>, "analytic-spherical-wrist"))
+            });
     let shoulder7 = tabula_robot::ik::SphericalShoulderIk::new(&chain);
     let numeric = || NumericIk::new(chain.clone(), config.numeric_ik.clone());
     let (solver, solver_name): (Box<dyn IkSolver>, &'static str) = match (
-        kind, analytic, parallel3, shoulder7,
+        kind, analytic, six_r, shoulder7,
     ) {
         (SolverKind::Analytic | SolverKind::Auto, Some(a), _, _) => {
             (Box::new(a), "analytic-golem3")
         }
-        (SolverKind::Analytic | SolverKind::Auto, None, Some(p), _) => {
-            (Box::new(p), "analytic-3-parallel")
-        }
+        (SolverKind::Analytic | SolverKind::Auto, None, Some(six_r), _) => six_r,
         (SolverKind::Analytic, None, None, Some(s)) => (Box::new(s), "analytic-spherical-shoulder"),
         // Auto: the sweep over the redundancy, the numeric solver for what it misses.
         (SolverKind::Auto, None, None, Some(_)) => (
@@ -199,7 +212,8 @@ pub fn setup(args: &RobotArgs, kind: SolverKind) -> Result<Setup> {
         (SolverKind::Analytic, None, None, None) => bail!(
             "no analytic solver for `{base}` → `{tip}` of {}: the closed forms cover the Golem-III arms \
                  (torso_lift_link → right_tool_link / left_tool_link), 6R arms with axes 2–4 parallel and \
-                 axes 5 and 6 meeting (UR-type) and 7R arms with axes 1–3 meeting and axes 5 and 6 \
+                 axes 5 and 6 meeting (UR-type), 6R arms with a spherical wrist and axes 2 and 3 parallel \
+                 or axes 1 and 2 meeting (KUKA, ABB, FANUC, Stäubli) and 7R arms with axes 1–3 meeting and axes 5 and 6 \
                  meeting (Panda, iiwa, WAM); use --solver numeric",
             robot.label
         ),

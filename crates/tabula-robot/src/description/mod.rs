@@ -261,7 +261,8 @@ impl ArmGroup {
         numeric: NumericIkParams,
     ) -> Result<Box<dyn IkSolver + Send + Sync>, RobotError> {
         Ok(match self.ik {
-            // Closed form where the chain allows it (UR-type arms), numeric otherwise.
+            // Closed form where the chain allows it (UR-type and spherical-wrist 6R arms),
+            // numeric otherwise.
             IkKind::Numeric => Box::new(crate::ik::AutoIk::new(NumericIk::new(
                 self.chain(model)?,
                 numeric,

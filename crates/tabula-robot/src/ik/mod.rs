@@ -9,6 +9,7 @@ mod numeric;
 mod parallel3;
 mod screws;
 mod shoulder7;
+mod spherical6;
 mod subproblems;
 
 pub use auto::AutoIk;
@@ -16,6 +17,7 @@ pub use golem3::{ArmSide, Golem3Ik, Golem3Params};
 pub use numeric::{NumericIk, NumericIkParams};
 pub use parallel3::ThreeParallelIk;
 pub use shoulder7::SphericalShoulderIk;
+pub use spherical6::SphericalWristIk;
 
 use crate::{Chain, RobotError};
 use tabula_geom::{Pose, Vec3, pose_is_finite, rotation_angle_between, wrap_angle};
