@@ -3,6 +3,8 @@
 //! axes — two of them negative — and limits copied from its `kr16_2.urdf`), and on
 //! randomised arms of both sub-families: axes 2 and 3 parallel, axes 1 and 2 meeting.
 
+mod common;
+
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use tabula_robot::ik::{IkError, IkMode, IkSolver, SphericalWristIk, ThreeParallelIk};
@@ -58,36 +60,12 @@ fn kr16() -> RobotModel {
     )
 }
 
-/// Solves FK poses of random configurations within the limits: every pose is solved,
-/// every solution reaches it, and the configuration it came from is among the solutions
-/// (up to whole turns).
+/// Round trips of random configurations within the limits from the mid-range seed
+/// ([`common::assert_round_trip`]).
 fn check_round_trips(chain: &Chain, ik: &SphericalWristIk, rng: &mut ChaCha8Rng, n: usize) {
     let seed = chain.mid_configuration();
     for _ in 0..n {
-        let q = chain.random_configuration(rng);
-        let target = chain.fk(&q).unwrap();
-        let sols = ik
-            .solve(&target, IkMode::Full, &seed)
-            .unwrap_or_else(|e| panic!("{q:?}: {e}"));
-        assert!(sols.len() <= 8);
-        for s in &sols {
-            assert!(s.position_error < 1e-9 && s.rotation_error < 1e-9, "{s:?}");
-            let (p, r) =
-                tabula_robot::ik::pose_error(&chain.fk(&s.joints).unwrap(), &target, IkMode::Full);
-            assert!(p < 1e-9 && r < 1e-9, "by the chain's FK: {p} m, {r} rad");
-            assert!(chain.within_limits(&s.joints, 1e-9));
-        }
-        let wrapped = |a: f64, b: f64| {
-            (a - b + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU) - std::f64::consts::PI
-        };
-        assert!(
-            sols.iter().any(|s| s
-                .joints
-                .iter()
-                .zip(&q)
-                .all(|(a, b)| wrapped(*a, *b).abs() < 1e-6)),
-            "{q:?} not among {sols:?}"
-        );
+        common::assert_round_trip(chain, ik, &chain.random_configuration(rng), &seed);
     }
 }
 

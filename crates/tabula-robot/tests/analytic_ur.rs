@@ -3,6 +3,8 @@
 //! expansion with `ur_type:=ur5e`, including the rounded π/2 of its YAML), and on
 //! randomised arms of the same family.
 
+mod common;
+
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use tabula_robot::ik::{IkError, IkMode, IkSolver, ThreeParallelIk};
@@ -65,32 +67,11 @@ fn ur5e() -> RobotModel {
     RobotModel::from_urdf_str(&s, None).unwrap()
 }
 
-/// Solves FK poses of random configurations: every pose is solved, every solution
-/// reaches it (the solver checks by FK), and the configuration it came from is among
-/// the solutions (up to whole turns).
+/// Round trips of random configurations from a zero seed ([`common::assert_round_trip`]).
 fn check_round_trips(chain: &Chain, ik: &ThreeParallelIk, rng: &mut ChaCha8Rng, n: usize) {
     for _ in 0..n {
         let q: Vec<f64> = (0..6).map(|_| rng.random_range(-3.1..3.1)).collect();
-        let target = chain.fk(&q).unwrap();
-        let seed = vec![0.0; 6];
-        let sols = ik
-            .solve(&target, IkMode::Full, &seed)
-            .unwrap_or_else(|e| panic!("{q:?}: {e}"));
-        assert!(sols.len() <= 8);
-        for s in &sols {
-            assert!(s.position_error < 1e-9 && s.rotation_error < 1e-9, "{s:?}");
-        }
-        let wrapped = |a: f64, b: f64| {
-            (a - b + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU) - std::f64::consts::PI
-        };
-        assert!(
-            sols.iter().any(|s| s
-                .joints
-                .iter()
-                .zip(&q)
-                .all(|(a, b)| wrapped(*a, *b).abs() < 1e-6)),
-            "{q:?} not among {sols:?}"
-        );
+        common::assert_round_trip(chain, ik, &q, &[0.0; 6]);
     }
 }
 

@@ -125,6 +125,22 @@ pub(crate) fn verified<const N: usize>(
     found
 }
 
+/// A complete closed form's answer: the verified candidates, or no solution (none
+/// exists: the candidates were every branch).
+pub(crate) fn answer<const N: usize>(
+    screws: &Screws<N>,
+    chain: &Chain,
+    candidates: &[Candidate<N>],
+    target: &Pose,
+    seed: &[f64],
+) -> Result<Vec<IkSolution>, IkError> {
+    let found = verified(screws, chain, candidates, target, seed);
+    if found.is_empty() {
+        return Err(IkError::NoSolution);
+    }
+    Ok(found)
+}
+
 /// The front door of a closed form: a valid request for a full pose.
 pub(crate) fn check_full_pose(
     chain: &Chain,

@@ -13,7 +13,7 @@
 //!
 //! Every candidate is checked by forward kinematics before it is returned.
 
-use super::closed_form::{axes_at_zero, check_full_pose, verified};
+use super::closed_form::{answer, axes_at_zero, check_full_pose};
 use super::screws::{Candidate, MAX_CANDIDATES, Screws};
 use super::subproblems::{TOL, any_perpendicular, intersection, subproblem1, subproblem4};
 use super::{IkError, IkMode, IkSolution, IkSolver};
@@ -118,16 +118,12 @@ impl IkSolver for ThreeParallelIk {
     fn solve(&self, target: &Pose, mode: IkMode, seed: &[f64]) -> Result<Vec<IkSolution>, IkError> {
         check_full_pose(&self.chain, target, mode, seed)?;
         let (candidates, count) = self.candidates(target);
-        let found = verified(
+        answer(
             &self.screws,
             &self.chain,
             &candidates[..count],
             target,
             seed,
-        );
-        if found.is_empty() {
-            return Err(IkError::NoSolution);
-        }
-        Ok(found)
+        )
     }
 }

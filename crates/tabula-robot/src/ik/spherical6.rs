@@ -15,7 +15,7 @@
 //! subproblem 2 in θ4, θ5, and subproblem 1 gives θ6. Every candidate is checked by
 //! forward kinematics before it is returned.
 
-use super::closed_form::{axes_at_zero, check_full_pose, verified};
+use super::closed_form::{answer, axes_at_zero, check_full_pose};
 use super::screws::{Candidate, MAX_CANDIDATES, Screws};
 use super::subproblems::{
     TOL, Turn, any_perpendicular, intersection, subproblem1, subproblem2, subproblem3, subproblem4,
@@ -165,16 +165,12 @@ impl IkSolver for SphericalWristIk {
     fn solve(&self, target: &Pose, mode: IkMode, seed: &[f64]) -> Result<Vec<IkSolution>, IkError> {
         check_full_pose(&self.chain, target, mode, seed)?;
         let (candidates, count) = self.candidates(target);
-        let found = verified(
+        answer(
             &self.screws,
             &self.chain,
             &candidates[..count],
             target,
             seed,
-        );
-        if found.is_empty() {
-            return Err(IkError::NoSolution);
-        }
-        Ok(found)
+        )
     }
 }
