@@ -1,7 +1,7 @@
-//! What every closed-form solver does: read the chain's axes at zero, then keep the
-//! candidates that forward kinematics confirms, map them to chain variables within the
-//! limits (the whole turn nearest the seed), drop duplicates, and rank them nearest the
-//! seed first.
+//! What every closed-form solver does: read the chain's axes at zero, then map the
+//! candidates to chain variables within the limits (the whole turn nearest the seed),
+//! keep those that forward kinematics confirms, drop duplicates, and rank them nearest
+//! the seed first.
 
 use super::screws::{Candidate, MAX_CANDIDATES, Screws};
 use super::{IkError, IkMode, IkSolution, joint_distance, validate_request};
