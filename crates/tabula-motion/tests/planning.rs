@@ -415,3 +415,50 @@ fn a_trajectory_too_long_to_sample_is_refused_naming_the_limit() {
     let ok = time_parameterize(&waypoints, &[1.0, 1e-3], &[2.0, 2.0], 0.01).unwrap();
     assert!(ok.times.len() <= tabula_motion::rrt::MAX_TRAJECTORY_SAMPLES + 1);
 }
+
+/// A robot that knows its pedestal keeps its arm off it: the pedestal is welded to the
+/// base (never checked against it), and configurations that reach down past its side —
+/// free without it — collide with it, and only with it.
+#[test]
+fn the_pedestal_is_part_of_the_robot_and_the_arm_keeps_off_it() {
+    let (mut robot, chain) = wam();
+    let (plain, _) = wam();
+    robot.model.add_pedestal([0.3, 0.3, 0.6]).unwrap();
+    assert!(
+        robot.model.add_pedestal([0.3, 0.3, 0.6]).is_err(),
+        "one pedestal"
+    );
+    let mut bad = wam().0;
+    assert!(bad.model.add_pedestal([0.3, f64::NAN, 0.6]).is_err());
+    assert!(bad.model.add_pedestal([0.3, 0.0, 0.6]).is_err());
+    let world = robot_world(&robot, chain.clone(), WorldParams::default()).unwrap();
+    let without = robot_world(&plain, chain.clone(), WorldParams::default()).unwrap();
+    let pair = |a: &str, b: &str| {
+        let allowed = world.allowed_pairs();
+        allowed.contains(&(a.to_string(), b.to_string()))
+            || allowed.contains(&(b.to_string(), a.to_string()))
+    };
+    assert!(pair("base_link", "pedestal"));
+    // Without an SRDF the matrix is sampled: what can reach down there is checked.
+    for link in ["wam_link7", "wam_gripper_palm"] {
+        assert!(!pair(link, "pedestal"), "{link}");
+    }
+    assert!(world.is_valid(&chain.mid_configuration()));
+    let mut rng = ChaCha8Rng::seed_from_u64(7);
+    let mut hits = 0;
+    for _ in 0..20_000 {
+        let q = chain.random_configuration(&mut rng);
+        if !without.is_valid(&q) || world.is_valid(&q) {
+            continue;
+        }
+        hits += 1;
+        let contacts = world.contacts(&q).unwrap();
+        assert!(
+            contacts
+                .iter()
+                .any(|(a, b)| a == "pedestal" || b == "pedestal"),
+            "{contacts:?}"
+        );
+    }
+    assert!(hits >= 5, "{hits} configurations reach into the pedestal");
+}

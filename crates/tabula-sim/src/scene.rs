@@ -144,6 +144,11 @@ pub struct RobotSpec {
     /// beside the URDF, if any).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub srdf: Option<String>,
+    /// What the robot stands on, as part of its model (x, y, height; m): a solid box
+    /// centred under its root, top at the root — furniture to the world, link
+    /// `pedestal` to the robot's planners, as a cell's URDF has it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pedestal: Option<[f64; 3]>,
 }
 
 impl RobotSpec {
@@ -169,7 +174,11 @@ impl RobotSpec {
         if let Some(s) = &self.srdf {
             options.srdf = Some(relative(s));
         }
-        tabula_robot::robots::load_with(&source, &options)
+        let mut robot = tabula_robot::robots::load_with(&source, &options)?;
+        if let Some(size) = self.pedestal {
+            robot.model.add_pedestal(size)?;
+        }
+        Ok(robot)
     }
 }
 
@@ -584,6 +593,14 @@ fn check_furniture(f: &FurnitureSpec) -> Result<(), FieldError> {
 fn check_robot(r: &RobotSpec) -> Result<(), FieldError> {
     if !finite_pose(&r.pose) || r.joints.values().any(|v| !v.is_finite()) {
         return Err(("", "pose and joint values must be finite".into()));
+    }
+    if let Some(s) = r.pedestal
+        && s.iter().any(|d| !(MIN_SIZE..=MAX_SIZE).contains(d))
+    {
+        return Err((
+            "pedestal",
+            format!("sizes must be between {MIN_SIZE} and {MAX_SIZE} m"),
+        ));
     }
     Ok(())
 }

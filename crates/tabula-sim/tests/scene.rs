@@ -201,3 +201,39 @@ fn bad_prism_outlines_are_refused_by_name() {
     let e = Scene::parse(&text, "p.toml").unwrap_err();
     assert!(e.to_string().contains("at most 256"), "{e}");
 }
+
+/// A robot's pedestal is furniture to the world — an arm link pressed into it is a
+/// contact the judges see — and a link of the robot's own model, so its planners keep
+/// off it; a bad size is refused by key.
+#[test]
+fn a_pedestal_is_furniture_to_the_world_and_a_link_to_the_robot() {
+    let scene = |pedestal: &str| {
+        format!(
+            "[floor]\nsize = [3.0, 3.0]\n\n[[robot]]\nname = \"arm\"\nurdf = \"wam\"\n\
+             pose = {{ xyz = [0.0, 0.0, 0.6] }}\npedestal = {pedestal}\n"
+        )
+    };
+    let world = SimWorld::from_scene(
+        &Scene::parse(&scene("[0.3, 0.3, 0.6]"), "p.toml").unwrap(),
+        PhysicsParams::default(),
+    )
+    .unwrap();
+    let furniture: Vec<String> = world.furniture_shapes().into_iter().map(|f| f.0).collect();
+    assert_eq!(furniture, ["arm/pedestal"]);
+    let robot = world.robot("arm").unwrap();
+    assert!(robot.model.link("pedestal").is_ok());
+    // Top at the root, down to the floor.
+    let (_, shape, pose) = &world.furniture_shapes()[0];
+    let bounds = shape.compute_aabb(pose);
+    assert!((bounds.maxs.z - 0.6).abs() < 1e-9 && bounds.mins.z.abs() < 1e-9);
+    assert!(
+        world
+            .robot_contacts("arm", &[tabula_sim::world::EntityKind::Furniture], 1e-3)
+            .unwrap()
+            .is_empty()
+    );
+    for bad in ["[0.3, 0.0, 0.6]", "[0.3, 0.3, 500.0]"] {
+        let e = Scene::parse(&scene(bad), "p.toml").unwrap_err();
+        assert_eq!(e.key, "robot.arm.pedestal", "{e}");
+    }
+}

@@ -40,6 +40,21 @@ impl CollisionWorld {
                 }
             }
         }
+        // Rigidly joined (fixed joints only between them, as MoveIt's setup assistant
+        // counts adjacency): they never move apart, so their contact never changes — a
+        // pedestal and the base plate bolted on it.
+        let anchors: Vec<usize> = self
+            .bodies
+            .iter()
+            .map(|b| self.rigid_anchor(b.link))
+            .collect();
+        for a in 0..n {
+            for b in a + 1..n {
+                if anchors[a] == anchors[b] {
+                    self.allowed.insert((a, b));
+                }
+            }
+        }
         if let Some(srdf) = self
             .params
             .srdf
@@ -92,6 +107,19 @@ impl CollisionWorld {
                 }
             }
         }
+    }
+
+    /// The link `link` is welded to: up through fixed joints to the first link a moving
+    /// joint carries (or the root).
+    fn rigid_anchor(&self, mut link: usize) -> usize {
+        while let Some(j) = self.model.links[link].parent_joint {
+            let joint = &self.model.joints[j];
+            if joint.kind != tabula_robot::model::JointKind::Fixed {
+                break;
+            }
+            link = joint.parent;
+        }
+        link
     }
 
     fn bodies_touch(&self, root_from_link: &[Pose], a: usize, b: usize, margin: f64) -> bool {

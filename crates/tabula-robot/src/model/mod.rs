@@ -17,6 +17,9 @@ mod urdf;
 use geometry::MeshContext;
 pub use geometry::{Geometry, Shape, UnreadableMesh, resolve_mesh_path};
 
+/// The link [`RobotModel::add_pedestal`] adds.
+pub const PEDESTAL_LINK: &str = "pedestal";
+
 /// How a joint moves.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum JointKind {
@@ -294,6 +297,33 @@ impl RobotModel {
         self.link_index.insert(name.into(), link);
         self.joint_index.insert(joint_name, joint);
         self.added_frames.push(link);
+        Ok(link)
+    }
+
+    /// Adds the robot's mount: a solid box `size` (x, y, height; m) centred under the
+    /// root link, its top at the root's origin, as link [`PEDESTAL_LINK`] — what a cell's
+    /// URDF adds so that planners keep the arm off what it stands on (nothing else sees
+    /// it from there: it is below the table and out of the cameras' views).
+    pub fn add_pedestal(&mut self, size: [f64; 3]) -> Result<usize, RobotError> {
+        if size.iter().any(|d| !(d.is_finite() && *d > 0.0)) {
+            return Err(RobotError::Description(format!(
+                "a pedestal's size must be positive and finite, got {size:?}"
+            )));
+        }
+        let root = *self.roots.first().ok_or_else(|| {
+            RobotError::Description("a robot without a root link has no pedestal".into())
+        })?;
+        let link = self.add_fixed_frame(root, PEDESTAL_LINK, Pose::IDENTITY)?;
+        let shape = Shape {
+            link_from_shape: Pose::from_translation(Vec3::new(0.0, 0.0, -size[2] / 2.0)),
+            geometry: Geometry::Box {
+                half_extents: Vec3::from_array(size) / 2.0,
+            },
+        };
+        self.links[link].collision.push(shape.clone());
+        self.links[link].visual.push(shape);
+        // A body, not a frame the user asked for: `added_frames` lists grasp frames.
+        self.added_frames.retain(|&f| f != link);
         Ok(link)
     }
 

@@ -77,14 +77,11 @@ pub struct RobotMount {
 }
 
 impl RobotMount {
-    /// The scene's `[[robot]]` and the stand under it.
+    /// The scene's `[[robot]]` on its stand (a pedestal of its model: its planners
+    /// know what it stands on, as a cell's URDF tells MoveIt).
     fn write(&self, s: &mut String) {
         let quoted = |v: &str| toml::Value::String(v.to_string()).to_string();
         let [x, y, z] = self.xyz;
-        let _ = writeln!(
-            s,
-            "[[furniture]]\nname = \"stand\"\nkind = \"table\"\npose = {{ xyz = [{x:?}, {y:?}, 0.0] }}\nsize = [{CLEAR_STAND_SIDE:?}, {CLEAR_STAND_SIDE:?}, {z:?}]\n"
-        );
         let _ = writeln!(
             s,
             "[[robot]]\nname = \"robot\"\nurdf = {}",
@@ -108,7 +105,7 @@ impl RobotMount {
             .collect();
         let _ = writeln!(
             s,
-            "pose = {{ xyz = [{x:?}, {y:?}, {z:?}] }}\njoints = {{ {} }}\n",
+            "pose = {{ xyz = [{x:?}, {y:?}, {z:?}] }}\npedestal = [{CLEAR_STAND_SIDE:?}, {CLEAR_STAND_SIDE:?}, {z:?}]\njoints = {{ {} }}\n",
             joints.join(", ")
         );
     }
@@ -396,7 +393,7 @@ mod tests {
         }
     }
 
-    /// Another robot takes the WAM's place on a stand of its height; the objects, the
+    /// Another robot takes the WAM's place on a pedestal of its height; the objects, the
     /// table, the bin and the camera stay as they are.
     #[test]
     fn a_mounted_robot_replaces_the_wam_and_its_stand() {
@@ -416,17 +413,12 @@ mod tests {
             );
             assert_eq!(robot.pose.xyz, m.xyz);
             assert_eq!(robot.joints, m.joints);
-            let stands: Vec<_> = scene
-                .furniture
-                .iter()
-                .filter(|f| f.name.get_ref() == "stand")
-                .collect();
-            assert_eq!(stands.len(), 1, "{suite:?}");
-            assert_eq!(stands[0].size, Some([0.3, 0.3, 0.7]));
-            assert_eq!(stands[0].pose.xyz, [0.06, 0.0, 0.0]);
+            // The stand is the robot's pedestal, down to the floor.
+            assert_eq!(robot.pedestal, Some([0.3, 0.3, 0.7]));
+            assert!(scene.furniture.iter().all(|f| f.name.get_ref() != "stand"));
             assert_eq!(scene.objects.len(), plain.objects.len());
             assert_eq!(scene.cameras.len(), plain.cameras.len());
-            assert_eq!(scene.furniture.len(), plain.furniture.len());
+            assert_eq!(scene.furniture.len(), plain.furniture.len() - 1);
         }
     }
 

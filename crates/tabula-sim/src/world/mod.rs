@@ -19,6 +19,7 @@ use std::f64::consts::FRAC_PI_2;
 use std::path::Path;
 use tabula_geom::mesh::load_mesh;
 use tabula_geom::{Pose, Quat, Vec3, pose_from_xyz_rpy, rotation_angle_between};
+use tabula_robot::model::PEDESTAL_LINK;
 
 /// What an entity is.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -556,7 +557,14 @@ impl SimWorld {
                     Some(body),
                 );
             }
-            self.push_entity(&name, EntityKind::RobotLink, body, [0.75, 0.75, 0.78]);
+            // The pedestal is furniture to the world (what the arm must not hit, judged
+            // as such) and a link to the robot's own planners.
+            let (kind, color) = if r.pedestal.is_some() && link.name == PEDESTAL_LINK {
+                (EntityKind::Furniture, [0.45, 0.45, 0.48])
+            } else {
+                (EntityKind::RobotLink, [0.75, 0.75, 0.78])
+            };
+            self.push_entity(&name, kind, body, color);
         }
         self.robots.push(robot::PlacedRobot {
             name: r.name.get_ref().clone(),
