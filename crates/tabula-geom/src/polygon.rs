@@ -159,6 +159,16 @@ pub struct Rectangle {
 }
 
 impl Rectangle {
+    /// The four corners, counter-clockwise.
+    pub fn corners(&self) -> [Vec2; 4] {
+        let (u, v) = (
+            self.axis * self.size.x / 2.0,
+            self.axis.perp() * self.size.y / 2.0,
+        );
+        let c = self.center;
+        [c - u - v, c + u - v, c + u + v, c - u + v]
+    }
+
     /// Extent of the rectangle along unit direction `d`.
     pub fn extent_along(&self, d: Vec2) -> f64 {
         let perp = self.axis.perp();

@@ -18,6 +18,23 @@ pub struct GraspTarget<'a> {
 }
 
 impl GraspTarget<'_> {
+    /// The object as a solid: its outline (the rectangle without one) from bottom to
+    /// top, convex; `None` when that has no volume.
+    pub fn solid(&self) -> Option<tabula_geom::parry::shape::SharedShape> {
+        let corners;
+        let outline = if self.outline.len() >= 3 {
+            self.outline
+        } else {
+            corners = self.rect.corners();
+            &corners[..]
+        };
+        let points: Vec<Vec3> = [self.bottom, self.top]
+            .iter()
+            .flat_map(|&z| outline.iter().map(move |p| p.extend(z)))
+            .collect();
+        tabula_geom::parry::shape::SharedShape::convex_hull(&points)
+    }
+
     /// Width of the outline across unit direction `d` (what the fingers must span);
     /// the rectangle's without an outline.
     pub fn width_along(&self, d: Vec2) -> f64 {

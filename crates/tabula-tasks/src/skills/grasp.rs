@@ -10,6 +10,8 @@
 //! * [`Fallback`]: one planner's grasps, or another's when it has none.
 
 use super::hand::{Hand, extent_along, tool_rotation};
+use tabula_geom::parry::query;
+use tabula_geom::parry::shape::SharedShape;
 use tabula_geom::{Pose, Vec2, Vec3};
 
 pub use crate::scene::GraspTarget;
@@ -326,6 +328,7 @@ impl GraspPlanner for SideGrasps {
         let tops = self
             .top
             .then_some((GraspKind::Top, std::f64::consts::FRAC_PI_2, top_z));
+        let solid = target.solid().filter(|_| !hand.palm.is_empty());
         let mut scored: Vec<(f64, GraspCandidate)> = Vec::new();
         for k in -self.steps()..=self.steps() {
             let yaw = facing + k as f64 * self.yaw_step;
@@ -340,11 +343,8 @@ impl GraspPlanner for SideGrasps {
                 .iter()
                 .map(|&t| (GraspKind::Side, t, side_z))
                 .chain(tops);
-            // The palm stays outside the object: a side grasp goes no deeper than the
-            // fingers reach beyond the palm allows (the Panda's hand: 2.5 cm behind
-            // the pads' middle), and not so shallow that the pads miss the object.
+            // Not so shallow that the pads miss the object.
             let near_side = target.width_along(Vec2::new(yaw.cos(), yaw.sin())) / 2.0;
-            let deepest = palm_behind - near_side - clearance;
             let shallowest = MIN_PAD_OVERLAP - near_side - hand.tip;
             for (kind, tilt, z) in kinds {
                 let a = Vec3::new(yaw.cos() * tilt.cos(), yaw.sin() * tilt.cos(), -tilt.sin());
@@ -352,12 +352,17 @@ impl GraspPlanner for SideGrasps {
                 let turned = tool_rotation(hand.approach, hand.closing, a, -c3);
                 let mut offsets = self.offsets(kind, h);
                 if kind == GraspKind::Side {
-                    if deepest < shallowest {
-                        continue;
-                    }
-                    for o in &mut offsets {
-                        o.0 = o.0.min(deepest);
-                    }
+                    // The palm stays outside the object: a side grasp goes no deeper
+                    // than the palm meets it (tilted down, the palm's lower edge leads).
+                    offsets.retain_mut(|(depth, rise)| {
+                        let at = c.extend(z) + up * *rise;
+                        let deepest = match &solid {
+                            Some(solid) => palm_limit(hand, solid, Pose::from_parts(at, r), a),
+                            None => palm_behind - near_side,
+                        } - clearance;
+                        *depth = depth.min(deepest);
+                        *depth >= shallowest
+                    });
                     offsets.dedup();
                 }
                 for (depth, rise) in offsets {
@@ -381,6 +386,34 @@ impl GraspPlanner for SideGrasps {
         scored.sort_by(|a, b| a.0.total_cmp(&b.0));
         scored.into_iter().map(|(_, g)| g).collect()
     }
+}
+
+/// How far (m) the tool at `world_from_tool` can move along unit `a` before its palm
+/// meets `solid` (negative: it already has; infinite: it passes by).
+fn palm_limit(hand: &Hand, solid: &SharedShape, world_from_tool: Pose, a: Vec3) -> f64 {
+    /// Where the cast starts, behind the grasp (m): farther than any palm reaches.
+    const BACK: f64 = 0.5;
+    let start = Pose::from_parts(
+        world_from_tool.translation - a * BACK,
+        world_from_tool.rotation,
+    );
+    hand.palm
+        .iter()
+        .filter_map(|(shape, tool_from_shape)| {
+            query::cast_shapes(
+                &(start * *tool_from_shape),
+                a,
+                shape.as_ref(),
+                &Pose::IDENTITY,
+                Vec3::ZERO,
+                solid.as_ref(),
+                query::ShapeCastOptions::with_max_time_of_impact(2.0 * BACK),
+            )
+            .ok()
+            .flatten()
+            .map(|hit| hit.time_of_impact - BACK)
+        })
+        .fold(f64::INFINITY, f64::min)
 }
 
 /// The first planner's grasps, or the second's when the first has none.

@@ -77,6 +77,8 @@ pub struct Hand {
     pub closed_fingers: Vec<(SharedShape, Pose)>,
     /// Open fingers only (what lands beside a grasped object).
     pub open_fingers: Vec<(SharedShape, Pose)>,
+    /// The palm alone (what must stay outside an object the fingers reach around).
+    pub palm: Vec<(SharedShape, Pose)>,
     /// Fingertips' distance from the tool origin along the approach (m).
     pub tip: f64,
     /// Finger length along the approach (m).
@@ -167,6 +169,7 @@ impl Hand {
             beyond_palm: hi - lo.max(palm_end.min(hi)),
             closed_fingers,
             open_fingers: shapes_at(limits.upper, &fingers)?,
+            palm,
             approach,
             closing: gripper.closing(),
             open_width: gripper.open_width,
