@@ -525,6 +525,50 @@ mod tests {
         }
     }
 
+    /// Level or tilted down, however the box is turned, the palm stops short of the
+    /// object by the clearance (tilted, its lower edge leads: a level estimate let it
+    /// press 6 mm into a box and tip it into the table).
+    #[test]
+    fn side_grasps_keep_the_palm_off_the_object_at_every_tilt() {
+        let h = hand();
+        assert!(!h.palm.is_empty());
+        let planner = SideGrasps::default();
+        let mut tilted = 0;
+        for turn in [0.0f64, 0.2, 0.6, 1.0] {
+            let (u, v) = (
+                Vec2::new(turn.cos(), turn.sin()),
+                Vec2::new(-turn.sin(), turn.cos()),
+            );
+            let outline: Vec<Vec2> = [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)]
+                .iter()
+                .map(|&(x, y)| Vec2::new(0.6, 0.0) + u * (x * 0.03) + v * (y * 0.02))
+                .collect();
+            let t = target(&outline, 0.09, Some(Vec3::ZERO));
+            let solid = t.solid().unwrap();
+            for g in planner.candidates(&t, &h, Vec3::Z) {
+                if g.kind != GraspKind::Side {
+                    continue;
+                }
+                tilted += usize::from(g.approach.z < -0.1);
+                for (shape, tool_from_shape) in &h.palm {
+                    let gap = query::distance(
+                        &(g.poses[0] * *tool_from_shape),
+                        shape.as_ref(),
+                        &Pose::IDENTITY,
+                        solid.as_ref(),
+                    )
+                    .unwrap()
+                    .distance;
+                    assert!(
+                        gap >= planner.min_finger_clearance - 1e-6,
+                        "{gap} at {turn}"
+                    );
+                }
+            }
+        }
+        assert!(tilted > 0);
+    }
+
     #[test]
     fn an_object_near_the_opening_is_held_with_less_room_but_not_less_than_the_minimum() {
         let h = hand();
