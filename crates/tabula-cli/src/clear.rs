@@ -114,7 +114,7 @@ pub fn robot_mount(file: &str) -> Result<RobotMount> {
         &options.xacro_args,
     )?;
     eprintln!(
-        "{file}: on a stand at {:?}, starting at {:?}",
+        "{file}: on a pedestal, its root at {:?}, starting at {:?}",
         mount.xyz, mount.joints
     );
     Ok(mount)

@@ -222,6 +222,9 @@ fn a_pedestal_is_furniture_to_the_world_and_a_link_to_the_robot() {
     assert_eq!(furniture, ["arm/pedestal"]);
     let robot = world.robot("arm").unwrap();
     assert!(robot.model.link("pedestal").is_ok());
+    // Not an obstacle to its own robot's planners or to the task's workcell.
+    assert!(world.planning_scene("arm").is_empty());
+    assert!(world.workcell_shapes().is_empty());
     // Top at the root, down to the floor.
     let (_, shape, pose) = &world.furniture_shapes()[0];
     let bounds = shape.compute_aabb(pose);

@@ -272,7 +272,7 @@ impl ClearSetup {
             drop_point: Vec3::new(c.x, c.y, b.maxs.z),
             // A hand's width inside the walls.
             drop_spread: (half.x.min(half.y) - 0.1).max(0.0),
-            obstacles: world.furniture_shapes(),
+            obstacles: world.workcell_shapes(),
         })
     }
 }

@@ -641,17 +641,36 @@ impl SimWorld {
         self.shapes_of(EntityKind::Furniture)
     }
 
-    /// The planning scene of `robot`: the furniture and every object it does not hold,
-    /// where the world has them (name, shape, world pose).
+    /// The planning scene of `robot`: the furniture (but its own pedestal) and every
+    /// object it does not hold, where the world has them (name, shape, world pose).
     pub fn planning_scene(&self, robot: &str) -> Vec<(String, SharedShape, Pose)> {
         let held = self.held_objects(robot);
+        // The robot's own pedestal is a link of its model, not an obstacle to it.
         let mut obstacles = self.furniture_shapes();
+        obstacles.retain(|(name, _, _)| self.owner(name) != Some(robot));
         obstacles.extend(
             self.object_shapes()
                 .into_iter()
                 .filter(|(name, _, _)| !held.contains(name)),
         );
         obstacles
+    }
+
+    /// The workcell's furniture as a task is told of it: every piece but the robots'
+    /// pedestals (each robot's planners have its own as a link).
+    pub fn workcell_shapes(&self) -> Vec<(String, SharedShape, Pose)> {
+        let mut shapes = self.furniture_shapes();
+        shapes.retain(|(name, _, _)| self.owner(name).is_none());
+        shapes
+    }
+
+    /// The robot an entity named `name` is part of (its links, its pedestal).
+    fn owner(&self, name: &str) -> Option<&str> {
+        let (robot, _) = name.split_once('/')?;
+        self.robots
+            .iter()
+            .find(|r| r.name == robot)
+            .map(|r| r.name.as_str())
     }
 
     /// Every object's collider shapes where they are now (name, shape, world pose).
