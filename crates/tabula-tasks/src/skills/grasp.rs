@@ -354,14 +354,13 @@ impl GraspPlanner for SideGrasps {
                 if kind == GraspKind::Side {
                     // The palm stays outside the object: a side grasp goes no deeper
                     // than the palm meets it (tilted down, the palm's lower edge leads).
-                    offsets.retain_mut(|(depth, rise)| {
-                        let at = c.extend(z) + up * *rise;
-                        let deepest = match &solid {
+                    limit_depths(&mut offsets, shallowest, |rise| {
+                        let at = c.extend(z) + up * rise;
+                        let palm_meets = match &solid {
                             Some(solid) => palm_limit(hand, solid, Pose::from_parts(at, r), a),
                             None => palm_behind - near_side,
-                        } - clearance;
-                        *depth = depth.min(deepest);
-                        *depth >= shallowest
+                        };
+                        palm_meets - clearance
                     });
                     offsets.dedup();
                 }
@@ -386,6 +385,29 @@ impl GraspPlanner for SideGrasps {
         scored.sort_by(|a, b| a.0.total_cmp(&b.0));
         scored.into_iter().map(|(_, g)| g).collect()
     }
+}
+
+/// Caps each `(depth, rise)` offset at the deepest its rise allows (`deepest_at`, asked
+/// once per rise: offsets share them) and drops those that end shallower than
+/// `shallowest`.
+fn limit_depths(
+    offsets: &mut Vec<(f64, f64)>,
+    shallowest: f64,
+    mut deepest_at: impl FnMut(f64) -> f64,
+) {
+    let mut limits: Vec<(f64, f64)> = Vec::new();
+    offsets.retain_mut(|(depth, rise)| {
+        let deepest = match limits.iter().find(|l| l.0 == *rise) {
+            Some(&(_, limit)) => limit,
+            None => {
+                let limit = deepest_at(*rise);
+                limits.push((*rise, limit));
+                limit
+            }
+        };
+        *depth = depth.min(deepest);
+        *depth >= shallowest
+    });
 }
 
 /// How far (m) the tool at `world_from_tool` can move along unit `a` before its palm
