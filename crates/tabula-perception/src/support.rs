@@ -11,6 +11,7 @@
 
 use crate::plane::{Plane, RansacParams, ransac_round};
 use crate::surfaces::{SurfaceParams, grid_sample, split};
+use std::f64::consts::PI;
 use tabula_geom::{PointCloud, Pose, Quat, Vec3};
 
 /// Parameters of the support search.
@@ -82,6 +83,9 @@ pub struct Support {
     /// The planes looked at: normal (cloud frame, toward the sensor), connected area
     /// (m²) and angle from the hint (rad).
     pub planes: Vec<(Plane, f64, f64)>,
+    /// Nothing faced the up hint and the support faces its opposite: the cloud is
+    /// saved upside down from the optical convention (y up).
+    pub hint_flipped: bool,
 }
 
 /// Why no support was found.
@@ -91,7 +95,7 @@ pub enum SupportError {
     Empty,
     #[error(
         "no plane of {min_area} m² or more within {max_angle_deg:.0}° of the up direction \
-         ({planes} planes looked at); give the sensor's pose or `--up`"
+         or of its opposite ({planes} planes looked at); give the sensor's pose or `--up`"
     )]
     NoSupport {
         min_area: f64,
@@ -143,7 +147,6 @@ pub fn find_support(
         ..SurfaceParams::default()
     };
     let mut planes = Vec::new();
-    let mut best: Option<(f64, Plane, f64, f64)> = None;
     let mut taken = vec![false; points.len()];
     for round in 0..p.max_planes {
         if remaining.len() < 3 {
@@ -165,18 +168,16 @@ pub fn find_support(
             .map_or(0.0, |s| s.area);
         let angle = plane.normal.angle_between(up_hint);
         planes.push((plane, area, angle));
-        if area >= p.min_area && angle <= p.max_angle_from_hint {
-            let score = area * angle.cos().powi(2);
-            if best.is_none_or(|b| score > b.0) {
-                best = Some((score, plane, area, angle));
-            }
-        }
         for &i in &inliers {
             taken[i] = true;
         }
         remaining.retain(|&i| !taken[i]);
     }
-    let Some((_, dominant, dominant_area, dominant_angle)) = best else {
+    // Clouds saved y-up (PCL's own tutorial scenes) show nothing near the optical
+    // frame's up: the opposite hint is taken then, never in preference.
+    let hint_flipped = dominant_plane(&planes, p, false).is_none();
+    let Some((dominant, dominant_area, dominant_angle)) = dominant_plane(&planes, p, hint_flipped)
+    else {
         return Err(SupportError::NoSupport {
             min_area: p.min_area,
             max_angle_deg: p.max_angle_from_hint.to_degrees(),
@@ -200,10 +201,30 @@ pub fn find_support(
     Ok(Support {
         plane,
         area,
-        angle_from_hint: angle,
+        angle_from_hint: if hint_flipped { PI - angle } else { angle },
         support_from_cloud: support_frame(&plane, viewpoint),
         planes,
+        hint_flipped,
     })
+}
+
+/// The dominant entry of `planes` (plane, area, angle from the hint): the largest area
+/// weighted by cos² of its angle from the hint — or from the opposite hint (`flipped`);
+/// the first of equals.
+fn dominant_plane(
+    planes: &[(Plane, f64, f64)],
+    p: &SupportParams,
+    flipped: bool,
+) -> Option<(Plane, f64, f64)> {
+    let from_hint = |angle: f64| if flipped { PI - angle } else { angle };
+    let score = |e: &&(Plane, f64, f64)| e.1 * from_hint(e.2).cos().powi(2);
+    planes
+        .iter()
+        .filter(|&&(_, area, angle)| {
+            area >= p.min_area && from_hint(angle) <= p.max_angle_from_hint
+        })
+        .min_by(|a, b| score(b).total_cmp(&score(a)))
+        .copied()
 }
 
 /// The support frame of a plane (normal toward the sensor) seen from `viewpoint`.
@@ -279,6 +300,47 @@ mod tests {
             let forward = s.support_from_cloud.rotation * Vec3::Z;
             assert!(forward.x > 0.5 && forward.y.abs() < 1e-9, "{forward}");
         }
+    }
+
+    /// A floor saved upside down from the optical convention (turned half a turn about
+    /// the view axis: y up): nothing faces the hint, the floor faces its opposite.
+    #[test]
+    fn a_cloud_saved_y_up_finds_its_floor_under_the_opposite_hint() {
+        // The floor alone: a wall seen by the pitched camera is within 80° of either
+        // hint, and the flip is for clouds with nothing near the hint.
+        let (cloud, world_from_optical) = room(0.4, 1.0);
+        let turned = Quat::from_rotation_z(std::f64::consts::PI);
+        let floor = cloud
+            .points
+            .iter()
+            .filter(|q| (world_from_optical * **q).z < 0.01)
+            .map(|q| turned * *q);
+        let cloud = PointCloud::unorganized(floor.collect());
+        let s = find_support(
+            &cloud,
+            &Pose::IDENTITY,
+            Vec3::NEG_Y,
+            &SupportParams::default(),
+        )
+        .unwrap();
+        assert!(s.hint_flipped);
+        let up = turned * (world_from_optical.inverse().rotation * Vec3::Z);
+        assert!(s.plane.normal.angle_between(up) < 0.02, "{:?}", s.plane);
+        assert!(
+            (s.angle_from_hint - 0.4).abs() < 0.02,
+            "{}",
+            s.angle_from_hint
+        );
+        // The optical convention keeps its answer unflipped.
+        let (cloud, _) = room(0.4, 1.0);
+        let s = find_support(
+            &cloud,
+            &Pose::IDENTITY,
+            Vec3::NEG_Y,
+            &SupportParams::default(),
+        )
+        .unwrap();
+        assert!(!s.hint_flipped);
     }
 
     #[test]

@@ -385,6 +385,13 @@ pub fn perceived_lines(
             t.rotation.w
         )),
     }
+    if framing.support.as_ref().is_some_and(|s| s.hint_flipped) {
+        lines.push(
+            "  (nothing faced the up hint; the support faces its opposite: the cloud is taken \
+             as saved y-up — `--up` overrides)"
+                .to_string(),
+        );
+    }
     lines.push(format!(
         "table: {} points, height {:.3} m, normal ({:.3}, {:.3}, {:.3}), {:.2} m² seen, hull {:.2} m² ({} corners); free {:.2} m²",
         result.table.inliers.len(),
