@@ -77,13 +77,21 @@ fn clears_scene_two(mount: &RobotMount) {
     assert_eq!(row.off_table, 0);
 }
 
+/// Tasks of the table family picked and placed by `mount`'s robot, each within 2 cm of
+/// its target, judged by physics.
+fn picks_and_places(mount: &RobotMount, tasks: &[u64]) {
+    for &task in tasks {
+        let row = tabula_bench::pick_place::table_trial(task, mount).unwrap();
+        assert!(row.success, "task {task}: {:?}", row.error);
+        assert!(row.target_error_cm < 2.0, "{}", row.target_error_cm);
+    }
+}
+
 #[test]
 fn moveits_panda_picks_an_object_off_the_table_and_places_it_by_coordinates() {
     let (_, mount) = panda();
     // Task 2 of the table family: a side grasp, the pick camera the scene's overhead one.
-    let row = tabula_bench::pick_place::table_trial(2, &mount).unwrap();
-    assert!(row.success, "{:?}", row.error);
-    assert!(row.target_error_cm < 2.0, "{}", row.target_error_cm);
+    picks_and_places(&mount, &[2]);
 }
 
 #[test]
@@ -92,10 +100,7 @@ fn the_panda_places_where_its_forearm_clears_the_table_and_lifts_beside_the_plac
     // Task 10: the placement first planned put link 7 on the table under a level side
     // placement; task 19: the place spot 14 cm from the object, whose support slab
     // reached under the object as it was lifted.
-    for task in [10, 19] {
-        let row = tabula_bench::pick_place::table_trial(task, &mount).unwrap();
-        assert!(row.success, "task {task}: {:?}", row.error);
-    }
+    picks_and_places(&mount, &[10, 19]);
 }
 
 #[test]
@@ -116,9 +121,5 @@ fn a_ur5e_on_its_pedestal_picks_and_places_without_touching_it() {
     // Task 2: stood 15 cm above the table, the arm reached down past the side of a
     // stand it did not know (three contacts); task 31: a side grasp tilted down pressed
     // the palm 6 mm into the box and tipped it into the table.
-    for task in [2, 31] {
-        let row = tabula_bench::pick_place::table_trial(task, &mount).unwrap();
-        assert!(row.success, "task {task}: {:?}", row.error);
-        assert!(row.target_error_cm < 2.0, "{}", row.target_error_cm);
-    }
+    picks_and_places(&mount, &[2, 31]);
 }

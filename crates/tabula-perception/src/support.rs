@@ -276,18 +276,23 @@ mod tests {
         (cloud, world_from_optical)
     }
 
+    /// The support of `cloud` (optical frame) under the optical frame's up, defaults.
+    fn support_of(cloud: &PointCloud) -> Support {
+        find_support(
+            cloud,
+            &Pose::IDENTITY,
+            Vec3::NEG_Y,
+            &SupportParams::default(),
+        )
+        .unwrap()
+    }
+
     #[test]
     fn the_floor_not_the_bigger_wall_from_the_optical_convention() {
         for pitch in [0.1f64, 0.4, 0.7] {
             // The wall (10 m²) is five times the floor (2 m²).
             let (cloud, world_from_optical) = room(pitch, 1.0);
-            let s = find_support(
-                &cloud,
-                &Pose::IDENTITY,
-                Vec3::NEG_Y,
-                &SupportParams::default(),
-            )
-            .unwrap();
+            let s = support_of(&cloud);
             let up_in_optical = world_from_optical.inverse().rotation * Vec3::Z;
             assert!(
                 s.plane.normal.angle_between(up_in_optical) < 0.02,
@@ -316,13 +321,7 @@ mod tests {
             .filter(|q| (world_from_optical * **q).z < 0.01)
             .map(|q| turned * *q);
         let cloud = PointCloud::unorganized(floor.collect());
-        let s = find_support(
-            &cloud,
-            &Pose::IDENTITY,
-            Vec3::NEG_Y,
-            &SupportParams::default(),
-        )
-        .unwrap();
+        let s = support_of(&cloud);
         assert!(s.hint_flipped);
         let up = turned * (world_from_optical.inverse().rotation * Vec3::Z);
         assert!(s.plane.normal.angle_between(up) < 0.02, "{:?}", s.plane);
@@ -333,13 +332,7 @@ mod tests {
         );
         // The optical convention keeps its answer unflipped.
         let (cloud, _) = room(0.4, 1.0);
-        let s = find_support(
-            &cloud,
-            &Pose::IDENTITY,
-            Vec3::NEG_Y,
-            &SupportParams::default(),
-        )
-        .unwrap();
+        let s = support_of(&cloud);
         assert!(!s.hint_flipped);
     }
 
