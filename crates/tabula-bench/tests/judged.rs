@@ -68,3 +68,34 @@ fn judges_refuse_what_they_cannot_judge() {
     .unwrap();
     assert!(e.to_string().contains("r2d2"), "{e}");
 }
+
+/// Issue 32's holdable grips, one per suite: a drill held 20 cm from its origin, by an
+/// end (complex 16), and a 16 cm box held 9 cm off its middle (simple 47) — both turned
+/// at random in the hand — are each put down to rest as planned, and the grip leaves
+/// the true object a resting face (the suite's rule).
+#[test]
+fn objects_held_off_their_middle_are_placed_to_rest() {
+    use rayon::prelude::*;
+    use tabula_bench::place::{Suite, task_of, trial};
+    let dir = std::env::temp_dir().join(format!("tabula-grips-test-{}", std::process::id()));
+    let cases = [
+        (Suite::ComplexGrips, 16, "drill"),
+        (Suite::SimpleGrips, 47, "box"),
+    ];
+    let rows: Vec<_> = cases
+        .par_iter()
+        .map(|&(suite, seed, _)| trial(seed, suite, &PlaceParams::default(), &dir).unwrap())
+        .collect();
+    for ((suite, seed, object), row) in cases.iter().zip(&rows) {
+        let task = task_of(*seed, *suite, &dir).unwrap();
+        assert!(task.scene.contains("grips = Anywhere"), "{suite:?} {seed}");
+        assert_eq!(row.object, *object);
+        assert_eq!(row.grip_allows_rest, Some(true), "{suite:?} {seed}");
+        assert!(
+            row.success,
+            "{suite:?} {seed}: {:?}, {:.1}°, moved {:.1} mm",
+            row.cause, row.orientation_error_deg, row.moved_after_release_mm
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -99,9 +99,11 @@ pub enum BenchCommand {
     /// Seed 000's placing on a generated suite: success by physics with 95 % intervals,
     /// failures by cause, decision CPU time.
     Place {
-        /// `simple` (cubes, boxes, cylinders), `complex` (mugs, drills, bottles, …) or
+        /// `simple` (cubes, boxes, cylinders), `complex` (mugs, drills, bottles, …),
         /// `rooms` (simple objects in walled rooms with ramps, cones and sign drums the
-        /// surface search must not take).
+        /// surface search must not take), or `simple-grips` / `complex-grips` (the same
+        /// objects held anywhere a parallel gripper can hold them: turned at random, by
+        /// a handle, a rim, an end).
         #[arg(long, default_value = "simple")]
         suite: String,
         #[arg(long, default_value_t = 20, value_parser = crate::args::count_u64)]

@@ -35,6 +35,23 @@ pub struct BenchRow {
     /// scan found the face it set the object down on.
     #[serde(default)]
     pub normal_error_deg: Option<f64>,
+    /// Where the object came to rest and on what, for a check by another physics
+    /// engine (`scripts/mujoco_rest.py`).
+    #[serde(default)]
+    pub rest: Option<RestRecord>,
+}
+
+/// The held object's end state and the table it was to rest on (world frame).
+#[derive(Serialize, serde::Deserialize)]
+pub struct RestRecord {
+    /// The object's shape as its scene gives it (a mesh path relative to the meshes'
+    /// folder: `--save-failures DIR` keeps them in `DIR/meshes`).
+    pub shape: tabula_sim::scene::ShapeSpec,
+    /// x y z qx qy qz qw after the release and settling.
+    pub final_pose: [f64; 7],
+    pub table_center: [f64; 2],
+    pub table_size: [f64; 3],
+    pub table_yaw: f64,
 }
 
 /// The suite's generated task `seed`.
@@ -43,10 +60,43 @@ pub fn task_of(
     suite: Suite,
     mesh_dir: &std::path::Path,
 ) -> std::io::Result<tabula_sim::generate::PlaceTask> {
+    use tabula_sim::generate::{place_task, room_task};
     match suite {
-        Suite::Rooms => tabula_sim::generate::room_task(seed, mesh_dir),
-        Suite::Simple => tabula_sim::generate::place_task(seed, true, mesh_dir),
-        Suite::Complex => tabula_sim::generate::place_task(seed, false, mesh_dir),
+        Suite::Rooms => room_task(seed, mesh_dir),
+        Suite::Simple => place_task(seed, true, mesh_dir),
+        Suite::Complex => place_task(seed, false, mesh_dir),
+        Suite::SimpleGrips => holdable_task(seed, true, mesh_dir),
+        Suite::ComplexGrips => holdable_task(seed, false, mesh_dir),
+    }
+}
+
+/// How many grips of one task are drawn before its last is taken as it is.
+const GRIP_DRAWS: u64 = 64;
+
+/// Task `seed` held at a grip a parallel gripper can really hold (issue 32's rule, see
+/// [`GripRule::Anywhere`]) that also leaves the true object a stable pose with the hand
+/// clear of the table (judged with the default parameters, so the suite does not
+/// change with `--params`): grips are drawn until one does.
+///
+/// [`GripRule::Anywhere`]: tabula_sim::generate::GripRule::Anywhere
+fn holdable_task(
+    seed: u64,
+    simple: bool,
+    mesh_dir: &std::path::Path,
+) -> std::io::Result<tabula_sim::generate::PlaceTask> {
+    use tabula_sim::generate::{GripRule, place_task_gripped};
+    let rule = PlaceParams::default();
+    let mut draw = 0;
+    loop {
+        let task = place_task_gripped(seed, simple, (GripRule::Anywhere, draw), mesh_dir)?;
+        let free = tabula_sim::Scene::parse(&task.scene, "generated")
+            .ok()
+            .and_then(|scene| resting_faces(&scene, &rule))
+            .is_some_and(|faces| faces.iter().any(|(_, clear)| *clear));
+        draw += 1;
+        if free || draw == GRIP_DRAWS {
+            return Ok(task);
+        }
     }
 }
 
@@ -78,6 +128,12 @@ pub fn trial(
     let world = SimWorld::from_scene(&scene, Default::default())
         .map_err(|e| anyhow::anyhow!("task {s}: {e}"))?;
     let faces = resting_faces(&scene, params);
+    let held_shape = scene
+        .robots
+        .iter()
+        .find_map(|r| r.hold.as_ref())
+        .and_then(|h| scene.objects.iter().find(|o| *o.name.get_ref() == h.object))
+        .map(|o| o.shape.clone());
     let grip_allows_rest = faces.as_ref().map(|f| f.iter().any(|(_, clear)| *clear));
     let t0 = std::time::Instant::now();
     let request = PlaceRequest {
@@ -137,6 +193,13 @@ pub fn trial(
         moved_after_release_mm: out.verdict.moved_after_release_m * 1e3,
         decision_ms: out.decision_ms,
         wall_s: t0.elapsed().as_secs_f64(),
+        rest: held_shape.map(|shape| RestRecord {
+            shape,
+            final_pose: out.verdict.final_pose,
+            table_center: task.table_center,
+            table_size: task.table_size,
+            table_yaw: task.table_yaw,
+        }),
     })
 }
 
@@ -147,6 +210,9 @@ pub enum Suite {
     Complex,
     /// Simple objects in rooms with walls and things that are not surfaces.
     Rooms,
+    /// Simple and complex objects held anywhere a parallel gripper can hold them.
+    SimpleGrips,
+    ComplexGrips,
 }
 
 pub fn suite_of(suite: &str) -> Result<Suite> {
@@ -154,7 +220,11 @@ pub fn suite_of(suite: &str) -> Result<Suite> {
         "simple" => Ok(Suite::Simple),
         "complex" => Ok(Suite::Complex),
         "rooms" => Ok(Suite::Rooms),
-        other => anyhow::bail!("--suite is `simple`, `complex` or `rooms`, not `{other}`"),
+        "simple-grips" => Ok(Suite::SimpleGrips),
+        "complex-grips" => Ok(Suite::ComplexGrips),
+        other => anyhow::bail!(
+            "--suite is `simple`, `complex`, `rooms`, `simple-grips` or `complex-grips`, not `{other}`"
+        ),
     }
 }
 

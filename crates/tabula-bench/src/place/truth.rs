@@ -8,10 +8,10 @@ use tabula_tasks::place::PlaceParams;
 /// tool frame, each with whether it is a resting face the hand leaves free: it tilts at
 /// least `min_topple_deg` before toppling, it is a flat face (not a curved side), and
 /// the hand stays clear of its plane — the tests the placer applies to its scanned
-/// model, here on the exact mesh. When no
+/// model, here on the exact mesh (or the primitive's). When no
 /// face leaves the hand clear, no placement can rest as planned without a regrasp (a
-/// ball with a pocket held across the pocket). `None` for primitives and scenes
-/// without a held mesh.
+/// ball with a pocket held across the pocket). `None` for scenes without a held object
+/// (or one of a shape it does not mesh).
 pub(super) fn resting_faces(
     scene: &tabula_sim::Scene,
     params: &PlaceParams,
@@ -24,14 +24,7 @@ pub(super) fn resting_faces(
         .objects
         .iter()
         .find(|o| *o.name.get_ref() == hold.object)?;
-    let tabula_sim::scene::ShapeSpec::Mesh { path, scale } = &object.shape else {
-        return None;
-    };
-    let path = scene
-        .base_dir
-        .as_ref()
-        .map_or_else(|| path.into(), |d| d.join(path));
-    let (vertices, triangles) = tabula_geom::mesh::load_mesh(&path, *scale).ok()?;
+    let (vertices, triangles) = held_mesh(scene, &object.shape)?;
     // At the placer's own contact tolerance: a rim of slightly uneven vertices (a
     // pocket's) is one support, as a scanned one is to the placer.
     let tolerant = tabula_tasks::stable::StableParams {
@@ -77,4 +70,37 @@ pub(super) fn resting_faces(
             })
             .collect(),
     )
+}
+
+/// The held object's exact surface: a mesh file as the scene scales it, a box, or a
+/// cylinder as a 64-sided prism (its stable poses are the caps and the side).
+fn held_mesh(
+    scene: &tabula_sim::Scene,
+    shape: &tabula_sim::scene::ShapeSpec,
+) -> Option<(Vec<Vec3>, Vec<[u32; 3]>)> {
+    use tabula_sim::objects::{cuboid, lathe};
+    use tabula_sim::scene::ShapeSpec;
+    match shape {
+        ShapeSpec::Mesh { path, scale } => {
+            let path = scene
+                .base_dir
+                .as_ref()
+                .map_or_else(|| path.into(), |d| d.join(path));
+            tabula_geom::mesh::load_mesh(&path, *scale).ok()
+        }
+        ShapeSpec::Box(size) => {
+            let size = Vec3::from_array(*size);
+            Some(cuboid(-size / 2.0, size))
+        }
+        ShapeSpec::Cylinder { radius, height } => Some(lathe(
+            &[
+                (0.0, -height / 2.0),
+                (*radius, -height / 2.0),
+                (*radius, height / 2.0),
+                (0.0, height / 2.0),
+            ],
+            64,
+        )),
+        _ => None,
+    }
 }

@@ -4,6 +4,7 @@
 
 mod blocks;
 pub mod clear;
+mod grips;
 pub mod place;
 pub mod shelf;
 pub mod table_pick;
