@@ -2,7 +2,7 @@
 //! with the ground truth of what the scan and the surface search should have found.
 
 use super::place_in;
-use super::truth::resting_faces;
+use super::truth::{held, resting_faces};
 use crate::spec::TrialSpec;
 use anyhow::Result;
 use serde::Serialize;
@@ -128,12 +128,7 @@ pub fn trial(
     let world = SimWorld::from_scene(&scene, Default::default())
         .map_err(|e| anyhow::anyhow!("task {s}: {e}"))?;
     let faces = resting_faces(&scene, params);
-    let held_shape = scene
-        .robots
-        .iter()
-        .find_map(|r| r.hold.as_ref())
-        .and_then(|h| scene.objects.iter().find(|o| *o.name.get_ref() == h.object))
-        .map(|o| o.shape.clone());
+    let held_shape = held(&scene).map(|(_, _, o)| o.shape.clone());
     let grip_allows_rest = faces.as_ref().map(|f| f.iter().any(|(_, clear)| *clear));
     let t0 = std::time::Instant::now();
     let request = PlaceRequest {

@@ -16,14 +16,7 @@ pub(super) fn resting_faces(
     scene: &tabula_sim::Scene,
     params: &PlaceParams,
 ) -> Option<Vec<(Vec3, bool)>> {
-    let (robot_spec, hold) = scene
-        .robots
-        .iter()
-        .find_map(|r| r.hold.as_ref().map(|h| (r, h)))?;
-    let object = scene
-        .objects
-        .iter()
-        .find(|o| *o.name.get_ref() == hold.object)?;
+    let (robot_spec, hold, object) = held(scene)?;
     let (vertices, triangles) = held_mesh(scene, &object.shape)?;
     // At the placer's own contact tolerance: a rim of slightly uneven vertices (a
     // pocket's) is one support, as a scanned one is to the placer.
@@ -70,6 +63,25 @@ pub(super) fn resting_faces(
             })
             .collect(),
     )
+}
+
+/// The robot holding an object in `scene`, its hold and the object.
+pub(super) fn held(
+    scene: &tabula_sim::Scene,
+) -> Option<(
+    &tabula_sim::scene::RobotSpec,
+    &tabula_sim::scene::HoldSpec,
+    &tabula_sim::scene::ObjectSpec,
+)> {
+    let (robot, hold) = scene
+        .robots
+        .iter()
+        .find_map(|r| r.hold.as_ref().map(|h| (r, h)))?;
+    let object = scene
+        .objects
+        .iter()
+        .find(|o| *o.name.get_ref() == hold.object)?;
+    Some((robot, hold, object))
 }
 
 /// The held object's exact surface: a mesh file as the scene scales it, a box, or a
