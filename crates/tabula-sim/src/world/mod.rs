@@ -4,6 +4,7 @@
 mod checks;
 mod commands;
 mod furniture;
+mod overlap;
 mod prism;
 #[cfg(test)]
 mod recycling_tests;
@@ -332,9 +333,7 @@ impl SimWorld {
         for f in &scene.furniture {
             w.add_furniture(f)?;
         }
-        for o in &scene.objects {
-            w.add_object(o)?;
-        }
+        w.add_objects(&scene.objects)?;
         for r in &scene.robots {
             w.add_robot(r)?;
         }
@@ -471,18 +470,57 @@ impl SimWorld {
 
     /// Adds a dynamic object; an object that would overlap another is refused.
     pub fn add_object(&mut self, o: &ObjectSpec) -> Result<(), SimError> {
-        let name = o.name.get_ref().clone();
-        if self.entity(&name).is_some() {
-            return Err(SimError::NameTaken(name));
+        self.add_objects(std::slice::from_ref(o))
+    }
+
+    /// Adds objects, failing exactly where adding them one by one would first fail (a
+    /// name taken, a shape that cannot be built, a body sunk into another) — but checked
+    /// together, in one sweep ([`Self::first_overlap`]).
+    pub fn add_objects(&mut self, objects: &[ObjectSpec]) -> Result<(), SimError> {
+        let mut names: std::collections::HashSet<&str> =
+            self.entities.iter().map(|e| e.name.as_str()).collect();
+        let (mut placed, mut shape_from_body) = (Vec::new(), Vec::new());
+        let mut failed = None;
+        for o in objects {
+            let name = o.name.get_ref();
+            if !names.insert(name) {
+                failed = Some(SimError::NameTaken(name.clone()));
+                break;
+            }
+            match self.object_shape(&o.shape) {
+                Ok((shape, local)) => {
+                    placed.push(overlap::Placement {
+                        name: name.clone(),
+                        shape,
+                        world_from_shape: pose_of(&o.pose) * local,
+                    });
+                    shape_from_body.push(local);
+                }
+                Err(e) => {
+                    failed = Some(e);
+                    break;
+                }
+            }
         }
-        let (shape, local) = self.object_shape(&o.shape)?;
-        let pose = pose_of(&o.pose);
-        if let Some(existing) = self.overlapping(&shape, &(pose * local)) {
+        if let Some((i, existing)) = self.first_overlap(&placed) {
             return Err(SimError::Overlap {
-                new: name,
+                new: placed[i].name.clone(),
                 existing,
             });
         }
+        if let Some(e) = failed {
+            return Err(e);
+        }
+        for ((o, p), local) in objects.iter().zip(placed).zip(shape_from_body) {
+            self.insert_object(o, p.shape, local);
+        }
+        Ok(())
+    }
+
+    /// Builds a checked object's body and colliders.
+    fn insert_object(&mut self, o: &ObjectSpec, shape: SharedShape, local: Pose) {
+        let name = o.name.get_ref();
+        let pose = pose_of(&o.pose);
         let volume = shape.mass_properties(1.0).mass();
         let density = match (o.mass, o.density) {
             (Some(m), _) => m / volume.max(1e-12),
@@ -508,8 +546,7 @@ impl SimWorld {
                 .user_data(label | SUPPORT_PIECE);
             self.physics.insert_collider(c, Some(body));
         }
-        self.push_entity(&name, EntityKind::Object, body, o.color);
-        Ok(())
+        self.push_entity(name, EntityKind::Object, body, o.color);
     }
 
     /// Robot links as kinematic bodies at their FK poses (collision geometry).
@@ -579,34 +616,6 @@ impl SimWorld {
 
     /// The name of an entity that `shape` at `pose` would penetrate by more than a
     /// millimetre (touching, as an object resting on a table does, is fine).
-    fn overlapping(&self, shape: &SharedShape, pose: &Pose) -> Option<String> {
-        // Bounds first: a scene of 10,000 objects is 50 million pairs, of which only
-        // neighbours need the exact query.
-        let bounds = shape.compute_aabb(pose).loosened(saved::MAX_LOAD_OVERLAP);
-        for (_, c) in self.physics.colliders.iter() {
-            if !bounds.intersects(&c.compute_aabb()) {
-                continue;
-            }
-            let contact = rapier3d_f64::parry::query::contact(
-                pose,
-                shape.as_ref(),
-                c.position(),
-                c.shape(),
-                0.0,
-            )
-            .ok()
-            .flatten();
-            // See `saved::MAX_LOAD_OVERLAP`.
-            if contact.is_some_and(|k| k.dist < -saved::MAX_LOAD_OVERLAP) {
-                return self
-                    .entities
-                    .get((c.user_data as usize).wrapping_sub(1))
-                    .map(|e| e.name.clone());
-            }
-        }
-        None
-    }
-
     /// Index of a named entity.
     pub fn entity(&self, name: &str) -> Option<usize> {
         self.entities.iter().position(|e| e.name == name)
