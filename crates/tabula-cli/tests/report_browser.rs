@@ -86,7 +86,7 @@ fn the_demo_runs_the_four_jobs_and_its_report_loads_draws_and_shows_every_image(
         String::from_utf8_lossy(&run.stderr)
     );
     let stdout = String::from_utf8_lossy(&run.stdout);
-    // Outcomes are pinned by the scenario tests (tests/placing.rs, clearing.rs,
+    // Outcomes are pinned by the scenario tests (tests/it/placing.rs, clearing.rs,
     // pick_place.rs, tidying.rs); here: the jobs ran and were summarised.
     for job in [
         "placing     ",

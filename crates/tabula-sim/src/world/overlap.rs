@@ -54,10 +54,10 @@ impl SimWorld {
                 if !a.intersects(b) {
                     continue;
                 }
-                let ((later, _), (earlier_order, earlier)) = if a_order > b_order {
-                    ((a_what, a_order), (*b_order, b_what))
+                let (later, (earlier_order, earlier)) = if a_order > b_order {
+                    (a_what, (*b_order, b_what))
                 } else {
-                    ((b_what, b_order), (*a_order, a_what))
+                    (b_what, (*a_order, a_what))
                 };
                 let Swept::Placed(i) = *later else { continue };
                 if sunk_into[i].is_some_and(|o| o < earlier_order) {
@@ -76,8 +76,14 @@ impl SimWorld {
             Swept::Placed(j) => placed[j].name.clone(),
             Swept::Collider(h) => {
                 let label = self.physics.colliders[h].user_data & !SUPPORT_PIECE;
-                let entity = self.entities.get((label as usize).checked_sub(1)?)?;
-                entity.name.clone()
+                match (label as usize)
+                    .checked_sub(1)
+                    .map(|e| self.entities.get(e))
+                {
+                    Some(Some(entity)) => entity.name.clone(),
+                    // Built by hand, not from a scene: still an overlap.
+                    _ => format!("collider {order} (no entity)"),
+                }
             }
         };
         Some((i, name))

@@ -118,7 +118,7 @@ proptest! {
     /// Mutated scene files: an error with a place, or a scene that builds; never a panic.
     #[test]
     fn mutated_scenes_never_panic(edits in proptest::collection::vec((any::<prop::sample::Index>(), 0u8..3, prop::sample::select(vec!['[', ']', '=', '"', '-', '0', '9', '.', '\n', 'x', '{', '}', ','])), 1..6)) {
-        let source = include_str!("../../../scenes/clutter.toml");
+        let source = include_str!("../../../../scenes/clutter.toml");
         let mut chars: Vec<char> = source.chars().collect();
         for (at, op, c) in edits {
             if chars.is_empty() { break; }

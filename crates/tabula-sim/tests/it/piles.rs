@@ -3,7 +3,7 @@
 //! finger squeezing an object against the table must not push it through the table or
 //! the floor, and the scene saved afterwards must load again.
 
-mod common;
+use crate::common;
 
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;

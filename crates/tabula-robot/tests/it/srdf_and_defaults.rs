@@ -1,7 +1,7 @@
 //! SRDF reading (srdfdom's schema, checked against the URDF as MoveIt does) and the
 //! default arm of a URDF without any description.
 
-mod common;
+use crate::common;
 
 use tabula_robot::RobotModel;
 use tabula_robot::description::RobotDescription;

@@ -50,7 +50,7 @@ fn held_objects_are_scanned_and_placed_stably() {
     let cases = vec![
         (
             "seed scene".to_string(),
-            include_str!("../../../scenes/pr2_holding.toml").to_string(),
+            include_str!("../../../../scenes/pr2_holding.toml").to_string(),
             "right".to_string(),
         ),
         generated(3, true),

@@ -8,7 +8,7 @@ use tabula_sim::{PhysicsParams, Scene, SimDriver, SimWorld};
 
 fn holding() -> SimWorld {
     let scene = Scene::parse(
-        include_str!("../../../scenes/pr2_holding.toml"),
+        include_str!("../../../../scenes/pr2_holding.toml"),
         "scenes/pr2_holding.toml",
     )
     .unwrap();

@@ -1,6 +1,6 @@
 //! The gripper holds what it closes on (issue 3's grasp scenario).
 
-mod common;
+use crate::common;
 
 use tabula_geom::Vec3;
 use tabula_robot::Chain;

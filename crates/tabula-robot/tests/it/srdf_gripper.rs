@@ -1,7 +1,7 @@
 //! A parallel gripper read off an SRDF end effector and the URDF's finger geometry: the
 //! widths, axes and grasp frame the tasks need, without a hand-written description.
 
-mod common;
+use crate::common;
 
 use tabula_geom::Vec3;
 use tabula_robot::RobotModel;

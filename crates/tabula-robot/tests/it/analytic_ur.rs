@@ -3,7 +3,7 @@
 //! expansion with `ur_type:=ur5e`, including the rounded π/2 of its YAML), and on
 //! randomised arms of the same family.
 
-mod common;
+use crate::common;
 
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;

@@ -3,7 +3,7 @@
 //! axes — two of them negative — and limits copied from its `kr16_2.urdf`), and on
 //! randomised arms of both sub-families: axes 2 and 3 parallel, axes 1 and 2 meeting.
 
-mod common;
+use crate::common;
 
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;

@@ -1,0 +1,5 @@
+//! tabula-pddl's scenario tests in one binary: each file was its own test binary, each
+//! compiled and linked against the whole workspace on its own.
+
+mod parse;
+mod plan;
