@@ -113,14 +113,16 @@ pub fn segment_certified(world: &CollisionWorld, a: &[f64], b: &[f64], resolutio
 /// treated as blocked.
 const MAX_ADVANCES: usize = 20_000;
 
-/// Conservative advancement along a→b, in bisection order: the clearance `c` measured
-/// at a configuration keeps every configuration within `c − padding` of motion from it
-/// clear by the padding, so a stretch whose two ends' margins together cover its
-/// length is certified whole; any other is split at its middle. Long stretches of open
-/// space are certified in a few queries, a contact in the middle is met early, and the
-/// whole segment keeps the padding, not only its samples. Near an obstacle the
-/// stretches shrink; one with less than 10 µm of margin at both ends is checked at
-/// fixed spacing where the padding certifies that, and is blocked otherwise.
+/// Conservative advancement along a→b, in bisection order: the margin `m` measured at
+/// a configuration (in the segment's length, [`CollisionWorld::time_margin`]: each
+/// pair's distance beyond the padding over how fast that pair can close) keeps the
+/// stretch within `m` of it clear by the padding, so a stretch whose two ends' margins
+/// together cover its length is certified whole; any other is split at its middle.
+/// Long stretches of open space are certified in a few queries, a contact in the
+/// middle is met early, and the whole segment keeps the padding, not only its samples.
+/// Near an obstacle the stretches shrink; one with less than 10 µm of motion in its
+/// margins is checked at fixed spacing where the padding certifies that, and is
+/// blocked otherwise.
 pub fn segment_valid_advancing(
     world: &CollisionWorld,
     a: &[f64],
@@ -129,16 +131,17 @@ pub fn segment_valid_advancing(
 ) -> bool {
     let spaced_fallback = spacing_certifies(world);
     let pad = world.max_padding();
-    let total = world.displacement_bound(a, b);
-    // Clearances beyond 10 cm buy little but cost distance queries.
+    let rates = world.sweep_rates(a, b);
+    let fastest = rates.fastest();
+    // Margins beyond 10 cm of motion buy little but cost distance queries.
     let cap = 0.1;
     let mut q = a.to_vec();
     let mut margin_at = |t: f64| -> Option<f64> {
         for k in 0..a.len() {
             q[k] = a[k] + (b[k] - a[k]) * t;
         }
-        let c = world.clearance(&q, cap).ok()?;
-        (c > pad).then_some(c - pad)
+        let m = world.time_margin(&q, &rates, pad, cap).ok()?;
+        (m > 0.0).then_some(m)
     };
     let (Some(ma), Some(mb)) = (margin_at(0.0), margin_at(1.0)) else {
         return false;
@@ -146,10 +149,10 @@ pub fn segment_valid_advancing(
     let mut pending = std::collections::VecDeque::from([(0.0, 1.0, ma, mb)]);
     let mut measured = 2;
     while let Some((t0, t1, m0, m1)) = pending.pop_front() {
-        if total * (t1 - t0) <= m0 + m1 {
+        if t1 - t0 <= m0 + m1 {
             continue;
         }
-        if m0 + m1 < 1e-5 || measured >= MAX_ADVANCES {
+        if (m0 + m1) * fastest < 1e-5 || measured >= MAX_ADVANCES {
             // Hugging an obstacle: where the padding certifies fixed spacing, check the
             // stretch that way; otherwise it is blocked.
             if !spaced_fallback {

@@ -1,10 +1,11 @@
-//! Clearance: the smallest distance between anything [`CollisionWorld::first_collision`]
-//! would test, capped — what conservative advancement steps by. Sphere covers bound a
-//! pair's distance from below for a few multiplications, so the exact (GJK) distance is
-//! computed only for pairs whose cover comes closer than the best found so far.
+//! Clearance along a segment: how far conservative advancement may step from a
+//! configuration, each pair [`CollisionWorld::first_collision`] would test weighed by
+//! how fast it can close. Sphere covers bound a pair's distance from below for a few
+//! multiplications, so the exact (GJK) distance is computed only for pairs whose cover
+//! comes closer than the best found so far allows.
 
 use super::gjk::{self, Hull};
-use super::{CollisionWorld, WorldError, WorldObject};
+use super::{CollisionWorld, SweepRates, WorldError, WorldObject};
 use tabula_geom::parry::bounding_volume::{Aabb, BoundingVolume};
 use tabula_geom::parry::query;
 use tabula_geom::parry::shape::SharedShape;
@@ -71,11 +72,25 @@ fn balls_to_balls(a: &[(Vec3, f64)], b: &[(Vec3, f64)]) -> f64 {
     lb.max(0.0)
 }
 
+/// Rates at or below this count as "does not move": a pair that cannot come closer
+/// along the segment needs only its distance above the padding.
+const STILL: f64 = 1e-12;
+
 impl CollisionWorld {
-    /// Clearance at `q`, capped at `cap`: the smallest distance between any pair that
-    /// [`Self::first_collision`] would test (moving links and held objects against the
-    /// world and the robot), or a negative number when `q` is out of limits.
-    pub fn clearance(&self, q: &[f64], cap: f64) -> Result<f64, WorldError> {
+    /// The margin of `q` along a segment, in the segment's own length (0 at its start,
+    /// 1 at its end): the smallest `(distance − pad) / rate` over every pair that
+    /// [`Self::first_collision`] would test, each pair's rate the most its distance can
+    /// shrink over the whole segment (`rates`, [`SweepRates`]). From `q`, a stretch of
+    /// the segment that long keeps every pair apart by `pad`. Capped where the fastest
+    /// body has moved `cap` metres (far things cost distance queries and buy little);
+    /// negative when `q` is out of limits or some pair is within `pad`.
+    pub fn time_margin(
+        &self,
+        q: &[f64],
+        rates: &SweepRates,
+        pad: f64,
+        cap: f64,
+    ) -> Result<f64, WorldError> {
         self.checks.set(self.checks.get() + 1);
         let poses = self.body_poses(q)?;
         for (i, v) in q.iter().enumerate() {
@@ -83,14 +98,16 @@ impl CollisionWorld {
                 return Ok(-1.0);
             }
         }
-        let mut best = cap;
+        let mut best = cap / rates.fastest().max(STILL);
         let mut balls = Vec::new();
         let placed = self.placed_shapes(&poses, false, &mut balls);
         // A decomposed link's pieces only where its outer hull comes closer than the
         // best so far (the hull contains them: its distance bounds theirs from below).
         let mut far: (usize, Vec<usize>) = (usize::MAX, Vec::new());
         for p in placed.iter().filter(|p| self.bodies[p.body].moving) {
-            let reach = p.aabb.loosened(best);
+            let rate = rates.body(p.body).max(STILL);
+            let limit = pad + best * rate;
+            let reach = p.aabb.loosened(limit);
             let near: Vec<usize> = if far.0 == p.body {
                 far.1.clone()
             } else {
@@ -102,37 +119,49 @@ impl CollisionWorld {
             let mut closer = Vec::new();
             for i in near {
                 let o = &self.objects[i];
+                let limit = pad + best * rate;
                 if o.allowed_bodies.contains(&p.body)
-                    || !reach.intersects(&o.aabb)
-                    || balls_to_object(&balls[p.balls.clone()], o, best) >= best
+                    || !p.aabb.loosened(limit).intersects(&o.aabb)
+                    || balls_to_object(&balls[p.balls.clone()], o, limit) >= limit
                 {
                     continue;
                 }
-                let d = self.object_distance(&Solid::of(p), &p.aabb.loosened(best), o, best);
+                let d = self.object_distance(&Solid::of(p), &p.aabb.loosened(limit), o, limit);
                 if p.outer {
-                    if d < best {
+                    if d < limit {
                         closer.push(i);
                     }
                 } else {
-                    best = best.min(d);
+                    best = best.min((d - pad) / rate);
+                    if best <= 0.0 {
+                        return Ok(best);
+                    }
                 }
             }
             if p.outer {
                 far = (p.body, closer);
             }
         }
-        let pairs = self.self_piece_pairs(&placed, best, |pi, pk| {
-            balls_to_balls(&balls[pi.balls.clone()], &balls[pk.balls.clone()]) < best
-                && Solid::of(pi).distance(&Solid::of(pk), best) < best
+        let widest = pad + best * rates.fastest();
+        let pairs = self.self_piece_pairs(&placed, widest, |pi, pk| {
+            let limit = pad + best * rates.pair(pi.body, pk.body);
+            balls_to_balls(&balls[pi.balls.clone()], &balls[pk.balls.clone()]) < limit
+                && Solid::of(pi).distance(&Solid::of(pk), limit) < limit
         });
         for (i, k) in pairs {
             let (pi, pk) = (&placed[i], &placed[k]);
-            if !pi.aabb.loosened(best).intersects(&pk.aabb)
-                || balls_to_balls(&balls[pi.balls.clone()], &balls[pk.balls.clone()]) >= best
+            let rate = rates.pair(pi.body, pk.body).max(STILL);
+            let limit = pad + best * rate;
+            if !pi.aabb.loosened(limit).intersects(&pk.aabb)
+                || balls_to_balls(&balls[pi.balls.clone()], &balls[pk.balls.clone()]) >= limit
             {
                 continue;
             }
-            best = best.min(Solid::of(pi).distance(&Solid::of(pk), best));
+            let d = Solid::of(pi).distance(&Solid::of(pk), limit);
+            best = best.min((d - pad) / rate);
+            if best <= 0.0 {
+                return Ok(best);
+            }
         }
         for att in &self.attached {
             let held = Solid {
@@ -141,12 +170,25 @@ impl CollisionWorld {
                 hull: None,
             };
             let aabb = att.shape.compute_aabb(&held.pose);
-            for o in self.objects_near(&aabb.loosened(best)) {
-                best = best.min(self.object_distance(&held, &aabb.loosened(best), o, best));
+            let rate = rates.body(att.body).max(STILL);
+            let limit = pad + best * rate;
+            for o in self.objects_near(&aabb.loosened(limit)) {
+                let limit = pad + best * rate;
+                let d = self.object_distance(&held, &aabb.loosened(limit), o, limit);
+                best = best.min((d - pad) / rate);
+                if best <= 0.0 {
+                    return Ok(best);
+                }
             }
             for p in placed.iter().filter(|p| !p.outer) {
-                if !att.touch.contains(&p.body) && aabb.loosened(best).intersects(&p.aabb) {
-                    best = best.min(held.distance(&Solid::of(p), best));
+                let rate = rates.pair(att.body, p.body).max(STILL);
+                let limit = pad + best * rate;
+                if !att.touch.contains(&p.body) && aabb.loosened(limit).intersects(&p.aabb) {
+                    let d = held.distance(&Solid::of(p), limit);
+                    best = best.min((d - pad) / rate);
+                    if best <= 0.0 {
+                        return Ok(best);
+                    }
                 }
             }
         }

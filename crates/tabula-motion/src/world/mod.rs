@@ -10,9 +10,11 @@ mod edit;
 mod gjk;
 mod objects;
 mod placed;
+mod sweep;
 
 pub use allowed::AllowedCollisions;
 pub use edit::IgnoredJoints;
+pub use sweep::SweepRates;
 
 use cover::Cover;
 use gjk::Hull;
@@ -153,6 +155,9 @@ pub struct CollisionWorld {
     /// holds) can be from that joint's axis — so a joint step Δ moves no point by more
     /// than `radius · Δ`.
     motion_radius: Vec<f64>,
+    /// Per chain element and body (`element · bodies + body`): how far the body's points
+    /// can be from the element's joint origin (see [`SweepRates`]); empty when unanchored.
+    levers: Vec<f64>,
     /// How to place each body without full forward kinematics (see [`Anchor`]).
     anchors: Vec<Anchor>,
     /// Model joint of each chain element (descending chains only).
@@ -277,6 +282,7 @@ impl CollisionWorld {
             element_joints: None,
             world_from_chain_base: Pose::IDENTITY,
             motion_radius,
+            levers: Vec::new(),
             model,
             chain,
             world_from_root,
@@ -380,25 +386,6 @@ impl CollisionWorld {
         Ok(())
     }
 
-    /// With anchors known, bound each joint's lever arm by the bodies actually beyond it
-    /// (chain offsets up to the body's element, plus the body's own extent, plus what it
-    /// holds) instead of the whole chain plus a generous margin.
-    fn tighten_motion_radius(&mut self) {
-        let Some(levers) = self.lever_bounds() else {
-            return;
-        };
-        let mut radius = vec![0.0f64; self.chain.dof()];
-        for (ek, r) in self.chain.elements.iter().zip(levers) {
-            let r = if ek.prismatic {
-                1.0
-            } else {
-                r * ek.multiplier.abs()
-            };
-            radius[ek.var] = radius[ek.var].max(r);
-        }
-        self.motion_radius = radius;
-    }
-
     /// A ball that holds every body the chain moves, and what they hold, in every
     /// configuration: centred on the first joint, its radius the longest lever from
     /// there plus the farthest shape. Nothing outside it can ever touch the arm, so a
@@ -407,63 +394,13 @@ impl CollisionWorld {
     /// from its base).
     pub fn moving_bound(&self) -> Option<(Vec3, f64)> {
         let first = self.chain.elements.first()?;
-        let radius = *self.lever_bounds()?.first()?;
+        self.element_joints.as_ref()?;
+        let n = self.bodies.len();
+        let radius = self.levers.get(..n)?.iter().copied().fold(0.0, f64::max);
         let centre = self
             .world_from_chain_base
             .transform_point(first.pre.translation);
         Some((centre, radius))
-    }
-
-    /// Per chain element: how far any point of a body beyond it (and of what that body
-    /// holds) can be from the element's joint origin.
-    fn lever_bounds(&self) -> Option<Vec<f64>> {
-        self.element_joints.as_ref()?;
-        let elements = &self.chain.elements;
-        let mut extent = vec![0.0f64; self.bodies.len()];
-        for (b, body) in self.bodies.iter().enumerate() {
-            let a = self.anchors[b];
-            for (shape, p) in &body.shapes {
-                let sphere = shape.compute_local_bounding_sphere();
-                extent[b] =
-                    extent[b].max((a.offset * (*p * sphere.center())).length() + sphere.radius());
-            }
-        }
-        for att in &self.attached {
-            let a = self.anchors[att.body];
-            let sphere = att.shape.compute_local_bounding_sphere();
-            let reach =
-                (a.offset * (att.link_from_object * sphere.center())).length() + sphere.radius();
-            extent[att.body] = extent[att.body].max(reach);
-        }
-        let mut levers = vec![0.0f64; elements.len()];
-        for (k, lever_k) in levers.iter_mut().enumerate() {
-            let mut r: f64 = 0.0;
-            for (b, a) in self.anchors.iter().enumerate() {
-                let Some(m) = a.element else { continue };
-                if m < k {
-                    continue;
-                }
-                // Fixed offsets, plus the travel of any prismatic joint in between.
-                let lever: f64 = elements[k + 1..=m]
-                    .iter()
-                    .map(|e| {
-                        let travel = if e.prismatic {
-                            e.multiplier.abs()
-                                * self.chain.lower[e.var]
-                                    .abs()
-                                    .max(self.chain.upper[e.var].abs())
-                                + e.offset.abs()
-                        } else {
-                            0.0
-                        };
-                        e.pre.translation.length() + travel
-                    })
-                    .sum();
-                r = r.max(lever + extent[b]);
-            }
-            *lever_k = r;
-        }
-        Some(levers)
     }
 
     fn anchor_for(&self, link: usize, root_poses: &[Pose]) -> Anchor {
