@@ -99,7 +99,7 @@ impl CollisionWorld {
         let placed = self.placed_shapes(&poses, true, &mut balls);
         Ok(self
             .robot_hits_world(&placed, &balls)
-            .or_else(|| self.robot_hits_itself(&placed, &balls))
+            .or_else(|| self.robot_hits_itself(q, &placed, &balls))
             .or_else(|| self.attached_hit(&poses, &placed)))
     }
 
@@ -148,6 +148,7 @@ impl CollisionWorld {
     /// then the pieces of the pairs whose boxes meet.
     fn robot_hits_itself(
         &self,
+        q: &[f64],
         placed: &[Placed],
         balls: &[(tabula_geom::Vec3, f64)],
     ) -> Option<Pair> {
@@ -159,7 +160,13 @@ impl CollisionWorld {
                 && !balls_apart(&balls[pi.balls.clone()], &balls[pk.balls.clone()], pad)
                 && Solid::of(pi).within(Solid::of(pk), pad)
         };
-        for (i, k) in self.self_piece_pairs(placed, 0.0, meet) {
+        let apart = |a: usize, b: usize| {
+            let pad = self.bodies[a].padding.max(self.bodies[b].padding);
+            self.pair_tables
+                .floor(self, a, b, q)
+                .is_some_and(|d| d > pad)
+        };
+        for (i, k) in self.self_piece_pairs(placed, 0.0, apart, meet) {
             let (pi, pk) = (&placed[i], &placed[k]);
             let (a, b) = (pi.body, pk.body);
             if self.self_pair_checked(a, b) && meet(pi, pk) {

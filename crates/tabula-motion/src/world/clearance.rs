@@ -143,7 +143,11 @@ impl CollisionWorld {
             }
         }
         let widest = pad + best * rates.fastest();
-        let pairs = self.self_piece_pairs(&placed, widest, |pi, pk| {
+        let apart = |a: usize, b: usize| {
+            let floor = self.pair_tables.floor(self, a, b, q);
+            floor.is_some_and(|d| d >= pad + best * rates.pair(a, b))
+        };
+        let pairs = self.self_piece_pairs(&placed, widest, apart, |pi, pk| {
             let limit = pad + best * rates.pair(pi.body, pk.body);
             balls_to_balls(&balls[pi.balls.clone()], &balls[pk.balls.clone()]) < limit
                 && Solid::of(pi).distance(&Solid::of(pk), limit) < limit

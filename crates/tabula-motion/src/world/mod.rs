@@ -9,6 +9,7 @@ mod cover;
 mod edit;
 mod gjk;
 mod objects;
+mod pair_table;
 mod placed;
 mod sweep;
 
@@ -18,6 +19,7 @@ pub use sweep::SweepRates;
 
 use cover::Cover;
 use gjk::Hull;
+use pair_table::PairTables;
 use placed::{Outer, Placed};
 
 use std::cell::Cell;
@@ -158,6 +160,8 @@ pub struct CollisionWorld {
     /// Per chain element and body (`element · bodies + body`): how far the body's points
     /// can be from the element's joint origin (see [`SweepRates`]); empty when unanchored.
     levers: Vec<f64>,
+    /// Distances of the robot's pairs that move by one or two joints, remembered.
+    pair_tables: PairTables,
     /// How to place each body without full forward kinematics (see [`Anchor`]).
     anchors: Vec<Anchor>,
     /// Model joint of each chain element (descending chains only).
@@ -283,6 +287,7 @@ impl CollisionWorld {
             world_from_chain_base: Pose::IDENTITY,
             motion_radius,
             levers: Vec::new(),
+            pair_tables: PairTables::default(),
             model,
             chain,
             world_from_root,
@@ -383,6 +388,7 @@ impl CollisionWorld {
             .map(|b| self.anchor_for(self.bodies[b].link, &root_poses))
             .collect();
         self.tighten_motion_radius();
+        self.pair_tables = PairTables::build(self);
         Ok(())
     }
 

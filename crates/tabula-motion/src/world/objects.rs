@@ -273,6 +273,9 @@ impl CollisionWorld {
             touch,
         });
         self.tighten_motion_radius();
+        if self.bodies.len() != self.pair_tables.bodies() {
+            self.pair_tables = PairTables::build(self);
+        }
         Ok(())
     }
 }

@@ -11,13 +11,15 @@ use tabula_geom::{Pose, Vec3};
 
 impl CollisionWorld {
     /// Index pairs of placed pieces of two bodies that may collide (checked pair, not
-    /// allowed) and whose boxes, grown by `margin`, meet; bodies are paired first, and
-    /// where either is decomposed, `outers_meet` on the two outer shapes (a piece is its
-    /// body's own outer shape) decides whether their pieces are paired at all.
+    /// allowed) and whose boxes, grown by `margin`, meet; bodies are paired first —
+    /// `apart` (body indices) drops pairs known to be far enough, and where either is
+    /// decomposed, `outers_meet` on the two outer shapes (a piece is its body's own outer
+    /// shape) decides whether their pieces are paired at all.
     pub(super) fn self_piece_pairs(
         &self,
         placed: &[Placed<'_>],
         margin: f64,
+        apart: impl Fn(usize, usize) -> bool,
         outers_meet: impl Fn(&Placed<'_>, &Placed<'_>) -> bool,
     ) -> Vec<(usize, usize)> {
         // Per body: its outer entry (or its only piece), its pieces, its box.
@@ -40,7 +42,7 @@ impl CollisionWorld {
         for (g, (a, rep_a, ra, box_a, outer_a)) in groups.iter().enumerate() {
             let grown = box_a.loosened(margin);
             for (b, rep_b, rb, box_b, outer_b) in &groups[g + 1..] {
-                if !self.self_pair_checked(*a, *b) || !grown.intersects(box_b) {
+                if !self.self_pair_checked(*a, *b) || !grown.intersects(box_b) || apart(*a, *b) {
                     continue;
                 }
                 if (*outer_a || *outer_b) && !outers_meet(&placed[*rep_a], &placed[*rep_b]) {
