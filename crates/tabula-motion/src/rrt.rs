@@ -176,6 +176,21 @@ pub fn segment_valid_advancing(
     true
 }
 
+/// 1..=n in van der Corput order (by their bits reversed: n/2 first, then the
+/// quarters, …), generated without sorting.
+fn van_der_corput(n: usize) -> impl Iterator<Item = usize> {
+    let n = n.min(u32::MAX as usize >> 1) as u32;
+    let bits = 32 - n.leading_zeros();
+    (0..1u64 << bits)
+        .map(move |j| {
+            (j as u32)
+                .reverse_bits()
+                .checked_shr(32 - bits)
+                .unwrap_or(0) as usize
+        })
+        .filter(move |&i| (1..=n as usize).contains(&i))
+}
+
 fn segment_valid_spaced(
     world: &CollisionWorld,
     a: &[f64],
@@ -190,10 +205,7 @@ fn segment_valid_spaced(
         return world.is_valid(b);
     }
     let mut q = vec![0.0; a.len()];
-    // Van der Corput order over 1..steps.
-    let mut order: Vec<usize> = (1..=steps).collect();
-    order.sort_by_key(|&i| (i as u32).reverse_bits());
-    for i in order {
+    for i in van_der_corput(steps) {
         let t = i as f64 / steps as f64;
         for k in 0..a.len() {
             q[k] = a[k] + (b[k] - a[k]) * t;
@@ -603,5 +615,21 @@ impl Validate for PlannerParams {
         // checking resolution under 1e-5 rad is millions of checks per edge.
         check_in(at, "range", self.range, 1e-3, 1e3)?;
         check_in(at, "resolution", self.resolution, 1e-5, 1.0)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn van_der_corput_is_the_bit_reversed_sort() {
+        for n in 0..300usize {
+            let mut sorted: Vec<usize> = (1..=n).collect();
+            sorted.sort_by_key(|&i| (i as u32).reverse_bits());
+            assert_eq!(
+                super::van_der_corput(n).collect::<Vec<_>>(),
+                sorted,
+                "n = {n}"
+            );
+        }
     }
 }

@@ -124,7 +124,7 @@ impl CollisionWorld {
                     && Solid::of(p).touches(&p.aabb, o, pad)
             };
             if p.outer {
-                let near = self.objects_bvh.intersect_aabb(&p.aabb).map(|i| i as usize);
+                let near = self.object_indices_near(&p.aabb);
                 suspects = (b, near.filter(|&i| touches(&self.objects[i])).collect());
                 continue;
             }

@@ -111,10 +111,7 @@ impl CollisionWorld {
             let near: Vec<usize> = if far.0 == p.body {
                 far.1.clone()
             } else {
-                self.objects_bvh
-                    .intersect_aabb(&reach)
-                    .map(|i| i as usize)
-                    .collect()
+                self.object_indices_near(&reach).collect()
             };
             let mut closer = Vec::new();
             for i in near {

@@ -2,6 +2,10 @@
 //! bounding-volume tree, and objects attached to a link.
 
 use super::*;
+use tabula_geom::parry::bounding_volume::BoundingVolume;
+
+/// Scenes with at most this many objects are searched box by box.
+const LINEAR_SCAN_OBJECTS: usize = 32;
 
 impl CollisionWorld {
     /// Adds a fixed object.
@@ -58,9 +62,29 @@ impl CollisionWorld {
         &'a self,
         aabb: &'a Aabb,
     ) -> impl Iterator<Item = &'a WorldObject> + 'a {
-        self.objects_bvh
-            .intersect_aabb(aabb)
-            .filter_map(|i| self.objects.get(i as usize))
+        self.object_indices_near(aabb)
+            .filter_map(|i| self.objects.get(i))
+    }
+
+    /// Indices of the world objects whose boxes meet `aabb`: a pass over the boxes for a
+    /// scene of a few dozen objects (a BVH walk costs more than that), the BVH beyond.
+    pub(super) fn object_indices_near<'a>(
+        &'a self,
+        aabb: &'a Aabb,
+    ) -> impl Iterator<Item = usize> + 'a {
+        let few = self.objects.len() <= LINEAR_SCAN_OBJECTS;
+        let linear = few.then(|| {
+            self.objects
+                .iter()
+                .enumerate()
+                .filter(|(_, o)| o.aabb.intersects(aabb))
+                .map(|(i, _)| i)
+        });
+        let walk = (!few).then(|| self.objects_bvh.intersect_aabb(aabb).map(|i| i as usize));
+        linear
+            .into_iter()
+            .flatten()
+            .chain(walk.into_iter().flatten())
     }
 
     /// A mesh file (OBJ or STL) as a world object: its convex hull, or with `decompose`
