@@ -23,7 +23,8 @@ impl CollisionWorld {
         outers_meet: impl Fn(&Placed<'_>, &Placed<'_>) -> bool,
     ) -> Vec<(usize, usize)> {
         // Per body: its outer entry (or its only piece), its pieces, its box.
-        let mut groups: Vec<(usize, usize, std::ops::Range<usize>, Aabb, bool)> = Vec::new();
+        let mut groups: Vec<(usize, usize, std::ops::Range<usize>, Aabb, bool)> =
+            Vec::with_capacity(self.bodies.len());
         for (i, p) in placed.iter().enumerate() {
             match groups.last_mut() {
                 Some((b, _, range, aabb, _)) if *b == p.body => {
@@ -69,7 +70,18 @@ impl CollisionWorld {
         padded: bool,
         balls: &mut Vec<(Vec3, f64)>,
     ) -> Vec<Placed<'a>> {
-        let mut placed = Vec::new();
+        // Sized up front: growing these is a good part of a check's cost.
+        let (mut pieces, mut spheres) = (0, 0);
+        for lb in &self.bodies {
+            if let Some(o) = &lb.outer {
+                pieces += 1;
+                spheres += o.cover.spheres.len();
+            }
+            pieces += lb.shapes.len();
+            spheres += lb.covers.iter().map(|c| c.spheres.len()).sum::<usize>();
+        }
+        balls.reserve(spheres);
+        let mut placed = Vec::with_capacity(pieces);
         for (b, lb) in self.bodies.iter().enumerate() {
             if let Some(o) = &lb.outer {
                 let first = balls.len();
