@@ -4,7 +4,7 @@
 
 use super::gjk::{self, Hull};
 use super::placed::{Placed, balls_apart, balls_clear_of};
-use super::{CollisionWorld, WorldError, WorldObject};
+use super::{CollisionWorld, Scratch, WorldError, WorldObject};
 use tabula_geom::Pose;
 use tabula_geom::parry::bounding_volume::{Aabb, BoundingVolume};
 use tabula_geom::parry::query;
@@ -85,7 +85,15 @@ impl CollisionWorld {
     /// count: a configuration outside them is reported as `("joint limits", name)`.
     pub fn first_collision(&self, q: &[f64]) -> Result<Option<Pair>, WorldError> {
         self.checks.set(self.checks.get() + 1);
-        let poses = self.body_poses(q)?;
+        // The world's buffers, unless a caller up the stack holds them.
+        let mut kept = self.scratch.try_borrow_mut().ok();
+        let mut own = Scratch::default();
+        let Scratch {
+            poses,
+            frames,
+            balls,
+        } = kept.as_deref_mut().unwrap_or(&mut own);
+        self.body_poses_into(q, poses, frames)?;
         for (i, v) in q.iter().enumerate() {
             if *v < self.chain.lower[i] - 1e-9 || *v > self.chain.upper[i] + 1e-9 {
                 return Ok(Some((
@@ -95,12 +103,12 @@ impl CollisionWorld {
             }
         }
         // Shapes in the world frame with their boxes, grown by their link's padding.
-        let mut balls = Vec::new();
-        let placed = self.placed_shapes(&poses, true, &mut balls);
+        balls.clear();
+        let placed = self.placed_shapes(poses, true, balls);
         Ok(self
-            .robot_hits_world(&placed, &balls)
-            .or_else(|| self.robot_hits_itself(q, &placed, &balls))
-            .or_else(|| self.attached_hit(&poses, &placed)))
+            .robot_hits_world(&placed, balls)
+            .or_else(|| self.robot_hits_itself(q, &placed, balls))
+            .or_else(|| self.attached_hit(poses, &placed)))
     }
 
     /// Robot against the world (only what moves can newly collide): the exact query

@@ -5,7 +5,7 @@
 //! comes closer than the best found so far allows.
 
 use super::gjk::{self, Hull};
-use super::{CollisionWorld, SweepRates, WorldError, WorldObject};
+use super::{CollisionWorld, Scratch, SweepRates, WorldError, WorldObject};
 use tabula_geom::parry::bounding_volume::{Aabb, BoundingVolume};
 use tabula_geom::parry::query;
 use tabula_geom::parry::shape::SharedShape;
@@ -92,15 +92,22 @@ impl CollisionWorld {
         cap: f64,
     ) -> Result<f64, WorldError> {
         self.checks.set(self.checks.get() + 1);
-        let poses = self.body_poses(q)?;
+        let mut kept = self.scratch.try_borrow_mut().ok();
+        let mut own = Scratch::default();
+        let Scratch {
+            poses,
+            frames,
+            balls,
+        } = kept.as_deref_mut().unwrap_or(&mut own);
+        self.body_poses_into(q, poses, frames)?;
         for (i, v) in q.iter().enumerate() {
             if *v < self.chain.lower[i] - 1e-9 || *v > self.chain.upper[i] + 1e-9 {
                 return Ok(-1.0);
             }
         }
         let mut best = cap / rates.fastest().max(STILL);
-        let mut balls = Vec::new();
-        let placed = self.placed_shapes(&poses, false, &mut balls);
+        balls.clear();
+        let placed = self.placed_shapes(poses, false, balls);
         // A decomposed link's pieces only where its outer hull comes closer than the
         // best so far (the hull contains them: its distance bounds theirs from below).
         let mut far: (usize, Vec<usize>) = (usize::MAX, Vec::new());

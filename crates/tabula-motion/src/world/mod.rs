@@ -153,6 +153,8 @@ pub struct CollisionWorld {
     attached: Vec<Attached>,
     pub params: WorldParams,
     checks: Cell<u64>,
+    /// Buffers one check fills and the next reuses.
+    scratch: std::cell::RefCell<Scratch>,
     /// Per chain variable: an upper bound on how far any point of the robot (and what it
     /// holds) can be from that joint's axis — so a joint step Δ moves no point by more
     /// than `radius · Δ`.
@@ -167,6 +169,14 @@ pub struct CollisionWorld {
     /// Model joint of each chain element (descending chains only).
     element_joints: Option<Vec<usize>>,
     world_from_chain_base: Pose,
+}
+
+/// What a check fills per configuration, kept between checks.
+#[derive(Clone, Default)]
+struct Scratch {
+    poses: Vec<Pose>,
+    frames: Vec<Pose>,
+    balls: Vec<(Vec3, f64)>,
 }
 
 /// A body's pose from the chain: `world_from_chain_base · F_k(q) · offset`, where `F_k`
@@ -300,6 +310,7 @@ impl CollisionWorld {
             attached: Vec::new(),
             params,
             checks: Cell::new(0),
+            scratch: Default::default(),
         };
         world.compute_allowed_collisions();
         world.rebuild_allowed_matrix();
@@ -432,18 +443,34 @@ impl CollisionWorld {
     }
 
     /// World poses of every body's link at `q`.
+    #[cfg(test)]
     fn body_poses(&self, q: &[f64]) -> Result<Vec<Pose>, WorldError> {
+        let mut poses = Vec::new();
+        self.body_poses_into(q, &mut poses, &mut Vec::new())?;
+        Ok(poses)
+    }
+
+    /// [`Self::body_poses`] into `poses`, with `frames` for the chain's frames: buffers a
+    /// check reuses rather than allocates.
+    fn body_poses_into(
+        &self,
+        q: &[f64],
+        poses: &mut Vec<Pose>,
+        frames: &mut Vec<Pose>,
+    ) -> Result<(), WorldError> {
+        poses.clear();
         if self.element_joints.is_none() || self.anchors.len() != self.bodies.len() {
-            let poses = self.root_from_links(q)?;
-            return Ok(self
-                .bodies
-                .iter()
-                .map(|b| self.world_from_root * poses[b.link])
-                .collect());
+            let links = self.root_from_links(q)?;
+            poses.extend(
+                self.bodies
+                    .iter()
+                    .map(|b| self.world_from_root * links[b.link]),
+            );
+            return Ok(());
         }
         self.check_length_and_finite(q)?;
         // The chain's frames after each element, in the world.
-        let mut frames = Vec::with_capacity(self.chain.elements.len());
+        frames.clear();
         let mut t = self.world_from_chain_base;
         for e in &self.chain.elements {
             let v = e.multiplier * q[e.var] + e.offset;
@@ -455,14 +482,11 @@ impl CollisionWorld {
             t = t * e.pre * motion;
             frames.push(t);
         }
-        Ok(self
-            .anchors
-            .iter()
-            .map(|a| match a.element {
-                Some(k) => frames[k] * a.offset,
-                None => a.offset,
-            })
-            .collect())
+        poses.extend(self.anchors.iter().map(|a| match a.element {
+            Some(k) => frames[k] * a.offset,
+            None => a.offset,
+        }));
+        Ok(())
     }
 
     /// The largest padding of any link (what conservative advancement must keep).
