@@ -84,31 +84,16 @@ impl CollisionWorld {
     /// The first colliding pair at `q` (names), or `None` when `q` is valid. Joint limits
     /// count: a configuration outside them is reported as `("joint limits", name)`.
     pub fn first_collision(&self, q: &[f64]) -> Result<Option<Pair>, WorldError> {
-        self.checks.set(self.checks.get() + 1);
-        // The world's buffers, unless a caller up the stack holds them.
-        let mut kept = self.scratch.try_borrow_mut().ok();
-        let mut own = Scratch::default();
-        let Scratch {
-            poses,
-            frames,
-            balls,
-        } = kept.as_deref_mut().unwrap_or(&mut own);
-        self.body_poses_into(q, poses, frames)?;
-        for (i, v) in q.iter().enumerate() {
-            if *v < self.chain.lower[i] - 1e-9 || *v > self.chain.upper[i] + 1e-9 {
-                return Ok(Some((
-                    "joint limits".into(),
-                    self.chain.joint_names[i].clone(),
-                )));
+        self.with_bodies_at(q, |Scratch { poses, balls, .. }, outside| {
+            if let Some(i) = outside {
+                return Some(("joint limits".into(), self.chain.joint_names[i].clone()));
             }
-        }
-        // Shapes in the world frame with their boxes, grown by their link's padding.
-        balls.clear();
-        let placed = self.placed_shapes(poses, true, balls);
-        Ok(self
-            .robot_hits_world(&placed, balls)
-            .or_else(|| self.robot_hits_itself(q, &placed, balls))
-            .or_else(|| self.attached_hit(poses, &placed)))
+            // Shapes in the world frame with their boxes, grown by their link's padding.
+            let placed = self.placed_shapes(poses, true, balls);
+            self.robot_hits_world(&placed, balls)
+                .or_else(|| self.robot_hits_itself(q, &placed, balls))
+                .or_else(|| self.attached_hit(poses, &placed))
+        })
     }
 
     /// Robot against the world (only what moves can newly collide): the exact query

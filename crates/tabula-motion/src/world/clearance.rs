@@ -91,22 +91,22 @@ impl CollisionWorld {
         pad: f64,
         cap: f64,
     ) -> Result<f64, WorldError> {
-        self.checks.set(self.checks.get() + 1);
-        let mut kept = self.scratch.try_borrow_mut().ok();
-        let mut own = Scratch::default();
-        let Scratch {
-            poses,
-            frames,
-            balls,
-        } = kept.as_deref_mut().unwrap_or(&mut own);
-        self.body_poses_into(q, poses, frames)?;
-        for (i, v) in q.iter().enumerate() {
-            if *v < self.chain.lower[i] - 1e-9 || *v > self.chain.upper[i] + 1e-9 {
-                return Ok(-1.0);
-            }
-        }
+        self.with_bodies_at(q, |scratch, outside| match outside {
+            Some(_) => -1.0,
+            None => self.margin_of_placed(q, scratch, rates, pad, cap),
+        })
+    }
+
+    /// [`Self::time_margin`] of the bodies placed in `scratch`.
+    fn margin_of_placed(
+        &self,
+        q: &[f64],
+        Scratch { poses, balls, .. }: &mut Scratch,
+        rates: &SweepRates,
+        pad: f64,
+        cap: f64,
+    ) -> f64 {
         let mut best = cap / rates.fastest().max(STILL);
-        balls.clear();
         let placed = self.placed_shapes(poses, false, balls);
         // A decomposed link's pieces only where its outer hull comes closer than the
         // best so far (the hull contains them: its distance bounds theirs from below).
@@ -138,7 +138,7 @@ impl CollisionWorld {
                 } else {
                     best = best.min((d - pad) / rate);
                     if best <= 0.0 {
-                        return Ok(best);
+                        return best;
                     }
                 }
             }
@@ -168,7 +168,7 @@ impl CollisionWorld {
             let d = Solid::of(pi).distance(&Solid::of(pk), limit);
             best = best.min((d - pad) / rate);
             if best <= 0.0 {
-                return Ok(best);
+                return best;
             }
         }
         for att in &self.attached {
@@ -185,7 +185,7 @@ impl CollisionWorld {
                 let d = self.object_distance(&held, &aabb.loosened(limit), o, limit);
                 best = best.min((d - pad) / rate);
                 if best <= 0.0 {
-                    return Ok(best);
+                    return best;
                 }
             }
             for p in placed.iter().filter(|p| !p.outer) {
@@ -195,12 +195,12 @@ impl CollisionWorld {
                     let d = held.distance(&Solid::of(p), limit);
                     best = best.min((d - pad) / rate);
                     if best <= 0.0 {
-                        return Ok(best);
+                        return best;
                     }
                 }
             }
         }
-        Ok(best)
+        best
     }
 
     /// Distance from a solid to an object (or `limit` when at least that); of a

@@ -450,6 +450,27 @@ impl CollisionWorld {
         Ok(poses)
     }
 
+    /// One check's start: counts it, places every body at `q` in the world's buffers
+    /// (fresh ones when a caller up the stack holds them) and hands them to `f` with
+    /// the first joint outside its limits, if any.
+    fn with_bodies_at<R>(
+        &self,
+        q: &[f64],
+        f: impl FnOnce(&mut Scratch, Option<usize>) -> R,
+    ) -> Result<R, WorldError> {
+        self.checks.set(self.checks.get() + 1);
+        let mut kept = self.scratch.try_borrow_mut().ok();
+        let mut own = Scratch::default();
+        let scratch = kept.as_deref_mut().unwrap_or(&mut own);
+        self.body_poses_into(q, &mut scratch.poses, &mut scratch.frames)?;
+        scratch.balls.clear();
+        let outside = q
+            .iter()
+            .enumerate()
+            .position(|(i, v)| *v < self.chain.lower[i] - 1e-9 || *v > self.chain.upper[i] + 1e-9);
+        Ok(f(scratch, outside))
+    }
+
     /// [`Self::body_poses`] into `poses`, with `frames` for the chain's frames: buffers a
     /// check reuses rather than allocates.
     fn body_poses_into(

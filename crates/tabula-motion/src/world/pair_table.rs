@@ -20,6 +20,9 @@ use tabula_geom::{Pose, Quat};
 const SLACK: f64 = 0.008;
 /// Cells per table at most (4 bytes each).
 const MAX_CELLS: usize = 1 << 18;
+/// Cells of all a world's tables at most (16 MB): a robot of hundreds of links keeps
+/// tables for its first pairs only.
+const MAX_TOTAL_CELLS: usize = 1 << 22;
 /// Offsets this close are the same (anchors are recomputed through forward kinematics
 /// at other joint values, which rounds differently); the floor gives this much more.
 const SAME: f64 = 1e-7;
@@ -73,6 +76,7 @@ impl PairTables {
         }
         let mut index = vec![u32::MAX; n * n];
         let mut tables = Vec::new();
+        let mut total = 0;
         for a in 0..n {
             for b in 0..n {
                 let (ea, eb) = (world.anchors[a].element, world.anchors[b].element);
@@ -81,7 +85,11 @@ impl PairTables {
                 if first > eb || eb - first >= 2 || index[a * n + b] != u32::MAX {
                     continue;
                 }
-                if let Some(t) = PairTable::new(world, a, b, first..=eb) {
+                let Some(t) = PairTable::new(world, a, b, first..=eb) else {
+                    continue;
+                };
+                total += t.cells.len();
+                if total <= MAX_TOTAL_CELLS {
                     index[a * n + b] = tables.len() as u32;
                     index[b * n + a] = tables.len() as u32;
                     let kept = world.pair_tables.tables.iter().find(|old| old.same_as(&t));
