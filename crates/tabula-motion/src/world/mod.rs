@@ -670,3 +670,32 @@ impl Validate for WorldParams {
         Ok(())
     }
 }
+
+#[cfg(test)]
+pub(crate) mod test_worlds {
+    use super::{CollisionWorld, WorldParams};
+    use tabula_geom::Pose;
+    use tabula_robot::robots;
+
+    /// A world for every arm of the WAM, the PR2 and Golem-III (a 7R arm, a tree with a
+    /// torso lift, a prismatic torso), named `robot arm`.
+    pub(crate) fn every_arm(params: &WorldParams) -> Vec<(String, CollisionWorld)> {
+        let mut worlds = Vec::new();
+        for name in ["wam", "pr2", "golem3"] {
+            let robot = robots::load(name).expect("robot");
+            for arm in &robot.description.arms {
+                let chain = arm.chain(&robot.model).expect("chain");
+                let world = CollisionWorld::new(
+                    robot.model.clone(),
+                    chain,
+                    Pose::IDENTITY,
+                    None,
+                    params.clone(),
+                )
+                .expect("world");
+                worlds.push((format!("{name} {}", arm.name), world));
+            }
+        }
+        worlds
+    }
+}

@@ -131,22 +131,16 @@ impl PairTable {
         b: usize,
         span: std::ops::RangeInclusive<usize>,
     ) -> Option<Self> {
-        let n = world.bodies.len();
         let share = SLACK / span.clone().count() as f64;
         let mut axes: Vec<Axis> = Vec::new();
-        let mut cells = 1usize;
+        let (mut cells, mut slack) = (1usize, 0.0);
         for k in span.clone() {
             let e = &world.chain.elements[k];
             if axes.iter().any(|x| x.var == e.var) {
                 return None;
             }
             let (lower, upper) = (world.chain.lower[e.var], world.chain.upper[e.var]);
-            let reach = e.multiplier.abs()
-                * if e.prismatic {
-                    1.0
-                } else {
-                    world.levers[k * n + b]
-                };
+            let reach = world.reach(k, b);
             let range = upper - lower;
             if !(range.is_finite() && range > 0.0 && reach > 0.0) {
                 return None;
@@ -157,29 +151,19 @@ impl PairTable {
                 return None;
             }
             cells *= count as usize;
+            let width = range / count;
+            slack += 0.5 * width * reach;
             axes.push(Axis {
                 element: k,
                 var: e.var,
                 lower,
-                width: range / count,
+                width,
                 count: count as usize,
             });
         }
         if cells > MAX_CELLS {
             return None;
         }
-        let slack = axes
-            .iter()
-            .map(|x| {
-                let e = &world.chain.elements[x.element];
-                let reach = if e.prismatic {
-                    1.0
-                } else {
-                    world.levers[x.element * n + b]
-                };
-                0.5 * x.width * e.multiplier.abs() * reach
-            })
-            .sum();
         let before = match world.anchors[a].element {
             Some(_) => Pose::IDENTITY,
             None => world.world_from_chain_base,
@@ -281,9 +265,9 @@ fn near(p: &Pose, q: &Pose) -> bool {
 mod tests {
     use super::*;
     use crate::WorldParams;
-    use rand::{RngExt, SeedableRng};
+    use crate::world::test_worlds::every_arm;
+    use rand::SeedableRng;
     use rand_chacha::ChaCha8Rng;
-    use tabula_robot::robots;
 
     /// The pair's distance by parry's own queries (independent of the climbing hulls).
     fn parry_distance(world: &CollisionWorld, t: &PairTable, a_from_b: &Pose) -> f64 {
@@ -304,44 +288,32 @@ mod tests {
     #[test]
     fn floors_bound_the_distance_and_change_no_verdict() {
         let mut rng = ChaCha8Rng::seed_from_u64(5);
-        for name in ["wam", "pr2", "golem3"] {
-            let robot = robots::load(name).expect("robot");
-            for arm in &robot.description.arms {
-                let chain = arm.chain(&robot.model).expect("chain");
-                let params = WorldParams {
-                    acm_samples: 200,
-                    padding: 0.004,
-                    ..WorldParams::default()
-                };
-                let world =
-                    CollisionWorld::new(robot.model.clone(), chain, Pose::IDENTITY, None, params)
-                        .expect("world");
-                assert!(!world.pair_tables.tables.is_empty(), "{name}: tables");
-                let mut bare = world.clone();
-                bare.pair_tables = PairTables::default();
-                let (mut floors, mut differ) = (0, 0);
-                for _ in 0..400 {
-                    let q: Vec<f64> = (0..world.chain.dof())
-                        .map(|i| {
-                            let (lo, hi) = world.chain.sample_range(i);
-                            rng.random_range(lo..=hi)
-                        })
-                        .collect();
-                    let poses = world.body_poses(&q).expect("poses");
-                    for t in world.pair_tables.tables.iter() {
-                        let floor = t.floor(&world, &q);
-                        let a_from_b = poses[t.a].inverse() * poses[t.b];
-                        let exact = parry_distance(&world, t, &a_from_b);
-                        assert!(floor <= exact, "{name} {} {}: {floor} > {exact}", t.a, t.b);
-                        floors += 1;
-                    }
-                    let with = world.first_collision(&q).expect("check");
-                    let without = bare.first_collision(&q).expect("check");
-                    differ += usize::from(with.is_some() != without.is_some());
+        let params = WorldParams {
+            acm_samples: 200,
+            padding: 0.004,
+            ..WorldParams::default()
+        };
+        for (name, world) in every_arm(&params) {
+            assert!(!world.pair_tables.tables.is_empty(), "{name}: tables");
+            let mut bare = world.clone();
+            bare.pair_tables = PairTables::default();
+            let (mut floors, mut differ) = (0, 0);
+            for _ in 0..400 {
+                let q = world.chain.random_configuration(&mut rng);
+                let poses = world.body_poses(&q).expect("poses");
+                for t in world.pair_tables.tables.iter() {
+                    let floor = t.floor(&world, &q);
+                    let a_from_b = poses[t.a].inverse() * poses[t.b];
+                    let exact = parry_distance(&world, t, &a_from_b);
+                    assert!(floor <= exact, "{name} {} {}: {floor} > {exact}", t.a, t.b);
+                    floors += 1;
                 }
-                assert!(floors > 0);
-                assert_eq!(differ, 0, "{name}: verdicts differ");
+                let with = world.first_collision(&q).expect("check");
+                let without = bare.first_collision(&q).expect("check");
+                differ += usize::from(with.is_some() != without.is_some());
             }
+            assert!(floors > 0);
+            assert_eq!(differ, 0, "{name}: verdicts differ");
         }
     }
 }

@@ -82,12 +82,7 @@ impl CollisionWorld {
         for body in 0..n {
             let mut sum = 0.0;
             for (k, e) in self.chain.elements.iter().enumerate() {
-                let step = (b[e.var] - a[e.var]).abs() * e.multiplier.abs();
-                sum += if e.prismatic {
-                    step
-                } else {
-                    step * self.levers[k * n + body]
-                };
+                sum += (b[e.var] - a[e.var]).abs() * self.reach(k, body);
                 prefix[body * elements + k] = sum;
             }
         }
@@ -97,6 +92,19 @@ impl CollisionWorld {
             anchor: self.anchors.iter().map(|a| a.element).collect(),
             whole,
         }
+    }
+
+    /// How far one unit of chain element `k`'s variable can move any point of `body`
+    /// (a prismatic joint's travel, a revolute one's lever to the body's points; needs
+    /// the lever table).
+    pub(super) fn reach(&self, k: usize, body: usize) -> f64 {
+        let e = &self.chain.elements[k];
+        let lever = if e.prismatic {
+            1.0
+        } else {
+            self.levers[k * self.bodies.len() + body]
+        };
+        e.multiplier.abs() * lever
     }
 
     /// With anchors known, bound each joint's lever arm by the bodies actually beyond it
@@ -179,10 +187,10 @@ impl CollisionWorld {
 mod tests {
     use super::*;
     use crate::WorldParams;
-    use rand::{RngExt, SeedableRng};
+    use crate::world::test_worlds::every_arm;
+    use rand::SeedableRng;
     use rand_chacha::ChaCha8Rng;
     use tabula_geom::{Pose, Vec3};
-    use tabula_robot::robots;
 
     /// Points of each body in its link frame: its hulls' vertices, else its shapes'
     /// bounding spheres' centres.
@@ -210,63 +218,48 @@ mod tests {
     #[test]
     fn rates_bound_every_body_and_every_pair() {
         let mut rng = ChaCha8Rng::seed_from_u64(11);
-        for name in ["wam", "pr2", "golem3"] {
-            let robot = robots::load(name).expect("robot");
-            for arm in &robot.description.arms {
-                let chain = arm.chain(&robot.model).expect("chain");
-                let params = WorldParams {
-                    acm_samples: 10,
-                    ..WorldParams::default()
+        let params = WorldParams {
+            acm_samples: 10,
+            ..WorldParams::default()
+        };
+        for (name, world) in every_arm(&params) {
+            assert!(!world.levers.is_empty(), "{name} anchored");
+            let points = body_points(&world);
+            let n = world.bodies.len();
+            let sample = |rng: &mut ChaCha8Rng| world.chain.random_configuration(rng);
+            for _ in 0..40 {
+                let (a, b) = (sample(&mut rng), sample(&mut rng));
+                let rates = world.sweep_rates(&a, &b);
+                let at = |t: f64| -> Vec<Pose> {
+                    let q: Vec<f64> = a.iter().zip(&b).map(|(x, y)| x + (y - x) * t).collect();
+                    world.body_poses(&q).expect("poses")
                 };
-                let world =
-                    CollisionWorld::new(robot.model.clone(), chain, Pose::IDENTITY, None, params)
-                        .expect("world");
-                assert!(!world.levers.is_empty(), "{name} {} anchored", arm.name);
-                let points = body_points(&world);
-                let n = world.bodies.len();
-                let sample = |rng: &mut ChaCha8Rng| -> Vec<f64> {
-                    (0..world.chain.dof())
-                        .map(|i| {
-                            let (lo, hi) = world.chain.sample_range(i);
-                            rng.random_range(lo..=hi)
-                        })
-                        .collect()
-                };
-                for _ in 0..40 {
-                    let (a, b) = (sample(&mut rng), sample(&mut rng));
-                    let rates = world.sweep_rates(&a, &b);
-                    let at = |t: f64| -> Vec<Pose> {
-                        let q: Vec<f64> = a.iter().zip(&b).map(|(x, y)| x + (y - x) * t).collect();
-                        world.body_poses(&q).expect("poses")
-                    };
-                    let start = at(0.0);
-                    for step in 1..=20 {
-                        let now = at(step as f64 / 20.0);
-                        for i in 0..n {
-                            for x in &points[i] {
-                                let moved = (now[i] * *x - start[i] * *x).length();
-                                assert!(moved <= rates.body(i) + 1e-9, "{name}: body {i}");
+                let start = at(0.0);
+                for step in 1..=20 {
+                    let now = at(step as f64 / 20.0);
+                    for i in 0..n {
+                        for x in &points[i] {
+                            let moved = (now[i] * *x - start[i] * *x).length();
+                            assert!(moved <= rates.body(i) + 1e-9, "{name}: body {i}");
+                        }
+                        for k in 0..n {
+                            let order = |m: Option<usize>| m.map_or(0, |e| e + 1);
+                            if order(world.anchors[k].element) < order(world.anchors[i].element) {
+                                continue;
                             }
-                            for k in 0..n {
-                                let order = |m: Option<usize>| m.map_or(0, |e| e + 1);
-                                if order(world.anchors[k].element) < order(world.anchors[i].element)
-                                {
-                                    continue;
-                                }
-                                let rel = |p: &[Pose], x: Vec3| p[i].inverse() * (p[k] * x);
-                                for x in &points[k] {
-                                    let moved = (rel(&now, *x) - rel(&start, *x)).length();
-                                    assert!(
-                                        moved <= rates.pair(i, k) + 1e-9,
-                                        "{name}: pair {i} {k}: {moved} > {}",
-                                        rates.pair(i, k)
-                                    );
-                                }
+                            let rel = |p: &[Pose], x: Vec3| p[i].inverse() * (p[k] * x);
+                            for x in &points[k] {
+                                let moved = (rel(&now, *x) - rel(&start, *x)).length();
+                                assert!(
+                                    moved <= rates.pair(i, k) + 1e-9,
+                                    "{name}: pair {i} {k}: {moved} > {}",
+                                    rates.pair(i, k)
+                                );
                             }
                         }
                     }
-                    assert!(rates.fastest() <= world.displacement_bound(&a, &b) + 1e-9);
                 }
+                assert!(rates.fastest() <= world.displacement_bound(&a, &b) + 1e-9);
             }
         }
     }
