@@ -32,6 +32,10 @@ pub enum BenchCommand {
         /// `both`, `organized` or `unorganized`.
         #[arg(long, default_value = "both")]
         layout: String,
+        /// Segment organized frames on every N-th pixel of every N-th row
+        /// (`TabletopParams::frame_stride`).
+        #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u8).range(1..=8))]
+        stride: u8,
         #[arg(long)]
         json: bool,
     },
@@ -171,8 +175,9 @@ pub fn run(c: BenchCommand, report: Option<&std::path::Path>) -> Result<()> {
             clouds,
             reps,
             layout,
+            stride,
             json,
-        } => frames(&clouds, reps.max(1), &layout, json, report),
+        } => frames(&clouds, (reps.max(1), stride.into()), &layout, json, report),
         BenchCommand::PickPlace {
             variants,
             robot,
@@ -284,7 +289,7 @@ fn pick_place(
 /// the whole pipeline, timed together, on each file organized and unorganized.
 fn frames(
     clouds: &[std::path::PathBuf],
-    reps: usize,
+    (reps, stride): (usize, usize),
     layout: &str,
     json: bool,
     report: Option<&std::path::Path>,
@@ -293,7 +298,10 @@ fn frames(
         anyhow::bail!("--layout is both, organized or unorganized, not `{layout}`");
     }
     let timer = Timer::new(reps)?;
-    let params = TabletopParams::default();
+    let params = TabletopParams {
+        frame_stride: stride,
+        ..TabletopParams::default()
+    };
     let mut rows = Vec::new();
     let progress = crate::progress::steps(clouds.len() as u64, "frames");
     for path in clouds {

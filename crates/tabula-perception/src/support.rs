@@ -59,7 +59,7 @@ impl Default for SupportParams {
             max_planes: 16,
             min_area: 0.1,
             max_angle_from_hint: 80f64.to_radians(),
-            stride: 2,
+            stride: 4,
             cell: 0.04,
             max_range: 6.0,
             level_angle: 10f64.to_radians(),

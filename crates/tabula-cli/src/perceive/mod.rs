@@ -34,6 +34,11 @@ pub struct PerceiveArgs {
     /// Pipeline parameters (TOML, keys of `TabletopParams`; defaults from SPEC §6).
     #[arg(long)]
     params: Option<PathBuf>,
+    /// Segment an organized frame on every N-th pixel of every N-th row, then label
+    /// every pixel by its nearest sample (`frame_stride` of `--params`; 2 is ¼ of the
+    /// work on a 640×480 frame).
+    #[arg(long, value_parser = clap::value_parser!(u8).range(1..=8))]
+    stride: Option<u8>,
     /// Print the parameters `--params` takes, with their defaults (SPEC's values), as
     /// TOML to start a file from, and exit.
     #[arg(long, exclusive = true)]
@@ -136,7 +141,10 @@ pub fn run(a: PerceiveArgs) -> Result<()> {
         }
         None => None,
     };
-    let params: TabletopParams = crate::tasks::load_params(a.params.as_deref())?;
+    let mut params: TabletopParams = crate::tasks::load_params(a.params.as_deref())?;
+    if let Some(stride) = a.stride {
+        params.frame_stride = stride.into();
+    }
     let solids = match &a.robot {
         Some(robot) => {
             let base = match &a.robot_base {

@@ -10,6 +10,7 @@ mod describe;
 mod joins;
 mod occluded;
 mod prism;
+mod stride;
 
 use describe::describe;
 
@@ -78,6 +79,8 @@ pub struct StageTimes {
     pub normals: f64,
     pub segmentation: f64,
     pub objects: f64,
+    /// Carrying a coarse grid's segments to every pixel (`frame_stride` > 1).
+    pub expand: f64,
 }
 
 /// The result of the pipeline.
@@ -164,12 +167,33 @@ fn without_duplicates(cloud: &PointCloud, leaf: f64) -> Option<PointCloud> {
     out
 }
 
+/// The pipeline, on every `frame_stride`-th pixel of an organized frame's grid when
+/// the stride is above 1 (see [`stride`]).
 fn extract_from(
     cloud: &PointCloud,
     viewpoint: Vec3,
     known: Option<Plane>,
     p: &TabletopParams,
 ) -> Result<Tabletop, TabletopError> {
+    let step = p.frame_stride.max(1);
+    if step == 1 || !cloud.is_organized() {
+        return run(cloud, viewpoint, known, p).map(|(t, _)| t);
+    }
+    let coarse = cloud.decimated(step);
+    let (t, keep) = run(&coarse, viewpoint, known, &p.at_stride(step))?;
+    let started = Instant::now();
+    let mut t = stride::expand(cloud, step, t, &keep, viewpoint, p);
+    t.times.expand = ms(started);
+    Ok(t)
+}
+
+/// The pipeline on every point; the outlier mask with its answer.
+fn run(
+    cloud: &PointCloud,
+    viewpoint: Vec3,
+    known: Option<Plane>,
+    p: &TabletopParams,
+) -> Result<(Tabletop, Vec<bool>), TabletopError> {
     let unique = without_duplicates(cloud, p.duplicate_leaf);
     let cloud = unique.as_ref().unwrap_or(cloud);
     let pts = &cloud.points;
@@ -254,14 +278,15 @@ fn extract_from(
     let edge = organized.then(|| FrameEdge::of(cloud));
     let (objects, partial) = seen.objects(labels, (&mut table, threshold), (known, edge), p);
     times.objects = ms(t);
-    Ok(Tabletop {
+    let tabletop = Tabletop {
         table,
         plane,
         objects,
         partial,
         kept,
         times,
-    })
+    };
+    Ok((tabletop, keep))
 }
 
 /// A frame's points as segmentation sees them: which passed outlier removal, their

@@ -2,7 +2,7 @@
 //! the robot's own body filtered out, decimated, the tabletop pipeline, objects with
 //! their hulls.
 
-use super::tabletop::{decimated, filtered_cloud, perceive};
+use super::tabletop::{filtered_cloud, perceive};
 use super::{SceneError, SeenObject, Table};
 use tabula_motion::group::thread_cpu;
 use tabula_perception::tabletop::TabletopParams;
@@ -46,7 +46,7 @@ impl<'p> Observer<'p> {
             camera,
             decimate,
             self_filter_padding,
-            tabletop: decimated(tabletop, decimate),
+            tabletop: tabletop.at_stride(decimate),
         }
     }
 

@@ -152,17 +152,6 @@ fn seen_object(s: &Segment, bottom: f64) -> Option<SeenObject> {
     )
 }
 
-/// The tabletop pipeline's parameters for frames decimated by `decimate`: its point
-/// counts and pixel steps are for full frames, and a decimated frame has `decimate`²
-/// fewer points and pixels `decimate` times as far.
-pub fn decimated(tabletop: &TabletopParams, decimate: usize) -> TabletopParams {
-    let mut t = tabletop.clone();
-    let d = decimate.max(1);
-    t.min_object_points = (t.min_object_points / (d * d)).max(1);
-    t.concavity_step = (t.concavity_step / d).max(1);
-    t
-}
-
 /// The frame's cloud in the world frame, decimated to every `decimate`-th pixel of
 /// every `decimate`-th row, with the robot's own body (padded by `padding`, SPEC §1.1)
 /// set to NaN so the cloud stays organized.
