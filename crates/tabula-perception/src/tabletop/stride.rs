@@ -61,7 +61,6 @@ pub(super) fn expand(
         }
     }
     coarse_result.table.inliers = table;
-    let whole = coarse_result.objects.len();
     for (o, m) in coarse_result
         .objects
         .iter_mut()
@@ -70,7 +69,6 @@ pub(super) fn expand(
     {
         o.indices = m;
     }
-    debug_assert_eq!(whole, coarse_result.objects.len());
     coarse_result.kept = kept;
     coarse_result
 }
@@ -117,7 +115,7 @@ impl<'a> Samples<'a> {
         let before = at / self.stride;
         (
             before,
-            if at % self.stride == 0 {
+            if at.is_multiple_of(self.stride) {
                 before
             } else {
                 before + 1

@@ -365,3 +365,59 @@ fn without_a_pose_the_table_not_the_bigger_floor() {
     }
     assert!(floor_bigger >= 5);
 }
+
+/// On a coarser grid (`frame_stride` 2) every object of the clutter scene is still
+/// found, with indices into the full frame: pixels between the samples are labelled
+/// too, and no pixel goes to two owners.
+#[test]
+fn a_coarser_grid_labels_every_pixel() {
+    let path = std::path::Path::new(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../scenes/clutter.toml"
+    ));
+    let scene = tabula_sim::Scene::load(path).unwrap();
+    let mut world =
+        tabula_sim::SimWorld::from_scene(&scene, tabula_sim::PhysicsParams::default()).unwrap();
+    world.settle();
+    let camera = tabula_sim::Camera::from_spec(&scene.cameras[0], &world).unwrap();
+    let labels: Vec<u32> = world
+        .object_poses()
+        .iter()
+        .map(|(n, _)| world.entity(n).unwrap() as u32 + 1)
+        .collect();
+    let table = world.entity("table").unwrap() as u32 + 1;
+    let frame = tabula_sim::camera::capture(&world, &camera, 1);
+    let cloud = to_world(&frame.world_from_camera, &frame.cloud);
+    let eye = frame.world_from_camera.translation;
+    let coarse = TabletopParams {
+        frame_stride: 2,
+        ..TabletopParams::default()
+    };
+    let t = extract(&cloud, eye, &coarse).unwrap();
+    let finite: Vec<bool> = cloud.points.iter().map(|p| p.is_finite()).collect();
+    let top = table_top(&cloud.points, 0.72);
+    let truth = Truth {
+        finite: &finite,
+        labels: &frame.labels,
+        table_label: table,
+        table_top: &top,
+        object_labels: &labels,
+    };
+    let s = score(&t, &truth, 0.5, 200);
+    assert_eq!(s.recovered, s.objects, "{s:?}");
+    assert!(s.table_precision > 0.99 && s.table_recall > 0.97, "{s:?}");
+    let w = cloud.width;
+    let mut owner = vec![usize::MAX; cloud.points.len()];
+    for (k, o) in t.objects.iter().chain(&t.partial).enumerate() {
+        assert!(
+            o.indices
+                .iter()
+                .any(|&i| (i / w) % 2 == 1 && (i % w) % 2 == 1)
+        );
+        for &i in &o.indices {
+            assert!(cloud.points[i].is_finite() && owner[i] == usize::MAX);
+            owner[i] = k;
+        }
+    }
+    assert!(t.table.inliers.iter().all(|&i| owner[i] == usize::MAX));
+}
