@@ -49,7 +49,8 @@ pub(super) fn expand(
                 continue;
             }
             let reach = p.cluster_tolerance + p.cluster_range_gain * q.distance_squared(eye);
-            let Some(k) = grid.nearest(q, rows, grid.around(x), reach * reach) else {
+            let owned = |k: usize| owners[k] != Owner::Nobody;
+            let Some(k) = grid.nearest(q, (rows, grid.around(x)), reach * reach, owned) else {
                 continue;
             };
             kept += usize::from(keep[k]);
@@ -123,14 +124,14 @@ impl<'a> Samples<'a> {
         )
     }
 
-    /// The sample (coarse index) nearest to `q` among `rows` × `cols`, if within
-    /// `reach2` (squared) of it.
+    /// The sample (coarse index) nearest to `q` among `rows` × `cols` that `counts`,
+    /// if within `reach2` (squared) of it.
     fn nearest(
         &self,
         q: Vec3,
-        (r0, r1): (usize, usize),
-        (c0, c1): (usize, usize),
+        ((r0, r1), (c0, c1)): ((usize, usize), (usize, usize)),
         reach2: f64,
+        counts: impl Fn(usize) -> bool,
     ) -> Option<usize> {
         let r1 = if r1 < self.height { r1 } else { r0 };
         let c1 = if c1 < self.width { c1 } else { c0 };
@@ -138,9 +139,10 @@ impl<'a> Samples<'a> {
         let mut consider = |r: usize, c: usize| {
             let d2 = self.full.points[r * self.stride * self.full.width + c * self.stride]
                 .distance_squared(q);
+            let k = r * self.width + c;
             // NaN (a sample without depth) fails the comparison.
-            if d2 <= best.0 {
-                best = (d2, r * self.width + c);
+            if d2 <= best.0 && counts(k) {
+                best = (d2, k);
             }
         };
         consider(r0, c0);
