@@ -6,7 +6,7 @@
 use crate::freespace::{FreeSpaceError, FreeSpaceMap, FreeSpaceParams, Placement};
 use crate::selffilter::{PlacedSolid, SelfFilterParams, self_filter};
 use crate::support::{Framing, SupportError, SupportParams, frame_cloud};
-use crate::surfaces::{SurfaceSearch, find_surfaces};
+use crate::surfaces::{SurfaceParams, SurfaceSearch, find_surfaces};
 use crate::tabletop::{TableObject, Tabletop, TabletopError, TabletopParams, extract_framed};
 use crate::{Surface, to_world};
 use serde_json::{Value, json};
@@ -97,7 +97,7 @@ pub fn perceive(
     }
     let result = extract_framed(&cloud, &framing, params)?;
     let ms = t0.elapsed().as_secs_f64() * 1e3;
-    let surfaces = find_surfaces(&cloud, None, &params.surfaces, false);
+    let surfaces = find_surfaces(&cloud, None, &listed_surfaces(&framing, params), false);
     let map = FreeSpaceMap::from_tabletop(&result, &cloud.points, &FreeSpaceParams::default())?;
     Ok(Perceived {
         framing,
@@ -108,6 +108,21 @@ pub fn perceive(
         removed,
         ms,
     })
+}
+
+/// The surface search behind `Perceived::surfaces`. `height_range` is world z over a
+/// floor; in a frame built on the support (at z = 0, whatever it is: a table, a floor)
+/// the same span is counted from the support, which is itself listed.
+fn listed_surfaces(framing: &Framing, params: &TabletopParams) -> SurfaceParams {
+    let p = &params.surfaces;
+    let [lo, hi] = p.height_range;
+    match framing.support {
+        Some(_) => SurfaceParams {
+            height_range: [-p.ransac.threshold, hi - lo],
+            ..p.clone()
+        },
+        None => p.clone(),
+    }
 }
 
 impl Perceived {

@@ -1097,6 +1097,27 @@ fn perceive_reads_viewpoint_and_real_frames_need_no_pose() {
     assert_eq!(r["frame"]["source"], "support");
     assert_eq!(r["objects"].as_array().unwrap().len(), 3);
     assert!(r["objects"][0]["color"].is_array());
+    // Every horizontal surface in reach is listed, counted from the support when the
+    // frame is built on it: the carpet itself (z = 0) and the box's lid 9 cm above it.
+    let heights: Vec<(f64, f64)> = r["surfaces"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|s| {
+            (
+                s["centroid"][2].as_f64().unwrap(),
+                s["area"].as_f64().unwrap(),
+            )
+        })
+        .collect();
+    assert!(
+        heights.iter().any(|&(z, a)| z.abs() < 0.01 && a > 1.0),
+        "{heights:?}"
+    );
+    assert!(
+        heights.iter().any(|&(z, _)| (z - 0.087).abs() < 0.01),
+        "{heights:?}"
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }
 
