@@ -48,12 +48,38 @@ pub(super) fn expand(
             if !q.is_finite() {
                 continue;
             }
-            let reach = p.cluster_tolerance + p.cluster_range_gain * q.distance_squared(eye);
-            let owned = |k: usize| owners[k] != Owner::Nobody;
-            let Some(k) = grid.nearest(q, (rows, grid.around(x)), reach * reach, owned) else {
+            let (around, n) = grid.around_pixel(rows, grid.around(x));
+            let around = &around[..n];
+            // The points whose own sample (up and left) passed outlier removal.
+            kept += usize::from(keep[around[0].0]);
+            let owner = owners[around[0].0];
+            let same = around.iter().all(|&(k, _)| owners[k] == owner);
+            if same && owner == Owner::Nobody {
                 continue;
+            }
+            let reach = p.cluster_tolerance + p.cluster_range_gain * q.distance_squared(eye);
+            let near =
+                |&(_, at): &(usize, usize)| full.points[at].distance_squared(q) <= reach * reach;
+            let k = if same {
+                // One owner all round: any sample within reach will do.
+                match around.iter().find(|c| near(c)) {
+                    Some(&(k, _)) => k,
+                    None => continue,
+                }
+            } else {
+                // The nearest sample that belongs to something: one dropped as an outlier
+                // does not take its neighbours with it.
+                let owned = around
+                    .iter()
+                    .filter(|&&(k, _)| owners[k] != Owner::Nobody)
+                    .map(|&(k, at)| (full.points[at].distance_squared(q), k))
+                    .filter(|&(d2, _)| d2 <= reach * reach)
+                    .min_by(|a, b| a.0.total_cmp(&b.0));
+                match owned {
+                    Some((_, k)) => k,
+                    None => continue,
+                }
             };
-            kept += usize::from(keep[k]);
             match owners[k] {
                 Owner::Nobody => {}
                 Owner::Table => table.push(i),
@@ -124,37 +150,26 @@ impl<'a> Samples<'a> {
         )
     }
 
-    /// The sample (coarse index) nearest to `q` among `rows` × `cols` that `counts`,
-    /// if within `reach2` (squared) of it.
-    fn nearest(
+    /// The samples at `rows` × `cols` (see [`Self::around`]) inside the grid: coarse
+    /// index and full index of each, the one up and left first, and how many.
+    fn around_pixel(
         &self,
-        q: Vec3,
-        ((r0, r1), (c0, c1)): ((usize, usize), (usize, usize)),
-        reach2: f64,
-        counts: impl Fn(usize) -> bool,
-    ) -> Option<usize> {
+        (r0, r1): (usize, usize),
+        (c0, c1): (usize, usize),
+    ) -> ([(usize, usize); 4], usize) {
         let r1 = if r1 < self.height { r1 } else { r0 };
         let c1 = if c1 < self.width { c1 } else { c0 };
-        let mut best = (reach2, usize::MAX);
-        let mut consider = |r: usize, c: usize| {
-            let d2 = self.full.points[r * self.stride * self.full.width + c * self.stride]
-                .distance_squared(q);
-            let k = r * self.width + c;
-            // NaN (a sample without depth) fails the comparison.
-            if d2 <= best.0 && counts(k) {
-                best = (d2, k);
-            }
-        };
-        consider(r0, c0);
-        if c1 != c0 {
-            consider(r0, c1);
-        }
-        if r1 != r0 {
-            consider(r1, c0);
-            if c1 != c0 {
-                consider(r1, c1);
+        let mut out = [(0, 0); 4];
+        let mut n = 0;
+        for r in [r0, r1].into_iter().take(if r1 == r0 { 1 } else { 2 }) {
+            for c in [c0, c1].into_iter().take(if c1 == c0 { 1 } else { 2 }) {
+                out[n] = (
+                    r * self.width + c,
+                    r * self.stride * self.full.width + c * self.stride,
+                );
+                n += 1;
             }
         }
-        (best.1 != usize::MAX).then_some(best.1)
+        (out, n)
     }
 }
