@@ -164,6 +164,49 @@ impl Locals {
     }
 }
 
+/// Which points of the region being split belong to a top patch already: a mark per
+/// point of the frame, allocated once for every region (a hash set per region cost a
+/// tenth of segmentation).
+pub(crate) struct PatchOf {
+    /// 0: not in the region; 1: in it, no patch yet; 2: in a patch.
+    mark: Vec<u8>,
+    /// The points marked by the last region, to clear before the next.
+    marked: Vec<usize>,
+}
+
+impl PatchOf {
+    pub(crate) fn new(n: usize) -> Self {
+        Self {
+            mark: vec![0; n],
+            marked: Vec::new(),
+        }
+    }
+
+    fn open(&mut self, region: &[usize]) {
+        for &i in &self.marked {
+            self.mark[i] = 0;
+        }
+        self.marked.clear();
+        for &i in region {
+            self.mark[i] = 1;
+        }
+        self.marked.extend_from_slice(region);
+    }
+
+    fn has_patch(&self, i: usize) -> bool {
+        self.mark[i] == 2
+    }
+
+    /// In the region and in no patch yet.
+    fn open_member(&self, i: usize) -> bool {
+        self.mark.get(i) == Some(&1)
+    }
+
+    fn set(&mut self, i: usize) {
+        self.mark[i] = 2;
+    }
+}
+
 /// One object per top: a segment holding two flat, table-parallel tops at different
 /// heights (two boxes side by side whose front faces are flush, so nothing concave
 /// separates them in view) is split, every point going to the lowest top above it
@@ -176,6 +219,7 @@ fn split_by_tops(
     region: Vec<usize>,
     p: &TabletopParams,
     neighbours: &dyn Fn(usize, &mut Vec<usize>),
+    patch_of: &mut PatchOf,
 ) -> Vec<Vec<usize>> {
     let up = plane.normal;
     let cos_tol = p.concavity_tolerance.cos();
@@ -183,19 +227,17 @@ fn split_by_tops(
         let (n, c) = locals.get(i);
         (n.dot(up).abs() >= cos_tol).then(|| plane.distance(c))
     };
-    let member: rustc_hash::FxHashSet<usize> = region.iter().copied().collect();
+    patch_of.open(&region);
     // Patches: connected up-facing points at one height.
-    let mut patch_of: rustc_hash::FxHashMap<usize, usize> = rustc_hash::FxHashMap::default();
     let mut patches: Vec<(Vec<usize>, f64)> = Vec::new();
     for &start in &region {
-        if patch_of.contains_key(&start) {
+        if patch_of.has_patch(start) {
             continue;
         }
         let Some(h0) = height_of(start) else {
             continue;
         };
-        let id = patches.len();
-        patch_of.insert(start, id);
+        patch_of.set(start);
         let (mut stack, mut members, mut heights) = (vec![start], Vec::new(), Vec::new());
         let mut near = Vec::new();
         while let Some(i) = stack.pop() {
@@ -204,13 +246,12 @@ fn split_by_tops(
             near.clear();
             neighbours(i, &mut near);
             for &j in &near {
-                if member.contains(&j)
-                    && !patch_of.contains_key(&j)
+                if patch_of.open_member(j)
                     && height_of(j).is_some_and(|h| {
                         (h - height_of(i).unwrap_or(h0)).abs() <= p.step_tolerance / 2.0
                     })
                 {
-                    patch_of.insert(j, id);
+                    patch_of.set(j);
                     stack.push(j);
                 }
             }
@@ -409,6 +450,7 @@ pub(crate) fn segment_organized(
             }
         }
     };
+    let mut patch_of = PatchOf::new(pts.len());
     grow(
         pts.len(),
         above,
@@ -421,7 +463,7 @@ pub(crate) fn segment_organized(
         neighbours,
     )
     .into_iter()
-    .flat_map(|r| split_by_tops(pts, locals, plane, r, p, &neighbours))
+    .flat_map(|r| split_by_tops(pts, locals, plane, r, p, &neighbours, &mut patch_of))
     .collect()
 }
 
@@ -463,6 +505,7 @@ pub(crate) fn segment_unorganized(
                 .map(|j| members[j]),
         );
     };
+    let mut patch_of = PatchOf::new(pts.len());
     grow(
         pts.len(),
         above,
@@ -473,7 +516,7 @@ pub(crate) fn segment_unorganized(
         neighbours,
     )
     .into_iter()
-    .flat_map(|r| split_by_tops(pts, locals, plane, r, p, &neighbours))
+    .flat_map(|r| split_by_tops(pts, locals, plane, r, p, &neighbours, &mut patch_of))
     .collect()
 }
 
