@@ -82,6 +82,11 @@ pub struct TabletopParams {
     /// generated suite it loses the small objects' edges (BENCHMARKS.md, issue 33).
     /// Point counts and pixel steps above are for the full frame. Not in the seed.
     pub frame_stride: usize,
+    /// Sensor pixels between neighbouring pixels of the frames given: 1 for a full
+    /// frame, the step of a decimated one (set by `at_stride`). The crease test's reach
+    /// in metres counts pixels of the sensor, so it grows with the spacing. Not in the
+    /// seed.
+    pub pixel_spacing: usize,
 }
 
 impl Default for TabletopParams {
@@ -108,6 +113,7 @@ impl Default for TabletopParams {
             duplicate_leaf: 0.0005,
             unorganized_leaf: 0.004,
             frame_stride: 1,
+            pixel_spacing: 1,
         }
     }
 }
@@ -139,7 +145,8 @@ impl Validate for TabletopParams {
         check_non_negative(at, "partial_gap", self.partial_gap)?;
         check_off_or_in(at, "duplicate_leaf", self.duplicate_leaf, 1e-6, 0.05)?;
         check_off_or_in(at, "unorganized_leaf", self.unorganized_leaf, 1e-4, 0.5)?;
-        check_in(at, "frame_stride", self.frame_stride as f64, 1.0, 8.0)
+        check_in(at, "frame_stride", self.frame_stride as f64, 1.0, 8.0)?;
+        check_in(at, "pixel_spacing", self.pixel_spacing as f64, 1.0, 64.0)
     }
 }
 
@@ -147,13 +154,20 @@ impl TabletopParams {
     /// These parameters for a frame decimated to every `stride`-th pixel of every
     /// `stride`-th row: point counts and pixel steps are for full frames, and a
     /// decimated frame has `stride`² fewer points and its pixels `stride` times as far
-    /// apart. The result segments every pixel it is given (`frame_stride` 1).
+    /// apart — the crease step and the normals' window cover as much of a surface as
+    /// on the full frame (rounded up), and the crease test reaches as far in metres.
+    /// The result segments every pixel it is given (`frame_stride` 1).
     pub fn at_stride(&self, stride: usize) -> Self {
         let d = stride.max(1);
         Self {
             min_object_points: (self.min_object_points / (d * d)).max(1),
             concavity_step: (self.concavity_step / d).max(1),
+            normals: NormalParams {
+                window: self.normals.window.div_ceil(d),
+                ..self.normals.clone()
+            },
             frame_stride: 1,
+            pixel_spacing: self.pixel_spacing * d,
             ..self.clone()
         }
     }

@@ -405,7 +405,9 @@ pub(crate) fn segment_organized(
     let pts = &cloud.points;
     let s = p.concavity_step.max(1) as isize;
     let cos_tol = p.concavity_tolerance.cos();
-    let reach = p.cluster_tolerance * 2.0 * s as f64;
+    // Points 2s pixels apart may be 2s cluster tolerances apart to be compared: pixels
+    // of the sensor, so a decimated frame's pair (as far apart in metres) reaches as far.
+    let reach = p.cluster_tolerance * 2.0 * (s as usize * p.pixel_spacing.max(1)) as f64;
     let at = |x: isize, y: isize| -> Option<usize> {
         (x >= 0 && y >= 0 && (x as usize) < w && (y as usize) < h)
             .then(|| y as usize * w + x as usize)

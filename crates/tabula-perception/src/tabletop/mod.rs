@@ -690,6 +690,22 @@ pub fn to_world(world_from_camera: &Pose, camera: &PointCloud) -> PointCloud {
 mod tests {
     use super::*;
 
+    /// A decimated frame's parameters cover as much of a surface as the full frame's:
+    /// counts by the stride², pixel steps and windows by the stride (rounded up), the
+    /// crease reach in sensor pixels; decimating twice compounds.
+    #[test]
+    fn parameters_at_a_stride_keep_their_meaning_in_metres() {
+        let full = TabletopParams::default();
+        let half = full.at_stride(2);
+        assert_eq!(half.min_object_points, full.min_object_points / 4);
+        assert_eq!(half.concavity_step, full.concavity_step / 2);
+        assert_eq!(half.normals.window, full.normals.window.div_ceil(2));
+        assert_eq!((half.pixel_spacing, half.frame_stride), (2, 1));
+        let quarter = half.at_stride(2);
+        assert_eq!((quarter.pixel_spacing, quarter.concavity_step), (4, 1));
+        assert_eq!(full.at_stride(1).normals.window, full.normals.window);
+    }
+
     #[test]
     fn params_load_from_toml_with_the_seed_defaults_elsewhere() {
         let p: TabletopParams = toml::from_str(

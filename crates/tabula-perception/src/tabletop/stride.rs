@@ -52,33 +52,9 @@ pub(super) fn expand(
             let around = &around[..n];
             // The points whose own sample (up and left) passed outlier removal.
             kept += usize::from(keep[around[0].0]);
-            let owner = owners[around[0].0];
-            let same = around.iter().all(|&(k, _)| owners[k] == owner);
-            if same && owner == Owner::Nobody {
-                continue;
-            }
             let reach = p.cluster_tolerance + p.cluster_range_gain * q.distance_squared(eye);
-            let near =
-                |&(_, at): &(usize, usize)| full.points[at].distance_squared(q) <= reach * reach;
-            let k = if same {
-                // One owner all round: any sample within reach will do.
-                match around.iter().find(|c| near(c)) {
-                    Some(&(k, _)) => k,
-                    None => continue,
-                }
-            } else {
-                // The nearest sample that belongs to something: one dropped as an outlier
-                // does not take its neighbours with it.
-                let owned = around
-                    .iter()
-                    .filter(|&&(k, _)| owners[k] != Owner::Nobody)
-                    .map(|&(k, at)| (full.points[at].distance_squared(q), k))
-                    .filter(|&(d2, _)| d2 <= reach * reach)
-                    .min_by(|a, b| a.0.total_cmp(&b.0));
-                match owned {
-                    Some((_, k)) => k,
-                    None => continue,
-                }
+            let Some(k) = pick(q, around, (&owners, &full.points), reach * reach) else {
+                continue;
             };
             match owners[k] {
                 Owner::Nobody => {}
@@ -98,6 +74,35 @@ pub(super) fn expand(
     }
     coarse_result.kept = kept;
     coarse_result
+}
+
+/// The sample whose segment point `q` takes, among the samples `around` it (coarse and
+/// full index), if any is within `reach2` (squared) of it: with one owner all round,
+/// any sample within reach; otherwise the nearest that belongs to something — a sample
+/// dropped as an outlier does not take its neighbours with it.
+fn pick(
+    q: Vec3,
+    around: &[(usize, usize)],
+    (owners, points): (&[Owner], &[Vec3]),
+    reach2: f64,
+) -> Option<usize> {
+    let owner = owners[around[0].0];
+    let same = around.iter().all(|&(k, _)| owners[k] == owner);
+    if same && owner == Owner::Nobody {
+        return None;
+    }
+    // NaN (a sample without depth) fails every comparison.
+    let near = |at: usize| points[at].distance_squared(q) <= reach2;
+    if same {
+        return around.iter().find(|&&(_, at)| near(at)).map(|&(k, _)| k);
+    }
+    around
+        .iter()
+        .filter(|&&(k, _)| owners[k] != Owner::Nobody)
+        .map(|&(k, at)| (points[at].distance_squared(q), k))
+        .filter(|&(d2, _)| d2 <= reach2)
+        .min_by(|a, b| a.0.total_cmp(&b.0))
+        .map(|(_, k)| k)
 }
 
 /// Each sample's owner in the coarse result.
