@@ -4,3 +4,5 @@
 mod cli;
 mod labels;
 mod motion_cli;
+mod perceive;
+mod pick_place;
