@@ -137,8 +137,8 @@ fn suite_of_twenty_generated_scenes() {
     eprintln!("floor the biggest plane in {floor_biggest} of 20 frames");
 }
 
-#[test]
-fn clutter_scene_through_the_pcd_format() {
+/// scenes/clutter.toml settled, its camera, its objects' frame labels and the table's.
+fn settled_clutter() -> (tabula_sim::SimWorld, tabula_sim::Camera, Vec<u32>, u32) {
     let path = std::path::Path::new(concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/../../scenes/clutter.toml"
@@ -154,6 +154,12 @@ fn clutter_scene_through_the_pcd_format() {
         .map(|(n, _)| world.entity(n).unwrap() as u32 + 1)
         .collect();
     let table = world.entity("table").unwrap() as u32 + 1;
+    (world, camera, labels, table)
+}
+
+#[test]
+fn clutter_scene_through_the_pcd_format() {
+    let (world, camera, labels, table) = settled_clutter();
     // Several noise draws: the stacked cubes' 1 cm ledge must not fall apart in any.
     for noise in 1..=6 {
         let frame = tabula_sim::camera::capture(&world, &camera, noise);
@@ -371,21 +377,7 @@ fn without_a_pose_the_table_not_the_bigger_floor() {
 /// too, and no pixel goes to two owners.
 #[test]
 fn a_coarser_grid_labels_every_pixel() {
-    let path = std::path::Path::new(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../scenes/clutter.toml"
-    ));
-    let scene = tabula_sim::Scene::load(path).unwrap();
-    let mut world =
-        tabula_sim::SimWorld::from_scene(&scene, tabula_sim::PhysicsParams::default()).unwrap();
-    world.settle();
-    let camera = tabula_sim::Camera::from_spec(&scene.cameras[0], &world).unwrap();
-    let labels: Vec<u32> = world
-        .object_poses()
-        .iter()
-        .map(|(n, _)| world.entity(n).unwrap() as u32 + 1)
-        .collect();
-    let table = world.entity("table").unwrap() as u32 + 1;
+    let (world, camera, labels, table) = settled_clutter();
     let frame = tabula_sim::camera::capture(&world, &camera, 1);
     let cloud = to_world(&frame.world_from_camera, &frame.cloud);
     let eye = frame.world_from_camera.translation;
