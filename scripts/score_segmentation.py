@@ -51,9 +51,16 @@ def main():
         if not a.quiet:
             print(f"{f.stem:<8} {category(f.stem):<18} objects {s['objects']:>2} found {s['found_iou50']:>2} "
                   f"extra {s['extra_segments']:>2} F {s['f_measure']:.3f}  {v['ms']:.1f} ms")
+        partial = {o["label"] for o in v.get("partial_objects", [])}
+        matched = {m["segment"]: m for m in s["per_object"] if m["segment"] != 0}
+        # Segments called partial whose object is whole in view, and objects cut by the
+        # image's border whose segment is called whole.
+        s["partial_whole"] = sum(1 for k in partial if k in matched and not matched[k]["at_image_border"])
+        s["whole_cut"] = sum(1 for k, m in matched.items() if m["at_image_border"] and k not in partial)
+        s["cut"] = sum(1 for m in s["per_object"] if m["at_image_border"])
         rows.setdefault(category(f.stem), []).append((s, v["ms"]))
-    print(f"\n| category | frames | objects | found at IoU ≥ 0.5 | extra segments | overlap P / R / F (mean) | ms (median) |")
-    print("|---|---:|---:|---:|---:|---|---:|")
+    print(f"\n| category | frames | objects | found at IoU ≥ 0.5 | extra segments | overlap P / R / F (mean) | ms (median) | cut by the border: in truth / called whole | whole, called partial |")
+    print("|---|---:|---:|---:|---:|---|---:|---:|---:|")
     everything = []
     for cat, rs in list(rows.items()) + [("all", None)]:
         rs = rs if rs is not None else everything
@@ -64,8 +71,10 @@ def main():
         extra = sum(s["extra_segments"] for s, _ in rs)
         mean = lambda k: sum(s[k] for s, _ in rs) / max(len(rs), 1)
         ms = sorted(t for _, t in rs)
+        tally = lambda k: sum(s.get(k, 0) for s, _ in rs)
         print(f"| {cat} | {len(rs)} | {n} | {found} ({100 * found / max(n, 1):.1f} %) | {extra} ({100 * extra / max(n, 1):.1f} % of objects) | "
-              f"{mean('precision'):.3f} / {mean('recall'):.3f} / {mean('f_measure'):.3f} | {ms[len(ms) // 2]:.1f} |")
+              f"{mean('precision'):.3f} / {mean('recall'):.3f} / {mean('f_measure'):.3f} | {ms[len(ms) // 2]:.1f} | "
+              f"{tally('cut')} / {tally('whole_cut')} | {tally('partial_whole')} |")
 
 
 if __name__ == "__main__":

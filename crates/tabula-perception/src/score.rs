@@ -47,6 +47,33 @@ pub struct ObjectMatch {
     pub segment: u32,
     pub iou: f64,
     pub f_measure: f64,
+    /// Whether the object reaches the image's border (within [`BORDER_PIXELS`]): only
+    /// part of it is in view, so a segmentation may call it partial. Set by
+    /// [`mark_image_border`] (a grid is needed).
+    pub at_image_border: bool,
+}
+
+/// An object with a pixel this near the image's border is cut by it (a Kinect's last
+/// three or four rows have almost no depth, so its objects end a few rows short).
+pub const BORDER_PIXELS: usize = 5;
+
+/// Marks the objects of `truth` (labels on a `width` × `height` grid) that reach the
+/// image's border (none on an unorganized cloud's one row: it has no image).
+pub fn mark_image_border(s: &mut SegmentationScore, truth: &[u32], width: usize, height: usize) {
+    if width == 0 || height < 2 || truth.len() != width * height {
+        return;
+    }
+    let mut cut = std::collections::HashSet::new();
+    for (i, &l) in truth.iter().enumerate().filter(|&(_, &l)| l != 0) {
+        let (x, y) = (i % width, i / width);
+        let b = BORDER_PIXELS;
+        if x < b || y < b || x + b >= width || y + b >= height {
+            cut.insert(l);
+        }
+    }
+    for m in &mut s.per_object {
+        m.at_image_border = cut.contains(&m.label);
+    }
 }
 
 /// Compares `segments` with `truth`, one label per point each (0 = not an object).
@@ -96,6 +123,7 @@ pub fn score(segments: &[u32], truth: &[u32]) -> Option<SegmentationScore> {
             segment,
             iou: iou_o,
             f_measure: f_o,
+            at_image_border: false,
         });
     }
     let total_seg: usize = seg_sizes.iter().sum();

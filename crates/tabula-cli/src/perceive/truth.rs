@@ -7,7 +7,7 @@ use std::path::Path;
 use tabula_geom::input::{Format, read_bytes};
 use tabula_geom::{CloudFile, PcdEncoding, PcdExtras};
 use tabula_perception::frame::read_cloud_file;
-use tabula_perception::score::{SegmentationScore, score};
+use tabula_perception::score::{SegmentationScore, mark_image_border, score};
 
 /// How a ground truth's labels name objects.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -74,7 +74,10 @@ pub fn score_against(
         );
     }
     let truth = objects_of(&raw, format.unwrap_or(default));
-    score(labels, &truth).context("ground truth and segmentation differ in size")
+    let mut scored =
+        score(labels, &truth).context("ground truth and segmentation differ in size")?;
+    mark_image_border(&mut scored, &truth, w, h);
+    Ok(scored)
 }
 
 /// Ground-truth labels as object ids: 0 not an object, the same id for one object.

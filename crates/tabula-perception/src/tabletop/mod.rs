@@ -7,12 +7,14 @@
 
 mod containers;
 mod describe;
+mod edges;
 mod joins;
 mod occluded;
 mod prism;
 mod stride;
 
 use describe::describe;
+use edges::{DataEdge, ImageBorder, set_apart_pieces_of_partial};
 
 use crate::filters::{local_planes_at, statistical_outliers};
 pub use crate::params::TabletopParams;
@@ -21,7 +23,7 @@ use crate::segment::{Locals, segment_organized, segment_unorganized};
 use crate::surfaces::{Surface, find_surfaces, plane_basis, surface_on};
 use std::time::Instant;
 use tabula_geom::polygon::{convex_hull_2d, min_area_rectangle};
-use tabula_geom::{PointCloud, Pose, Vec2, Vec3, voxel_key};
+use tabula_geom::{PointCloud, Pose, Vec2, Vec3};
 
 /// An oriented box.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -91,8 +93,8 @@ pub struct Tabletop {
     /// Upward normal facing the camera.
     pub plane: Plane,
     pub objects: Vec<TableObject>,
-    /// Objects cut by the edge of an organized frame's valid data: only part of each
-    /// is in view, so its size and centre are not the object's (obstacles still).
+    /// Objects cut by the border of an organized frame (inside the sensor's margin of
+    /// missing depth; not where the scene has no depth): only part of each is in view, so its size and centre are not the object's (obstacles still).
     pub partial: Vec<TableObject>,
     /// Points kept by outlier removal.
     pub kept: usize,
@@ -275,8 +277,8 @@ fn run(
     times.segmentation = ms(t);
 
     let t = Instant::now();
-    let edge = organized.then(|| FrameEdge::of(cloud));
-    let (objects, partial) = seen.objects(labels, (&mut table, threshold), (known, edge), p);
+    let edges = organized.then(|| (DataEdge::of(cloud), ImageBorder::of(cloud)));
+    let (objects, partial) = seen.objects(labels, (&mut table, threshold), (known, edges), p);
     times.objects = ms(t);
     let tabletop = Tabletop {
         table,
@@ -340,12 +342,12 @@ impl Seen<'_> {
 
     /// The regions that are objects (big and tall enough; standing, around a support
     /// found without a pose), their bases claimed from the table, described; those
-    /// touching the frame's edge set apart as partly seen.
+    /// reaching the image's border set apart as partly seen.
     fn objects(
         &self,
         labels: Vec<Vec<usize>>,
         (table, threshold): (&mut Surface, f64),
-        (known, edge): (Option<Plane>, Option<FrameEdge>),
+        (known, edges): (Option<Plane>, Option<(DataEdge, ImageBorder)>),
         p: &TabletopParams,
     ) -> (Vec<TableObject>, Vec<TableObject>) {
         let (pts, plane) = (self.pts, self.plane);
@@ -359,15 +361,17 @@ impl Seen<'_> {
             .collect();
         if known.is_some() {
             let occluded = self.grid.map(|width| (width, self.viewpoint));
-            regions = standing(pts, plane, regions, (threshold, occluded, edge.as_ref()), p);
+            let edge = edges.as_ref().map(|(data, _)| data);
+            regions = standing(pts, plane, regions, (threshold, occluded, edge), p);
         }
         claim_object_bases(pts, plane, &mut table.inliers, &mut regions, threshold);
         let (mut partial, mut objects): (Vec<TableObject>, Vec<TableObject>) = regions
             .into_iter()
             .map(|indices| describe(pts, self.locals, plane, indices, p))
             .partition(|o| {
-                edge.as_ref()
-                    .is_some_and(|e| o.indices.iter().any(|&i| e.near(i)))
+                edges
+                    .as_ref()
+                    .is_some_and(|(_, border)| o.indices.iter().any(|&i| border.near(i)))
             });
         set_apart_pieces_of_partial(pts, &mut objects, &mut partial, p.partial_gap);
         (objects, partial)
@@ -385,7 +389,7 @@ fn standing(
     pts: &[Vec3],
     plane: &Plane,
     regions: Vec<Vec<usize>>,
-    (threshold, occluded, edge): (f64, Option<(usize, Vec3)>, Option<&FrameEdge>),
+    (threshold, occluded, edge): (f64, Option<(usize, Vec3)>, Option<&DataEdge>),
     p: &TabletopParams,
 ) -> Vec<Vec<usize>> {
     let (u, v) = plane_basis(plane.normal);
@@ -541,81 +545,6 @@ fn bottom_occluded(
         hidden += usize::from(nearer);
     }
     bottom > 0 && 2 * hidden >= bottom
-}
-
-/// Pieces within `gap` (m) of an object cut by the frame's edge are more of what the
-/// frame cut (the legs of a chair whose hub is out of view), and are set apart too,
-/// until no piece is that near.
-fn set_apart_pieces_of_partial(
-    pts: &[Vec3],
-    objects: &mut Vec<TableObject>,
-    partial: &mut Vec<TableObject>,
-    gap: f64,
-) {
-    if gap <= 0.0 || !gap.is_finite() {
-        return;
-    }
-    let mut cut: rustc_hash::FxHashSet<[i64; 3]> = partial
-        .iter()
-        .flat_map(|o| &o.indices)
-        .map(|&i| voxel_key(pts[i], gap))
-        .collect();
-    // Each object's voxels, once.
-    let mut voxels: Vec<rustc_hash::FxHashSet<[i64; 3]>> = objects
-        .iter()
-        .map(|o| o.indices.iter().map(|&i| voxel_key(pts[i], gap)).collect())
-        .collect();
-    let near = |cut: &rustc_hash::FxHashSet<[i64; 3]>, own: &rustc_hash::FxHashSet<[i64; 3]>| {
-        own.iter().any(|k| {
-            (-1..=1).any(|dx| {
-                (-1..=1)
-                    .any(|dy| (-1..=1).any(|dz| cut.contains(&[k[0] + dx, k[1] + dy, k[2] + dz])))
-            })
-        })
-    };
-    while let Some(k) = voxels.iter().position(|v| near(&cut, v)) {
-        cut.extend(voxels.remove(k));
-        partial.push(objects.remove(k));
-    }
-}
-
-/// Where an organized frame's valid data ends, row by row and column by column
-/// (Kinect frames have a margin of missing pixels where depth and colour do not
-/// overlap, so the image edge alone is not where an object is cut).
-struct FrameEdge {
-    width: usize,
-    /// First and last finite column of each row, first and last finite row of each
-    /// column.
-    rows: Vec<(usize, usize)>,
-    cols: Vec<(usize, usize)>,
-}
-
-impl FrameEdge {
-    /// Pixels within this many of the edge are on it.
-    const MARGIN: usize = 2;
-
-    fn of(cloud: &PointCloud) -> Self {
-        let (w, h) = (cloud.width, cloud.height);
-        let finite = |x: usize, y: usize| cloud.points[y * w + x].is_finite();
-        let span = |n: usize, ok: &dyn Fn(usize) -> bool| {
-            let first = (0..n).find(|&k| ok(k));
-            let last = (0..n).rev().find(|&k| ok(k));
-            first.zip(last).unwrap_or((usize::MAX, 0))
-        };
-        Self {
-            width: w,
-            rows: (0..h).map(|y| span(w, &|x| finite(x, y))).collect(),
-            cols: (0..w).map(|x| span(h, &|y| finite(x, y))).collect(),
-        }
-    }
-
-    fn near(&self, i: usize) -> bool {
-        let (x, y) = (i % self.width, i / self.width);
-        let m = Self::MARGIN;
-        let (l, r) = self.rows[y];
-        let (t, b) = self.cols[x];
-        x <= l + m || x + m >= r || y <= t + m || y + m >= b
-    }
 }
 
 /// Points within the plane threshold of the table but under an object's footprint
