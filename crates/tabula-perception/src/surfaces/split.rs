@@ -147,24 +147,35 @@ fn label_pieces(comp: &mut [u32], grid: &PlaneGrid) -> u32 {
     n_comp
 }
 
-/// Cells on a piece's border: only they can hold hull points.
-fn border_cells(comp: &[u32], grid: &PlaneGrid) -> Vec<bool> {
-    (0..comp.len())
+/// Cells on a piece's border (only they can hold hull points), numbered in order; the
+/// others `EMPTY`.
+fn border_cells(comp: &[u32], grid: &PlaneGrid) -> (Vec<u32>, usize) {
+    let mut n = 0usize;
+    let index = (0..comp.len())
         .map(|c| {
             let (cx, cy) = grid.xy(c);
-            comp[c] < UNSET
+            let border = comp[c] < UNSET
                 && (-1..=1).any(|dy| {
                     (-1..=1).any(|dx| grid.at(cx + dx, cy + dy).is_none_or(|n| comp[n] >= UNSET))
-                })
+                });
+            if border {
+                n += 1;
+                (n - 1) as u32
+            } else {
+                EMPTY
+            }
         })
-        .collect()
+        .collect();
+    (index, n)
 }
 
 /// Each piece's points, the cells holding points by piece, and each border cell's
-/// extreme points in the eight directions.
+/// extreme points in the eight directions (by the cell's border number: a grid over
+/// a far, grazing plane has millions of cells and few on a border).
 struct Gathered {
     members: Vec<Vec<usize>>,
     filled: Vec<u32>,
+    border: Vec<u32>,
     extremes: Vec<[(f64, Vec2); 8]>,
 }
 
@@ -174,24 +185,27 @@ fn gather(
     (comp, n_comp): (&[u32], u32),
     on_plane: &[(usize, usize)],
 ) -> Gathered {
-    let border = border_cells(comp, grid);
+    let (border, n_border) = border_cells(comp, grid);
     let mut g = Gathered {
         members: vec![Vec::new(); n_comp as usize],
         filled: vec![EMPTY; comp.len()],
-        extremes: vec![[(f64::NEG_INFINITY, Vec2::ZERO); 8]; comp.len()],
+        border,
+        extremes: vec![[(f64::NEG_INFINITY, Vec2::ZERO); 8]; n_border],
     };
     for &(i, c) in on_plane {
         let owner = comp[c];
         g.members[owner as usize].push(i);
         g.filled[c] = owner;
-        if !border[c] {
+        let b = g.border[c];
+        if b == EMPTY {
             continue;
         }
         let q2 = grid.to2(points[i]);
+        let extremes = &mut g.extremes[b as usize];
         for (k, d) in DIRS.iter().enumerate() {
             let s = q2.x * d.0 + q2.y * d.1;
-            if s > g.extremes[c][k].0 {
-                g.extremes[c][k] = (s, q2);
+            if s > extremes[k].0 {
+                extremes[k] = (s, q2);
             }
         }
     }
@@ -238,8 +252,10 @@ pub(crate) fn split(
     let filled = bridge_rows(&gathered.filled, &grid);
     // How far each cell is from the nearest empty one: thin pieces (the slice of a
     // drum's side within the threshold of a table's plane) have no room inside.
-    let empty: Vec<bool> = filled.iter().map(|&c| c >= UNSET).collect();
-    let room = tabula_geom::raster::distance_transform(&empty, grid.nx, grid.ny);
+    let room = (p.min_inscribed_radius > 0.0).then(|| {
+        let empty: Vec<bool> = filled.iter().map(|&c| c >= UNSET).collect();
+        tabula_geom::raster::distance_transform(&empty, grid.nx, grid.ny)
+    });
     let mut cells_of: Vec<Vec<usize>> = vec![Vec::new(); n_comp as usize];
     for (c, &k) in filled.iter().enumerate() {
         if k < UNSET {
@@ -250,7 +266,9 @@ pub(crate) fn split(
     let mut out = Vec::new();
     for (cells, idx) in cells_of.into_iter().zip(gathered.members) {
         let area = cells.len() as f64 * cell * cell;
-        let core = cells.iter().map(|&c| room[c]).fold(0.0, f64::max).sqrt() * cell;
+        let core = room.as_ref().map_or(f64::INFINITY, |room| {
+            cells.iter().map(|&c| room[c]).fold(0.0, f64::max).sqrt() * cell
+        });
         // Only cells with points on both sides: what stands on a surface is above it.
         let sliced: u32 = cells
             .iter()
@@ -265,7 +283,8 @@ pub(crate) fn split(
         }
         let candidates: Vec<Vec2> = cells
             .iter()
-            .flat_map(|&c| gathered.extremes[c].iter())
+            .filter(|&&c| gathered.border[c] != EMPTY)
+            .flat_map(|&c| gathered.extremes[gathered.border[c] as usize].iter())
             .filter(|e| e.0.is_finite())
             .map(|e| e.1)
             .collect();

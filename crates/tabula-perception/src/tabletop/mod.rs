@@ -452,6 +452,8 @@ fn standing(
         })
         .collect();
     let mut resting: Vec<usize> = Vec::new();
+    // Each point's region, for the occlusion test (made when first needed).
+    let region_of = std::cell::OnceCell::new();
     for k in order {
         let e = &extents[k];
         // Resting on a region: some of this one's bottom points have that region's top
@@ -485,7 +487,9 @@ fn standing(
         let hidden = || {
             occluded.is_some_and(|(width, sensor)| {
                 let bottom = e.lowest + p.rest_tolerance;
-                bottom_occluded(pts, &regions, k, (width, sensor), |i| {
+                let region_of = region_of.get_or_init(|| joins::labels(pts.len(), &regions));
+                let grid = (region_of.as_slice(), width, sensor);
+                bottom_occluded(pts, &regions[k], k, grid, |i| {
                     plane.distance(pts[i]) <= bottom
                 })
             })
@@ -512,23 +516,20 @@ fn standing(
 }
 
 /// Whether most of region `k`'s bottom points (`is_bottom`) have, within 3 pixels on the
-/// sensor's grid, a point of another region at least 1 cm nearer the sensor: what held
-/// the region up is hidden behind that one.
+/// sensor's grid, a point of another region (`region_of` each point, `u32::MAX` none)
+/// at least 1 cm nearer the sensor: what held the region up is hidden behind that one.
 fn bottom_occluded(
     pts: &[Vec3],
-    regions: &[Vec<usize>],
+    region: &[usize],
     k: usize,
-    (width, sensor): (usize, Vec3),
+    (region_of, width, sensor): (&[u32], usize, Vec3),
     is_bottom: impl Fn(usize) -> bool,
 ) -> bool {
     const RADIUS: i64 = 3;
-    let others: rustc_hash::FxHashSet<usize> = (regions.iter().enumerate())
-        .filter(|&(r, _)| r != k)
-        .flat_map(|(_, r)| r.iter().copied())
-        .collect();
+    let other = |j: usize| region_of[j] != u32::MAX && region_of[j] as usize != k;
     let (w, n) = (width as i64, pts.len() as i64);
     let (mut bottom, mut hidden) = (0usize, 0usize);
-    for &i in regions[k].iter().filter(|&&i| is_bottom(i)) {
+    for &i in region.iter().filter(|&&i| is_bottom(i)) {
         bottom += 1;
         let depth = pts[i].distance(sensor);
         let (x, y) = (i as i64 % w, i as i64 / w);
@@ -538,7 +539,7 @@ fn bottom_occluded(
                 let j = ny * w + nx;
                 (0..w).contains(&nx)
                     && (0..n).contains(&j)
-                    && others.contains(&(j as usize))
+                    && other(j as usize)
                     && pts[j as usize].distance(sensor) < depth - 0.01
             })
         });
