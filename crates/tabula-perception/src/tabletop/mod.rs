@@ -20,7 +20,7 @@ use crate::filters::{local_planes_at, statistical_outliers};
 pub use crate::params::TabletopParams;
 use crate::plane::Plane;
 use crate::segment::{Locals, segment_organized, segment_unorganized};
-use crate::surfaces::{Surface, find_surfaces, plane_basis, surface_on};
+use crate::surfaces::{Surface, find_surfaces, plane_basis, surfaces_on};
 use std::time::Instant;
 use tabula_geom::polygon::{convex_hull_2d, min_area_rectangle};
 use tabula_geom::{PointCloud, Pose, Vec2, Vec3};
@@ -213,14 +213,23 @@ fn run(
     times.outliers = ms(t);
 
     let t = Instant::now();
-    let mut table = match known {
-        Some(plane) => surface_on(cloud, Some(&keep), plane, &p.surfaces),
-        None => find_surfaces(cloud, Some(&keep), &p.surfaces, true)
-            .surfaces
-            .into_iter()
-            .next(),
-    }
-    .ok_or(TabletopError::NoTable)?;
+    // The table is its biggest piece; objects stand on any piece of it (a support
+    // found in the scene is seen in pieces between the objects that hide it, and a
+    // crowded front row may stand on a strip far from the biggest one).
+    let (table, outline) = match known {
+        Some(plane) => {
+            let pieces = surfaces_on(cloud, Some(&keep), plane, &p.surfaces);
+            let outline = outline_of(&pieces);
+            (pieces.into_iter().next(), outline)
+        }
+        None => {
+            let found = find_surfaces(cloud, Some(&keep), &p.surfaces, true);
+            let table = found.surfaces.into_iter().next();
+            let outline = table.as_ref().map_or_else(Vec::new, |t| t.hull.clone());
+            (table, outline)
+        }
+    };
+    let mut table = table.ok_or(TabletopError::NoTable)?;
     times.planes = ms(t);
 
     // The prism: the side of the plane the camera is on, inside the table's hull.
@@ -237,7 +246,7 @@ fn run(
     } else {
         0.0
     };
-    let above = prism::above(pts, (&plane, &table), (floor, reach));
+    let above = prism::above(pts, (&plane, &outline), (floor, reach));
     times.prism = ms(t);
 
     let t = Instant::now();
@@ -289,6 +298,23 @@ fn run(
         times,
     };
     Ok((tabletop, keep))
+}
+
+/// The convex outline (world points) around every piece of a surface.
+fn outline_of(pieces: &[Surface]) -> Vec<Vec3> {
+    let corners: Vec<Vec3> = pieces.iter().flat_map(|s| s.hull.iter().copied()).collect();
+    let Some(first) = pieces.first() else {
+        return Vec::new();
+    };
+    let (u, v) = plane_basis(first.plane.normal);
+    let flat: Vec<Vec2> = corners
+        .iter()
+        .map(|q| Vec2::new(q.dot(u), q.dot(v)))
+        .collect();
+    convex_hull_2d(&flat)
+        .into_iter()
+        .map(|k| corners[k])
+        .collect()
 }
 
 /// A frame's points as segmentation sees them: which passed outlier removal, their

@@ -4,22 +4,22 @@
 
 use super::TabletopParams;
 use crate::plane::Plane;
-use crate::surfaces::{Surface, plane_basis};
+use crate::surfaces::plane_basis;
 use tabula_geom::polygon::{distance_to_boundary, inside_convex, polygon_area};
 use tabula_geom::{Vec2, Vec3, voxel_key};
 
 /// The points above `plane` (facing the camera) by more than the floor height, inside
-/// the table's hull — or, for a support found without a world pose (`reach` > 0),
+/// the table's `outline` (convex) — or, for a support found without a world pose (`reach` > 0),
 /// within `reach` of it: such a support is seen only where what stands on it does not
 /// hide it, so its objects stand at the edge of its visible part as often as inside.
 pub(super) fn above(
     pts: &[Vec3],
-    (plane, table): (&Plane, &Surface),
+    (plane, outline): (&Plane, &[Vec3]),
     (floor, reach): (f64, f64),
 ) -> Vec<bool> {
     let (u, v) = plane_basis(plane.normal);
     let to2 = |q: Vec3| Vec2::new(q.dot(u), q.dot(v));
-    let mut poly: Vec<Vec2> = table.hull.iter().map(|&q| to2(q)).collect();
+    let mut poly: Vec<Vec2> = outline.iter().map(|&q| to2(q)).collect();
     if polygon_area(&poly) < 0.0 {
         poly.reverse();
     }
