@@ -147,6 +147,8 @@ pub fn find_support(
         ..SurfaceParams::default()
     };
     let mut planes = Vec::new();
+    // Where each plane's biggest piece is.
+    let mut centres: Vec<Vec3> = Vec::new();
     let mut taken = vec![false; points.len()];
     for round in 0..p.max_planes {
         if remaining.len() < 3 {
@@ -163,11 +165,13 @@ pub fn find_support(
         } else {
             plane
         };
-        let area = split(points, &plane, &inliers, &split_params)
+        let biggest = split(points, &plane, &inliers, &split_params);
+        let (area, centre) = biggest
             .first()
-            .map_or(0.0, |s| s.area);
+            .map_or((0.0, Vec3::NAN), |s| (s.area, s.centroid));
         let angle = plane.normal.angle_between(up_hint);
         planes.push((plane, area, angle));
+        centres.push(centre);
         for &i in &inliers {
             taken[i] = true;
         }
@@ -187,15 +191,19 @@ pub fn find_support(
     // Levels parallel to the dominant plane and a good share of its size: a table over
     // a floor that shows more area. What one manipulates stands on the highest level,
     // the one nearest the sensor along up.
-    let level = |(q, area, _): &&(Plane, f64, f64)| {
+    // Its rise is measured where it is (planes a few degrees apart diverge by
+    // centimetres at the sensor: a box's lid 10 cm over a table rose 16 cm there).
+    let level = |&(k, (q, area, _)): &(usize, &(Plane, f64, f64))| {
         *area >= p.min_area.max(p.min_level_share * dominant_area)
             && q.normal.angle_between(dominant.normal) <= p.level_angle
             && q.distance(eye) > 0.0
-            && q.distance(eye) < dominant.distance(eye) - p.min_level_rise
+            && dominant.distance(centres[k]) >= p.min_level_rise
     };
     let &(plane, area, angle) = planes
         .iter()
+        .enumerate()
         .filter(level)
+        .map(|(_, e)| e)
         .min_by(|a, b| a.0.distance(eye).total_cmp(&b.0.distance(eye)))
         .unwrap_or(&(dominant, dominant_area, dominant_angle));
     Ok(Support {
