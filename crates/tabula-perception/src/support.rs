@@ -165,8 +165,8 @@ pub fn find_support(
         } else {
             plane
         };
-        let biggest = split(points, &plane, &inliers, &split_params);
-        let (area, centre) = biggest
+        let pieces = split(points, &plane, &inliers, &split_params);
+        let (area, centre) = pieces
             .first()
             .map_or((0.0, Vec3::NAN), |s| (s.area, s.centroid));
         let angle = plane.normal.angle_between(up_hint);

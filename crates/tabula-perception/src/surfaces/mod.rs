@@ -265,17 +265,6 @@ fn pieces(
     (found, inliers)
 }
 
-/// The biggest surface on a plane already known (the support found under an up hint):
-/// no search, the same refinement, pieces and checks as a searched surface gets.
-pub fn surface_on(
-    cloud: &PointCloud,
-    keep: Option<&[bool]>,
-    plane: Plane,
-    p: &SurfaceParams,
-) -> Option<Surface> {
-    surfaces_on(cloud, keep, plane, p).into_iter().next()
-}
-
 /// Every surface on a plane already known — a surface seen again to refine it (Alg. 9's
 /// second look): the same refinement, pieces and checks, without searching for the
 /// plane among everything else at that height.

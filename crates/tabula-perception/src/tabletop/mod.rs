@@ -94,7 +94,8 @@ pub struct Tabletop {
     pub plane: Plane,
     pub objects: Vec<TableObject>,
     /// Objects cut by the border of an organized frame (inside the sensor's margin of
-    /// missing depth; not where the scene has no depth): only part of each is in view, so its size and centre are not the object's (obstacles still).
+    /// missing depth; not where the scene has no depth): only part of each is in view,
+    /// so its size and centre are not the object's (obstacles still).
     pub partial: Vec<TableObject>,
     /// Points kept by outlier removal.
     pub kept: usize,
