@@ -97,19 +97,15 @@ impl PointCloud {
     /// The cloud moved by a rigid transform (`target_from_source`), keeping its grid
     /// and its missing points.
     pub fn transformed(&self, target_from_source: &Pose) -> Self {
-        // A matrix and an offset: a third of a quaternion rotation's work per point
-        // (a frame is 300k of them).
-        let rotation = crate::Mat3::from_quat(target_from_source.rotation);
-        let offset = target_from_source.translation;
         Self {
             width: self.width,
             height: self.height,
             points: self
                 .points
                 .iter()
-                .map(|&p| {
+                .map(|p| {
                     if p.is_finite() {
-                        rotation * p + offset
+                        *target_from_source * *p
                     } else {
                         Vec3::NAN
                     }
