@@ -4,13 +4,31 @@ use std::process::Command;
 
 /// Runs a command that must succeed and print one JSON value.
 pub(crate) fn tabula_json(args: &[&str]) -> serde_json::Value {
+    let out = tabula_ok(args);
+    serde_json::from_slice(&out.stdout).expect("one JSON value")
+}
+
+/// Runs the `tabula` binary with `args`; it must succeed (its stderr says why not).
+pub(crate) fn tabula_ok(args: &[&str]) -> std::process::Output {
     let out = tabula(args);
     assert!(
         out.status.success(),
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
-    serde_json::from_slice(&out.stdout).expect("one JSON value")
+    out
+}
+
+/// The `x y z qx qy qz qw` that `sim capture` prints after `--world-from-camera`.
+pub(crate) fn printed_camera_pose(stdout: &[u8]) -> Vec<String> {
+    let text = String::from_utf8_lossy(stdout);
+    text.split("--world-from-camera ")
+        .nth(1)
+        .and_then(|t| t.split(')').next())
+        .expect("capture prints the camera pose")
+        .split_whitespace()
+        .map(str::to_string)
+        .collect()
 }
 
 /// Runs the `tabula` binary with `args`.

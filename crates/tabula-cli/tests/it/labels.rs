@@ -2,22 +2,16 @@
 //! (against a ground truth as PCD or PNG), on a simulated frame whose labels the
 //! simulator knows.
 
+use super::cli::{printed_camera_pose, tabula, tabula_ok};
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
-fn tabula(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_tabula"))
-        .args(args)
-        .output()
-        .expect("run tabula")
-}
+use std::process::Command;
 
 /// A settled frame of `scenes/clutter.toml`, its objects' labels as PCD, and the
 /// camera pose `perceive` needs.
 fn frame(dir: &Path) -> (PathBuf, PathBuf, Vec<String>) {
     let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/../../scenes/clutter.toml");
     let (cloud, truth) = (dir.join("frame.pcd"), dir.join("truth.pcd"));
-    let out = tabula(&[
+    let out = tabula_ok(&[
         "sim",
         "capture",
         "--scene",
@@ -29,21 +23,7 @@ fn frame(dir: &Path) -> (PathBuf, PathBuf, Vec<String>) {
         "--labels",
         truth.to_str().unwrap(),
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let text = String::from_utf8_lossy(&out.stdout).to_string();
-    let pose = text
-        .split("--world-from-camera ")
-        .nth(1)
-        .and_then(|t| t.split(')').next())
-        .expect("capture prints the camera pose")
-        .split_whitespace()
-        .map(str::to_string)
-        .collect();
-    (cloud, truth, pose)
+    (cloud, truth, printed_camera_pose(&out.stdout))
 }
 
 #[test]
@@ -58,12 +38,7 @@ fn a_segmentation_written_as_labels_and_scored_against_the_truth() {
     let base = args.clone();
     args.extend(["--labels", labels.to_str().unwrap(), "--score"]);
     args.extend([truth.to_str().unwrap(), "--truth-format", "plain", "--json"]);
-    let out = tabula(&args);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let out = tabula_ok(&args);
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("json");
     let objects = v["objects"].as_array().expect("objects");
     assert_eq!(objects.len(), 7, "the seven objects of the scene");

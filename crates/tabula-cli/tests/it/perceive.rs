@@ -1,7 +1,7 @@
 //! `tabula perceive` as a user runs it: files, frames, the robot's own points, real
 //! frames without a pose, bad options.
 
-use super::cli::{tabula, tabula_json};
+use super::cli::{printed_camera_pose, tabula, tabula_json, tabula_ok};
 
 /// The WAM as scenes/clutter.toml places it, for `perceive --robot`.
 const WAM_IN_CLUTTER: [&str; 10] = [
@@ -51,7 +51,7 @@ fn perceive_reads_pcd_and_ply_filters_the_robot_places_and_reports() {
     let mut pose: Vec<String> = Vec::new();
     for file in ["frame.pcd", "frame.ply"] {
         let out_path = dir.join(file);
-        let out = tabula(&[
+        let out = tabula_ok(&[
             "sim",
             "capture",
             "--scene",
@@ -61,20 +61,7 @@ fn perceive_reads_pcd_and_ply_filters_the_robot_places_and_reports() {
             "--out",
             out_path.to_str().unwrap(),
         ]);
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        let text = String::from_utf8_lossy(&out.stdout).to_string();
-        let args = text
-            .split("--world-from-camera ")
-            .nth(1)
-            .unwrap()
-            .split(')')
-            .next()
-            .unwrap();
-        pose = args.split_whitespace().map(str::to_string).collect();
+        pose = printed_camera_pose(&out.stdout);
         assert_eq!(pose.len(), 7);
     }
     let report = dir.join("report");
@@ -98,12 +85,7 @@ fn perceive_reads_pcd_and_ply_filters_the_robot_places_and_reports() {
             "--report",
             report.to_str().unwrap(),
         ]);
-        let out = tabula(&args);
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
+        let out = tabula_ok(&args);
         let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON");
         assert_eq!(v["objects"].as_array().unwrap().len(), 7, "{file}");
         assert!((v["table"]["centroid"][2].as_f64().unwrap() - 0.72).abs() < 0.01);
@@ -143,7 +125,7 @@ fn perceive_self_filter_removes_the_arm_reaching_over_the_table() {
     let scene = dir.join("reach.toml");
     std::fs::write(&scene, reaching).unwrap();
     let frame = dir.join("reach.pcd");
-    let out = tabula(&[
+    tabula_ok(&[
         "sim",
         "capture",
         "--scene",
@@ -152,11 +134,6 @@ fn perceive_self_filter_removes_the_arm_reaching_over_the_table() {
         "--out",
         frame.to_str().unwrap(),
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
     let base = [
         "perceive",
         "--cloud",
@@ -174,12 +151,7 @@ fn perceive_self_filter_removes_the_arm_reaching_over_the_table() {
     let objects = |extra: &[&str]| {
         let mut args = base.to_vec();
         args.extend_from_slice(extra);
-        let out = tabula(&args);
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
+        let out = tabula_ok(&args);
         let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
         let partial = v["partial_objects"].as_array().unwrap().len();
         (v["objects"].as_array().unwrap().len(), partial)

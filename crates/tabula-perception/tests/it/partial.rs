@@ -2,9 +2,8 @@
 //! it borders pixels without depth (the space beyond a table's far edge), and its
 //! neighbours touching it on a crowded table are whole objects of their own.
 
+use super::pieces::tabletop_seen;
 use tabula_geom::Vec3;
-use tabula_perception::{TabletopParams, extract, to_world};
-use tabula_sim::{Camera, PhysicsParams, Scene, SimWorld};
 
 /// A box's TOML: `size` (m), its centre over the table top (z = 0.72) at `(x, y)`.
 fn block(name: &str, size: [f64; 3], (x, y): (f64, f64)) -> String {
@@ -26,18 +25,7 @@ fn only_the_image_border_cuts_an_object() {
         block("far", [0.06, 0.06, 0.08], (1.06, 0.0)),
     ]
     .concat();
-    let text = format!(
-        "[[furniture]]\nname = \"table\"\nkind = \"table\"\npose = {{ xyz = [0.7, 0.0, 0.0] }}\n\
-         size = [0.8, 1.2, 0.72]\n\n{objects}\n\
-         [[camera]]\nname = \"eye\"\nlook_at = {{ eye = [0.15, 0.0, 1.25], target = [0.75, 0.0, 0.72] }}\n"
-    );
-    let scene = Scene::parse(&text, "partial.toml").unwrap();
-    let world = SimWorld::from_scene(&scene, PhysicsParams::default()).unwrap();
-    let camera = Camera::from_spec(&scene.cameras[0], &world).unwrap();
-    let frame = tabula_sim::camera::capture(&world, &camera, 1);
-    let cloud = to_world(&frame.world_from_camera, &frame.cloud);
-    let eye = frame.world_from_camera.translation;
-    let t = extract(&cloud, eye, &TabletopParams::default()).unwrap();
+    let (_, t) = tabletop_seen(&objects, 1.2, [0.15, 0.0, 1.25]);
     let whole: Vec<Vec3> = t.objects.iter().map(|o| o.centroid).collect();
     let cut: Vec<Vec3> = t.partial.iter().map(|o| o.centroid).collect();
     let near = |c: &Vec3, x: f64, y: f64| (c.x - x).abs() < 0.05 && (c.y - y).abs() < 0.05;

@@ -6,25 +6,33 @@
 use tabula_perception::{TabletopParams, extract, to_world};
 use tabula_sim::{Camera, PhysicsParams, Scene, SimWorld};
 
-/// The objects `extract` finds in a frame of `objects` (scene TOML) on a table whose
-/// top is at z = 0.72, seen from above the table's near edge.
-fn objects_seen(objects: &str) -> Vec<Vec<tabula_geom::Vec3>> {
+/// A frame of `objects` (scene TOML) on a `table_width` m wide table whose top is at
+/// z = 0.72 (its near edge at x = 0.3), seen from `eye` looking at its middle: the
+/// world-frame cloud and what `extract` finds in it.
+pub(crate) fn tabletop_seen(
+    objects: &str,
+    table_width: f64,
+    eye: [f64; 3],
+) -> (tabula_geom::PointCloud, tabula_perception::Tabletop) {
     let text = format!(
         "[[furniture]]\nname = \"table\"\nkind = \"table\"\npose = {{ xyz = [0.7, 0.0, 0.0] }}\n\
-         size = [0.8, 1.0, 0.72]\n\n{objects}\n\
-         [[camera]]\nname = \"eye\"\nlook_at = {{ eye = [0.05, 0.0, 1.35], target = [0.75, 0.0, 0.72] }}\n"
+         size = [0.8, {table_width:?}, 0.72]\n\n{objects}\n\
+         [[camera]]\nname = \"eye\"\nlook_at = {{ eye = {eye:?}, target = [0.75, 0.0, 0.72] }}\n"
     );
-    let scene = Scene::parse(&text, "occluded.toml").unwrap();
+    let scene = Scene::parse(&text, "tabletop.toml").unwrap();
     let world = SimWorld::from_scene(&scene, PhysicsParams::default()).unwrap();
     let camera = Camera::from_spec(&scene.cameras[0], &world).unwrap();
     let frame = tabula_sim::camera::capture(&world, &camera, 1);
     let cloud = to_world(&frame.world_from_camera, &frame.cloud);
-    let t = extract(
-        &cloud,
-        frame.world_from_camera.translation,
-        &TabletopParams::default(),
-    )
-    .unwrap();
+    let eye = frame.world_from_camera.translation;
+    let t = extract(&cloud, eye, &TabletopParams::default()).unwrap();
+    (cloud, t)
+}
+
+/// The objects `extract` finds in a frame of `objects` (scene TOML) on a table whose
+/// top is at z = 0.72, seen from above the table's near edge.
+fn objects_seen(objects: &str) -> Vec<Vec<tabula_geom::Vec3>> {
+    let (cloud, t) = tabletop_seen(objects, 1.0, [0.05, 0.0, 1.35]);
     t.objects
         .iter()
         .chain(&t.partial)
