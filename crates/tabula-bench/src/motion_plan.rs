@@ -17,18 +17,20 @@ use tabula_robot::robots::{self, NamedRobot};
 use tabula_sim::{PhysicsParams, Scene, SimWorld};
 
 /// Padding of a motion query without parameters: 1 mm, with every edge certified by
-/// conservative advancement. MoveIt plans on the exact geometry, and MotionBenchMaker's
-/// grasp goals sit millimetres from the object, where the tasks' 1 cm would refuse them.
+/// conservative advancement, and thinner where a start or goal lies within it. MoveIt
+/// plans on the exact geometry, and MotionBenchMaker's grasp goals sit millimetres from
+/// the object, where the tasks' 1 cm would refuse them.
 pub const PLANNING_PADDING: f64 = 0.001;
 
 /// The parameters of `path` (TOML) when given, else the defaults with
-/// [`PLANNING_PADDING`].
+/// [`PLANNING_PADDING`] and the padding shrunk to fit the endpoints.
 pub fn planning_params(path: Option<&Path>) -> Result<MoveGroupParams> {
     if path.is_some() {
         return Ok(tabula_geom::input::load_params(path)?);
     }
     let mut params = MoveGroupParams::default();
     params.world.padding = PLANNING_PADDING;
+    params.planner.shrink_padding_to_endpoints = true;
     Ok(params)
 }
 

@@ -127,6 +127,30 @@ pub fn inside_polygon(poly: &[Vec2], p: Vec2) -> bool {
     inside
 }
 
+/// How far `p` can travel along the unit direction `d` before it leaves a
+/// counter-clockwise convex polygon (0 when it is outside; infinite for a polygon of
+/// fewer than three corners, which bounds nothing).
+pub fn exit_distance(poly: &[Vec2], p: Vec2, d: Vec2) -> f64 {
+    let n = poly.len();
+    if n < 3 {
+        return f64::INFINITY;
+    }
+    if !inside_convex(poly, p) {
+        return 0.0;
+    }
+    (0..n)
+        .filter_map(|i| {
+            let (a, b) = (poly[i], poly[(i + 1) % n]);
+            // Outward normal of a counter-clockwise edge: its right side.
+            let e = b - a;
+            let out = Vec2::new(e.y, -e.x);
+            let towards = d.dot(out);
+            (towards > 0.0).then(|| (a - p).dot(out) / towards)
+        })
+        .fold(f64::INFINITY, f64::min)
+        .max(0.0)
+}
+
 /// Distance from `p` to the boundary of a polygon.
 pub fn distance_to_boundary(poly: &[Vec2], p: Vec2) -> f64 {
     let n = poly.len();
@@ -232,6 +256,24 @@ pub fn min_area_rectangle_of_hull(hull: &[Vec2]) -> Option<Rectangle> {
 mod tests {
     use super::*;
     use proptest::prelude::*;
+
+    #[test]
+    fn exit_distance_along_a_ray_out_of_a_rectangle() {
+        let r = [
+            Vec2::new(0.0, 0.0),
+            Vec2::new(2.0, 0.0),
+            Vec2::new(2.0, 1.0),
+            Vec2::new(0.0, 1.0),
+        ];
+        let p = Vec2::new(0.5, 0.5);
+        assert!((exit_distance(&r, p, Vec2::X) - 1.5).abs() < 1e-12);
+        assert!((exit_distance(&r, p, -Vec2::X) - 0.5).abs() < 1e-12);
+        assert!((exit_distance(&r, p, Vec2::Y) - 0.5).abs() < 1e-12);
+        let diag = Vec2::new(1.0, 1.0).normalize();
+        assert!((exit_distance(&r, p, diag) - 0.5 * 2f64.sqrt()).abs() < 1e-12);
+        assert_eq!(exit_distance(&r, Vec2::new(3.0, 0.5), Vec2::X), 0.0);
+        assert_eq!(exit_distance(&r[..2], p, Vec2::X), f64::INFINITY);
+    }
 
     #[test]
     fn hull_of_a_square_with_inner_and_collinear_points() {

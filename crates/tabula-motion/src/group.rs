@@ -6,7 +6,8 @@
 
 use crate::goals::follow_line;
 use crate::rrt::{
-    PlanError, PlannerParams, rrt_connect, segment_certified, shortcut, time_parameterize,
+    PlanError, PlannerParams, fitted_world, rrt_connect, segment_certified, shortcut,
+    time_parameterize,
 };
 use crate::world::{CollisionWorld, WorldError, WorldParams};
 use rand::SeedableRng;
@@ -288,14 +289,15 @@ impl MoveGroup {
     /// A collision-free path from `start` to any of `goals`, shortcut and timed.
     pub fn plan_to_joints(&self, start: &[f64], goals: &[Vec<f64>]) -> Result<Plan, MoveError> {
         let t0 = thread_cpu();
+        let world = fitted_world(&self.world, start, goals, &self.params.planner);
         let mut path =
-            rrt_connect(&self.world, start, goals, &self.params.planner).map_err(|e| match e {
+            rrt_connect(&world, start, goals, &self.params.planner).map_err(|e| match e {
                 PlanError::GoalInvalid(why) => MoveError::JointGoalInvalid(why),
                 PlanError::StartInvalid(why) => MoveError::StartInvalid(why),
                 other => MoveError::NoPath(other.to_string()),
             })?;
         let mut rng = ChaCha8Rng::seed_from_u64(self.params.planner.seed);
-        shortcut(&self.world, &mut path, &self.params.planner, &mut rng);
+        shortcut(&world, &mut path, &self.params.planner, &mut rng);
         self.timed(start, path.waypoints, thread_cpu() - t0)
     }
 

@@ -13,7 +13,7 @@ pub mod world;
 pub use goals::{cartesian_path, pose_goals};
 pub use group::{MoveError, MoveGroup, MoveGroupParams, Plan};
 pub use rrt::{
-    Path, PlanError, PlannerParams, Trajectory, rrt_connect, segment_certified, segment_valid,
-    time_parameterize,
+    Path, PlanError, PlannerParams, Trajectory, fitted_world, rrt_connect, segment_certified,
+    segment_valid, time_parameterize,
 };
 pub use world::{CollisionWorld, WorldError, WorldParams};

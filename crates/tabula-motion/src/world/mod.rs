@@ -510,6 +510,14 @@ impl CollisionWorld {
         Ok(())
     }
 
+    /// Scales every link's padding (and the default for links added later) by `factor`.
+    pub fn scale_padding(&mut self, factor: f64) {
+        self.params.padding *= factor;
+        for body in &mut self.bodies {
+            body.padding *= factor;
+        }
+    }
+
     /// The largest padding of any link (what conservative advancement must keep).
     pub fn max_padding(&self) -> f64 {
         self.bodies

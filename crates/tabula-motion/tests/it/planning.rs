@@ -6,8 +6,8 @@ use tabula_geom::parry::shape::SharedShape;
 use tabula_geom::{Pose, Quat, Vec3};
 use tabula_motion::bench::{reach_configuration, robot_world, table_height, tabletop_world};
 use tabula_motion::{
-    PlanError, PlannerParams, WorldParams, cartesian_path, pose_goals, rrt_connect, segment_valid,
-    time_parameterize,
+    PlanError, PlannerParams, WorldParams, cartesian_path, fitted_world, pose_goals, rrt_connect,
+    segment_valid, time_parameterize,
 };
 use tabula_robot::{Chain, robots};
 
@@ -68,6 +68,67 @@ fn a_thousand_plans_are_valid_at_ten_times_finer_resolution() {
         }
     }
     assert!(plans >= 1000, "only {plans} plans");
+}
+
+#[test]
+fn a_goal_within_the_padding_is_reached_with_a_thinner_one_and_never_touched() {
+    let (robot, chain) = wam();
+    let q_goal = vec![0.0, 0.6, 0.0, 1.6, 0.0, 0.4, 0.0];
+    let q_start = vec![0.8, 0.2, 0.0, 1.9, 0.0, 0.2, 0.0];
+    let mut world = robot_world(&robot, chain, WorldParams::default()).unwrap();
+    let tip = world.tip_pose(&q_goal).unwrap();
+    // A wall 3 mm beyond the fingertips: inside the 1 cm padding, clear of contact.
+    let down = tip.rotation * Vec3::Z;
+    let wall_at = tip.translation + down * (0.0225 + 0.003 + 0.01);
+    let wall = Pose::from_parts(wall_at, tip.rotation);
+    world
+        .add_box("wall", Vec3::new(0.5, 0.5, 0.02), wall)
+        .unwrap();
+    assert!(world.is_valid(&q_start) && !world.is_valid(&q_goal));
+    let goals = vec![q_goal.clone()];
+    let strict = PlannerParams::default();
+    assert!(matches!(
+        rrt_connect(&world, &q_start, &goals, &strict),
+        Err(PlanError::GoalInvalid(why)) if why.contains("padding")
+    ));
+    assert!(matches!(
+        fitted_world(&world, &q_start, &goals, &strict),
+        std::borrow::Cow::Borrowed(_)
+    ));
+    let fit = PlannerParams {
+        shrink_padding_to_endpoints: true,
+        ..strict
+    };
+    let thinner = fitted_world(&world, &q_start, &goals, &fit);
+    let pad = thinner.max_padding();
+    assert!((0.01 / 64.0..0.003).contains(&pad), "padding {pad}");
+    let path =
+        rrt_connect(&thinner, &q_start, &goals, &fit).expect("the goal fits the thinner padding");
+    assert_eq!(path.waypoints.last(), Some(&q_goal));
+    // Every 0.5 mm of motion along the path: no contact on the exact geometry.
+    for w in path.waypoints.windows(2) {
+        let n = (world.displacement_bound(&w[0], &w[1]) / 5e-4)
+            .ceil()
+            .max(1.0) as usize;
+        for i in 0..=n {
+            let t = i as f64 / n as f64;
+            let q: Vec<f64> = w[0]
+                .iter()
+                .zip(&w[1])
+                .map(|(a, b)| a + (b - a) * t)
+                .collect();
+            assert_eq!(world.exact_collision(&q).unwrap(), None, "at {q:?}");
+        }
+    }
+    // A goal that touches is still refused, whatever the padding.
+    let touching = Pose::from_parts(tip.translation + down * 0.02, tip.rotation);
+    world
+        .add_box("block", Vec3::new(0.5, 0.5, 0.02), touching)
+        .unwrap();
+    assert!(matches!(
+        fitted_world(&world, &q_start, &goals, &fit),
+        std::borrow::Cow::Borrowed(_)
+    ));
 }
 
 #[test]

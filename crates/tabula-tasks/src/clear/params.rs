@@ -58,6 +58,10 @@ pub struct ClearParams {
     pub push_margin: f64,
     /// After a push the fingers back off this far (m) before rising.
     pub push_back_off: f64,
+    /// What a push moves must end at least this far (m) from the table's edge ahead of
+    /// it, beyond its half size: a pushed can rolls on after the fingers stop, a block
+    /// slides. Not in the seed (its table had walls of clutter, not edges).
+    pub push_edge_clearance: f64,
     /// Pre-push and post-push height above the push (m), SPEC §3.2: 20 cm.
     pub pre_push_height: f64,
     /// Clearance the predicates demand between the gripper or a moving hull and
@@ -121,6 +125,7 @@ impl ClearParams {
             ("push_distance", self.push_distance),
             ("push_margin", self.push_margin),
             ("push_back_off", self.push_back_off),
+            ("push_edge_clearance", self.push_edge_clearance),
             ("pre_push_height", self.pre_push_height),
             ("clearance", self.clearance),
             ("sweep_tolerance", self.sweep_tolerance),
@@ -200,6 +205,7 @@ impl Default for ClearParams {
             push_factor: 1.0,
             push_margin: 0.02,
             push_back_off: 0.015,
+            push_edge_clearance: 0.12,
             pre_push_height: 0.20,
             clearance: 0.004,
             sweep_tolerance: 0.005,

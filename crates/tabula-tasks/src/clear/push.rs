@@ -6,7 +6,7 @@ use super::predicates::{TableView, descent_poses};
 use super::{ClearParams, DIRECTIONS, SeenObject, hits, hulls_collide, translated};
 use crate::skills::hand::extent_along;
 use tabula_geom::parry::bounding_volume::{Aabb, BoundingVolume};
-use tabula_geom::polygon::{distance_to_boundary, inside_convex};
+use tabula_geom::polygon::{distance_to_boundary, exit_distance, inside_convex};
 use tabula_geom::{Pose, Vec2, Vec3};
 
 /// A push worked out in geometry.
@@ -92,12 +92,15 @@ impl TableView<'_> {
     }
 
     /// Whether `x` pushed `length` along `d` keeps its footprint's centre half its size
-    /// and 2 cm from the table's edge.
+    /// and 2 cm from the table's edge, and `push_edge_clearance` more from the edge
+    /// ahead (where it rolls or slides on).
     fn stays_on_table(&self, x: &SeenObject, d: Vec2, length: f64) -> bool {
         let outline = &self.table.outline;
         let end = x.rect.center + d * length;
+        let half = x.rect.extent_along(d) / 2.0;
         inside_convex(outline, end)
-            && distance_to_boundary(outline, end) > x.rect.extent_along(d) / 2.0 + 0.02
+            && distance_to_boundary(outline, end) > half + 0.02
+            && exit_distance(outline, end, d) > half + self.params.push_edge_clearance
     }
 
     /// The seed's push of object `b` in direction `k`: until its grasp is free (SPEC
