@@ -73,26 +73,13 @@ fn one_problem_of_every_set_is_solved_with_exactly_collision_free_paths() {
         let problem = p.request.problem(&mut world).expect("request fits");
         assert_eq!(path.first(), Some(&problem.start));
         assert_eq!(path.last(), problem.joint_goals.first());
-        for w in path.windows(2) {
-            let steps = (world.displacement_bound(&w[0], &w[1]) / 0.002)
-                .ceil()
-                .max(1.0) as usize;
-            for k in 0..=steps {
-                let t = k as f64 / steps as f64;
-                let q: Vec<f64> = w[0]
-                    .iter()
-                    .zip(&w[1])
-                    .map(|(a, b)| a + (b - a) * t)
-                    .collect();
-                assert_eq!(
-                    world.exact_collision(&q).expect("finite"),
-                    None,
-                    "{} {:04}: the path touches something at t = {t} of an edge",
-                    r.set,
-                    r.index
-                );
-            }
-        }
+        assert_eq!(
+            crate::first_touch(&world, path, 0.002),
+            None,
+            "{} {:04}: the path touches something (edge, configuration)",
+            r.set,
+            r.index
+        );
     }
 }
 

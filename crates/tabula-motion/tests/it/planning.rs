@@ -106,20 +106,7 @@ fn a_goal_within_the_padding_is_reached_with_a_thinner_one_and_never_touched() {
         rrt_connect(&thinner, &q_start, &goals, &fit).expect("the goal fits the thinner padding");
     assert_eq!(path.waypoints.last(), Some(&q_goal));
     // Every 0.5 mm of motion along the path: no contact on the exact geometry.
-    for w in path.waypoints.windows(2) {
-        let n = (world.displacement_bound(&w[0], &w[1]) / 5e-4)
-            .ceil()
-            .max(1.0) as usize;
-        for i in 0..=n {
-            let t = i as f64 / n as f64;
-            let q: Vec<f64> = w[0]
-                .iter()
-                .zip(&w[1])
-                .map(|(a, b)| a + (b - a) * t)
-                .collect();
-            assert_eq!(world.exact_collision(&q).unwrap(), None, "at {q:?}");
-        }
-    }
+    assert_eq!(crate::first_touch(&world, &path.waypoints, 5e-4), None);
     // A goal that touches is still refused, whatever the padding.
     let touching = Pose::from_parts(tip.translation + down * 0.02, tip.rotation);
     world
