@@ -21,8 +21,6 @@ const SLACK: f64 = 0.006;
 const OUTSIDE_SHARE: f64 = 0.03;
 /// … and rise no higher than the rim by more than this (m).
 const ABOVE_RIM: f64 = 0.01;
-/// Pieces touch on the grid: pixels at most this far apart.
-const TOUCH_PIXELS: usize = 2;
 
 /// A piece whose rim is a circle on the table: centre and radius (table plane
 /// coordinates), rim height.
@@ -55,7 +53,7 @@ pub(super) fn join_insides(
             .filter(|&(b, _)| b != a)
             .filter_map(|(b, r)| r.as_ref().map(|r| (b, r)))
             .filter(|&(b, r)| {
-                within(pts, table, inside, r, &flat) && touches(&label, width, inside, b as u32)
+                within(pts, table, inside, r, &flat) && joins::touches(&label, width, inside, b as u32)
             })
             .max_by(|x, y| x.1.radius.total_cmp(&y.1.radius));
         if let Some((b, _)) = best {
@@ -141,25 +139,6 @@ fn within(
         })
         .count();
     (outside as f64) <= OUTSIDE_SHARE * inside.len() as f64
-}
-
-/// Whether some pixel of `members` is within [`TOUCH_PIXELS`] of one labelled `other`.
-fn touches(label: &[u32], width: usize, members: &[usize], other: u32) -> bool {
-    let height = label.len() / width;
-    let t = TOUCH_PIXELS as isize;
-    members.iter().any(|&i| {
-        let (x, y) = ((i % width) as isize, (i / width) as isize);
-        (-t..=t).any(|dy| {
-            (-t..=t).any(|dx| {
-                let (xx, yy) = (x + dx, y + dy);
-                xx >= 0
-                    && yy >= 0
-                    && (xx as usize) < width
-                    && (yy as usize) < height
-                    && label[yy as usize * width + xx as usize] == other
-            })
-        })
-    })
 }
 
 #[cfg(test)]

@@ -1,5 +1,9 @@
 //! What the joins of pieces into objects share (an occluded object's pieces, a
-//! container's inside and outside): each point's piece on the grid, and the merge.
+//! container's inside and outside, a concave part and the piece around it): each
+//! point's piece on the grid, which pieces touch there, and the merge.
+
+/// Pieces touch on the grid: pixels at most this far apart.
+const TOUCH_PIXELS: usize = 2;
 
 /// Each point's region among `n` points (`u32::MAX`: none).
 pub(super) fn labels(n: usize, regions: &[Vec<usize>]) -> Vec<u32> {
@@ -10,6 +14,59 @@ pub(super) fn labels(n: usize, regions: &[Vec<usize>]) -> Vec<u32> {
         }
     }
     label
+}
+
+/// Whether some pixel of `members` is within [`TOUCH_PIXELS`] of one labelled `other`
+/// (`label` on a grid `width` wide).
+pub(super) fn touches(label: &[u32], width: usize, members: &[usize], other: u32) -> bool {
+    let height = label.len() / width;
+    let t = TOUCH_PIXELS as isize;
+    members.iter().any(|&i| {
+        let (x, y) = ((i % width) as isize, (i / width) as isize);
+        (-t..=t).any(|dy| {
+            (-t..=t).any(|dx| {
+                let (xx, yy) = (x + dx, y + dy);
+                xx >= 0
+                    && yy >= 0
+                    && (xx as usize) < width
+                    && (yy as usize) < height
+                    && label[yy as usize * width + xx as usize] == other
+            })
+        })
+    })
+}
+
+/// Every pair of pieces (lower index first, sorted) with pixels within
+/// [`TOUCH_PIXELS`] of each other on the grid.
+pub(super) fn touching(label: &[u32], width: usize) -> Vec<(usize, usize)> {
+    let height = label.len() / width.max(1);
+    let t = TOUCH_PIXELS as isize;
+    let mut pairs = rustc_hash::FxHashSet::default();
+    for (i, &a) in label.iter().enumerate() {
+        if a == u32::MAX {
+            continue;
+        }
+        let (x, y) = ((i % width) as isize, (i / width) as isize);
+        // The half of the window after this pixel: each pair of pixels is seen once.
+        for dy in 0..=t {
+            for dx in -t..=t {
+                if dy == 0 && dx <= 0 {
+                    continue;
+                }
+                let (xx, yy) = (x + dx, y + dy);
+                if xx < 0 || xx as usize >= width || yy as usize >= height {
+                    continue;
+                }
+                let b = label[yy as usize * width + xx as usize];
+                if b != u32::MAX && b != a {
+                    pairs.insert((a.min(b) as usize, a.max(b) as usize));
+                }
+            }
+        }
+    }
+    let mut pairs: Vec<(usize, usize)> = pairs.into_iter().collect();
+    pairs.sort_unstable();
+    pairs
 }
 
 /// `regions` with the two regions of every pair made one (and what those join,
@@ -49,5 +106,17 @@ mod tests {
         let regions = vec![vec![5], vec![1, 0], vec![7], vec![3]];
         let merged = super::merge(regions, &[(3, 1), (1, 0)]);
         assert_eq!(merged, vec![vec![0, 1, 3, 5], vec![7]]);
+    }
+
+    #[test]
+    fn pieces_two_pixels_apart_touch_and_three_apart_do_not() {
+        const N: u32 = u32::MAX;
+        // A 6 × 2 grid: piece 0 at column 0, piece 1 at column 2 (two apart), piece 2
+        // at column 5 (three from piece 1).
+        let label = [0, N, 1, N, N, 2, N, N, N, N, N, N];
+        assert_eq!(super::touching(&label, 6), vec![(0, 1)]);
+        let members_of_1 = [2];
+        assert!(super::touches(&label, 6, &members_of_1, 0));
+        assert!(!super::touches(&label, 6, &members_of_1, 2));
     }
 }

@@ -8,6 +8,7 @@
 mod containers;
 mod describe;
 mod edges;
+mod enclosed;
 mod joins;
 mod occluded;
 mod prism;
@@ -280,7 +281,8 @@ fn run(
     };
     let labels = if organized {
         let joined = occluded::join_occluded(pts, cloud.width, viewpoint, &plane, labels);
-        containers::join_insides(pts, cloud.width, &plane, joined)
+        let joined = containers::join_insides(pts, cloud.width, &plane, joined);
+        enclosed::join_enclosed(pts, cloud.width, joined, p.min_object_points)
     } else {
         labels
     };
