@@ -13,8 +13,8 @@ const ENCLOSED_SHARE: f64 = 0.9;
 const SLACK: f64 = 0.005;
 /// The hull is taken of the enclosing piece's outermost point in each cell of a grid
 /// this many cells across its box's diagonal (the cell is added to the slack, so the
-/// test is against the full hull; a 20 cm piece: 2.5 mm cells).
-const HULL_CELLS: f64 = 80.0;
+/// test is against the full hull; a 20 cm piece: 5 mm cells).
+const HULL_CELLS: f64 = 40.0;
 
 /// `regions` with every piece of at least `min_points` that lies inside the hull of a
 /// bigger piece touching it on the grid joined to that piece (organized frames only:
