@@ -53,7 +53,8 @@ pub(super) fn join_insides(
             .filter(|&(b, _)| b != a)
             .filter_map(|(b, r)| r.as_ref().map(|r| (b, r)))
             .filter(|&(b, r)| {
-                within(pts, table, inside, r, &flat) && joins::touches(&label, width, inside, b as u32)
+                within(pts, table, inside, r, &flat)
+                    && joins::touches(&label, width, inside, b as u32)
             })
             .max_by(|x, y| x.1.radius.total_cmp(&y.1.radius));
         if let Some((b, _)) = best {

@@ -16,16 +16,40 @@ const SLACK: f64 = 0.005;
 /// test is against the full hull; a 20 cm piece: 5 mm cells).
 const HULL_CELLS: f64 = 40.0;
 
+/// Rounds of joins: a piece may touch the one around it only through another piece
+/// that a round joins to it (a handle in three pieces).
+const MAX_ROUNDS: usize = 4;
+
 /// `regions` with every piece of at least `min_points` that lies inside the hull of a
 /// bigger piece touching it on the grid joined to that piece (organized frames only:
 /// `width` is the grid's). Smaller pieces are not objects anyway.
 pub(super) fn join_enclosed(
     pts: &[Vec3],
     width: usize,
+    mut regions: Vec<Vec<usize>>,
+    min_points: usize,
+) -> Vec<Vec<usize>> {
+    if width == 0 || regions.len() > 512 {
+        return regions;
+    }
+    for _ in 0..MAX_ROUNDS {
+        let before = regions.len();
+        regions = join_round(pts, width, regions, min_points);
+        if regions.len() == before {
+            break;
+        }
+    }
+    regions
+}
+
+/// One round of [`join_enclosed`]'s joins, each judged on the pieces as they were.
+fn join_round(
+    pts: &[Vec3],
+    width: usize,
     regions: Vec<Vec<usize>>,
     min_points: usize,
 ) -> Vec<Vec<usize>> {
-    if width == 0 || regions.len() < 2 || regions.len() > 512 {
+    if regions.len() < 2 {
         return regions;
     }
     let boxes: Vec<(Vec3, Vec3)> = regions.iter().map(|m| bounds(pts, m)).collect();
@@ -102,7 +126,11 @@ impl Hull {
         let allowed = ((1.0 - ENCLOSED_SHARE) * members.len() as f64).floor() as usize;
         let mut outside = 0;
         for &i in members {
-            if self.faces.iter().any(|(n, d)| n.dot(pts[i]) - d > self.slack) {
+            if self
+                .faces
+                .iter()
+                .any(|(n, d)| n.dot(pts[i]) - d > self.slack)
+            {
                 outside += 1;
                 if outside > allowed {
                     return false;
@@ -129,7 +157,11 @@ fn outermost(pts: &[Vec3], members: &[usize]) -> (Vec<Vec3>, f64) {
     }
     let mut kept: Vec<Vec3> = cells.into_values().collect();
     // The hull does not depend on the order, but its triangles' order does.
-    kept.sort_by(|a, b| a.to_array().partial_cmp(&b.to_array()).unwrap_or(std::cmp::Ordering::Equal));
+    kept.sort_by(|a, b| {
+        a.to_array()
+            .partial_cmp(&b.to_array())
+            .unwrap_or(std::cmp::Ordering::Equal)
+    });
     (kept, cell)
 }
 

@@ -1,6 +1,6 @@
 //! What the joins of pieces into objects share (an occluded object's pieces, a
 //! container's inside and outside, a concave part and the piece around it): each
-//! point's piece on the grid, which pieces touch there, and the merge.
+//! point's piece on the grid, whether two pieces touch there, and the merge.
 
 /// Pieces touch on the grid: pixels at most this far apart.
 const TOUCH_PIXELS: usize = 2;
@@ -34,39 +34,6 @@ pub(super) fn touches(label: &[u32], width: usize, members: &[usize], other: u32
             })
         })
     })
-}
-
-/// Every pair of pieces (lower index first, sorted) with pixels within
-/// [`TOUCH_PIXELS`] of each other on the grid.
-pub(super) fn touching(label: &[u32], width: usize) -> Vec<(usize, usize)> {
-    let height = label.len() / width.max(1);
-    let t = TOUCH_PIXELS as isize;
-    let mut pairs = rustc_hash::FxHashSet::default();
-    for (i, &a) in label.iter().enumerate() {
-        if a == u32::MAX {
-            continue;
-        }
-        let (x, y) = ((i % width) as isize, (i / width) as isize);
-        // The half of the window after this pixel: each pair of pixels is seen once.
-        for dy in 0..=t {
-            for dx in -t..=t {
-                if dy == 0 && dx <= 0 {
-                    continue;
-                }
-                let (xx, yy) = (x + dx, y + dy);
-                if xx < 0 || xx as usize >= width || yy as usize >= height {
-                    continue;
-                }
-                let b = label[yy as usize * width + xx as usize];
-                if b != u32::MAX && b != a {
-                    pairs.insert((a.min(b) as usize, a.max(b) as usize));
-                }
-            }
-        }
-    }
-    let mut pairs: Vec<(usize, usize)> = pairs.into_iter().collect();
-    pairs.sort_unstable();
-    pairs
 }
 
 /// `regions` with the two regions of every pair made one (and what those join,
@@ -114,7 +81,6 @@ mod tests {
         // A 6 × 2 grid: piece 0 at column 0, piece 1 at column 2 (two apart), piece 2
         // at column 5 (three from piece 1).
         let label = [0, N, 1, N, N, 2, N, N, N, N, N, N];
-        assert_eq!(super::touching(&label, 6), vec![(0, 1)]);
         let members_of_1 = [2];
         assert!(super::touches(&label, 6, &members_of_1, 0));
         assert!(!super::touches(&label, 6, &members_of_1, 2));
