@@ -29,22 +29,32 @@ pub(super) fn shortcut_spaced(
 }
 
 /// Replaces the stretch between two random waypoints by the straight segment whenever
-/// `segment_ok` accepts it, `shortcut_attempts` times.
+/// `segment_ok` accepts it, `shortcut_attempts` times. A pair of waypoints refused once
+/// is refused again until the path changes, so it is not checked again (a path of three
+/// waypoints has one pair: it was drawn fifty times); once every pair is refused the
+/// path is final. The answer is the one checking every draw gives.
 fn shortcut_with(
     path: &mut Path,
     p: &PlannerParams,
     rng: &mut ChaCha8Rng,
     segment_ok: impl Fn(&[f64], &[f64]) -> bool,
 ) {
+    let mut refused: Vec<(usize, usize)> = Vec::new();
     for _ in 0..p.shortcut_attempts {
         let n = path.waypoints.len();
-        if n < 3 {
+        if n < 3 || refused.len() >= (n - 1) * (n - 2) / 2 {
             return;
         }
         let i = rng.random_range(0..n - 2);
         let j = rng.random_range(i + 2..n);
+        if refused.contains(&(i, j)) {
+            continue;
+        }
         if segment_ok(&path.waypoints[i], &path.waypoints[j]) {
             path.waypoints.drain(i + 1..j);
+            refused.clear();
+        } else {
+            refused.push((i, j));
         }
     }
 }
