@@ -23,13 +23,39 @@ pub fn spacing_certifies(world: &CollisionWorld) -> bool {
 
 /// Whether the straight segment a→b is valid *everywhere*, not only at its samples:
 /// fixed spacing where the padding covers the gaps ([`spacing_certifies`]), else
-/// conservative advancement.
+/// conservative advancement — after a coarse look ([`refused_early`]) that turns most
+/// blocked segments away for a fraction of the cost.
 pub fn segment_certified(world: &CollisionWorld, a: &[f64], b: &[f64], resolution: f64) -> bool {
+    if spacing_certifies(world) {
+        segment_valid(world, a, b, resolution)
+    } else {
+        !refused_early(world, a, b, resolution) && segment_valid_advancing(world, a, b, resolution)
+    }
+}
+
+/// [`segment_certified`] without the coarse look first: for edges that passed it
+/// already (a path the trees found on coarse checks).
+pub(super) fn certify(world: &CollisionWorld, a: &[f64], b: &[f64], resolution: f64) -> bool {
     if spacing_certifies(world) {
         segment_valid(world, a, b, resolution)
     } else {
         segment_valid_advancing(world, a, b, resolution)
     }
+}
+
+/// Whether a configuration on a→b is invalid among a few: four times the world's step
+/// and the angular resolution apart, in bisection order. A segment that fails here
+/// cannot be certified (certified, it would be valid at every configuration), so the
+/// answer of conservative advancement is the same, found sooner.
+pub(super) fn refused_early(
+    world: &CollisionWorld,
+    a: &[f64],
+    b: &[f64],
+    resolution: f64,
+) -> bool {
+    const COARSE: f64 = 4.0;
+    let spacing = COARSE * world.params.max_step_displacement;
+    !segment_valid_spaced(world, a, b, COARSE * resolution, spacing)
 }
 
 /// Most configurations one certification may measure: an edge that needs more is

@@ -178,7 +178,9 @@ pub fn rrt_connect(
     }
     // Straight line first, checked exactly: in open space that is the answer.
     for g in &valid_goals {
-        if segment_valid_advancing(world, start, g, p.resolution) {
+        if !edge::refused_early(world, start, g, p.resolution)
+            && segment_valid_advancing(world, start, g, p.resolution)
+        {
             return Ok(Path {
                 waypoints: vec![start.to_vec(), g.clone()],
                 planning_time: t0.elapsed().as_secs_f64(),
@@ -210,7 +212,7 @@ pub fn rrt_connect(
         let verified = path
             .waypoints
             .windows(2)
-            .all(|w| segment_certified(world, &w[0], &w[1], p.resolution));
+            .all(|w| edge::certify(world, &w[0], &w[1], p.resolution));
         if verified {
             path.planning_time = t0.elapsed().as_secs_f64();
             return Ok(path);
