@@ -45,15 +45,16 @@ pub(super) fn certify(world: &CollisionWorld, a: &[f64], b: &[f64], resolution: 
 
 /// Whether a configuration on a→b is invalid among a few: four times the world's step
 /// and the angular resolution apart, in bisection order. A segment that fails here
-/// cannot be certified (certified, it would be valid at every configuration), so the
-/// answer of conservative advancement is the same, found sooner.
-pub(super) fn refused_early(
-    world: &CollisionWorld,
-    a: &[f64],
-    b: &[f64],
-    resolution: f64,
-) -> bool {
+/// cannot be certified (certified, it would be valid at every configuration), so
+/// conservative advancement would give the same answer — after distance queries at
+/// every configuration it bisects to, where these are boolean checks. Only worth it
+/// where advancement is the certificate (an exact world, not [`spacing_certifies`]):
+/// a free segment pays the look on top.
+pub(super) fn refused_early(world: &CollisionWorld, a: &[f64], b: &[f64], resolution: f64) -> bool {
     const COARSE: f64 = 4.0;
+    if spacing_certifies(world) {
+        return false;
+    }
     let spacing = COARSE * world.params.max_step_displacement;
     !segment_valid_spaced(world, a, b, COARSE * resolution, spacing)
 }
