@@ -25,22 +25,38 @@ pub fn thinned_with_cell(points: &[Vec3], max: usize) -> Option<(Vec<Vec3>, f64)
     let centre = (lo + hi) / 2.0;
     let mut leaf = (hi - lo).length() / 2000.0;
     loop {
-        let mut cells: std::collections::HashMap<[i64; 3], Vec3> = Default::default();
-        for p in points {
-            let cell = cells.entry(crate::voxel_key(*p, leaf)).or_insert(*p);
-            if p.distance_squared(centre) > cell.distance_squared(centre) {
-                *cell = *p;
-            }
-        }
-        if cells.len() <= max {
-            let mut kept: Vec<Vec3> = cells.into_values().collect();
-            kept.sort_by(|a, b| {
-                a.to_array()
-                    .partial_cmp(&b.to_array())
-                    .unwrap_or(std::cmp::Ordering::Equal)
-            });
+        let mut kept = outermost_per_cell(points, centre, leaf);
+        if kept.len() <= max {
+            sort_points(&mut kept);
             return Some((kept, leaf));
         }
         leaf *= 2.0;
     }
+}
+
+/// The point of `points` farthest from `centre` in each `cell`-sized voxel, in no
+/// particular order: the hull of these loses less than a cell's diagonal.
+pub fn outermost_per_cell<'a>(
+    points: impl IntoIterator<Item = &'a Vec3>,
+    centre: Vec3,
+    cell: f64,
+) -> Vec<Vec3> {
+    let mut cells: std::collections::HashMap<[i64; 3], Vec3> = Default::default();
+    for p in points {
+        let kept = cells.entry(crate::voxel_key(*p, cell)).or_insert(*p);
+        if p.distance_squared(centre) > kept.distance_squared(centre) {
+            *kept = *p;
+        }
+    }
+    cells.into_values().collect()
+}
+
+/// Points in lexicographic order (a hull does not depend on its input's order, but
+/// its triangles' order does).
+pub fn sort_points(points: &mut [Vec3]) {
+    points.sort_by(|a, b| {
+        a.to_array()
+            .partial_cmp(&b.to_array())
+            .unwrap_or(std::cmp::Ordering::Equal)
+    });
 }

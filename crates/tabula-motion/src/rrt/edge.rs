@@ -26,11 +26,7 @@ pub fn spacing_certifies(world: &CollisionWorld) -> bool {
 /// conservative advancement — after a coarse look ([`refused_early`]) that turns most
 /// blocked segments away for a fraction of the cost.
 pub fn segment_certified(world: &CollisionWorld, a: &[f64], b: &[f64], resolution: f64) -> bool {
-    if spacing_certifies(world) {
-        segment_valid(world, a, b, resolution)
-    } else {
-        !refused_early(world, a, b, resolution) && segment_valid_advancing(world, a, b, resolution)
-    }
+    !refused_early(world, a, b, resolution) && certify(world, a, b, resolution)
 }
 
 /// [`segment_certified`] without the coarse look first: for edges that passed it

@@ -6,6 +6,7 @@
 
 use super::joins;
 use tabula_geom::Vec3;
+use tabula_geom::hull_input::{outermost_per_cell, sort_points};
 
 /// A piece is enclosed when this share of its points …
 const ENCLOSED_SHARE: f64 = 0.9;
@@ -83,10 +84,7 @@ fn join_round(
 }
 
 fn bounds(pts: &[Vec3], members: &[usize]) -> (Vec3, Vec3) {
-    members.iter().fold(
-        (Vec3::splat(f64::INFINITY), Vec3::splat(f64::NEG_INFINITY)),
-        |(lo, hi), &i| (lo.min(pts[i]), hi.max(pts[i])),
-    )
+    tabula_geom::bounds(members.iter().map(|&i| &pts[i]))
 }
 
 /// A convex hull as its faces' outward planes (unit normal, offset) and how far out
@@ -141,27 +139,13 @@ impl Hull {
     }
 }
 
-/// The point of `members` farthest from their box's centre in each cell of a grid
-/// [`HULL_CELLS`] across (a hull loses less than a cell's diagonal), and the cell.
+/// The outermost point of `members` in each cell of a grid [`HULL_CELLS`] across their
+/// box (a hull loses less than a cell's diagonal), and the cell.
 fn outermost(pts: &[Vec3], members: &[usize]) -> (Vec<Vec3>, f64) {
     let (lo, hi) = bounds(pts, members);
-    let centre = (lo + hi) / 2.0;
     let cell = ((hi - lo).length() / HULL_CELLS).max(1e-6);
-    let mut cells: rustc_hash::FxHashMap<[i64; 3], Vec3> = Default::default();
-    for &i in members {
-        let q = pts[i];
-        let kept = cells.entry(tabula_geom::voxel_key(q, cell)).or_insert(q);
-        if q.distance_squared(centre) > kept.distance_squared(centre) {
-            *kept = q;
-        }
-    }
-    let mut kept: Vec<Vec3> = cells.into_values().collect();
-    // The hull does not depend on the order, but its triangles' order does.
-    kept.sort_by(|a, b| {
-        a.to_array()
-            .partial_cmp(&b.to_array())
-            .unwrap_or(std::cmp::Ordering::Equal)
-    });
+    let mut kept = outermost_per_cell(members.iter().map(|&i| &pts[i]), (lo + hi) / 2.0, cell);
+    sort_points(&mut kept);
     (kept, cell)
 }
 
