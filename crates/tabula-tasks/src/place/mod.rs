@@ -22,6 +22,7 @@ mod spot;
 mod surfaces;
 #[cfg(test)]
 mod tests;
+mod views;
 
 pub use body::gripper_points;
 pub use params::PlaceParams;

@@ -6,10 +6,11 @@ use super::body::{
     world_from_base,
 };
 use super::run::Run;
+use super::views::Scan;
 use super::{ModelReport, PlaceError};
 use crate::observe::{clusters, robot_solids, world_points};
 use crate::stable::{StablePose, of_cloud};
-use tabula_geom::{Pose, Quat, Vec3};
+use tabula_geom::{Pose, Vec3};
 use tabula_motion::MoveGroup;
 use tabula_robot::driver::RobotDriver;
 
@@ -36,7 +37,12 @@ impl Run<'_> {
         // A first look at the hand where it is: the object's rough size, and what is
         // around the arms before they move.
         let tool_now = tool_pose(robot, &state, root, &tool_link)?;
-        let first = self.scan_view(driver, &tool_link, tool_now.translation, &mut scene)?;
+        let first = self.scan_view(
+            driver,
+            &tool_link,
+            tool_now.translation,
+            (&mut scene, f64::INFINITY),
+        )?;
         // The protective sphere (SPEC §1.1) around what this first view shows of the
         // object, a little larger than it: the seed's fixed 20 cm ball around the palm
         // would hold the wrist inside it and let no view be planned.
@@ -64,12 +70,12 @@ impl Run<'_> {
         // A look where the hand will be held: that space enters the scene (occupancy)
         // before the arm moves there. What it sees of the object (still where it was)
         // is not kept: the scan proper starts at the observation pose.
-        self.scan_view(driver, &tool_link, target, &mut scene)?;
+        self.scan_view(driver, &tool_link, target, (&mut scene, f64::INFINITY))?;
         // The other arms out of the way (the seed's first step).
         self.decide(|r| r.occupy(&mut group, &scene, None));
         self.tuck_other_arms(driver, arm, &group, &scene)?;
         // The views: the tool turned so the camera sees the object from each direction.
-        let mut state = driver.joint_state()?;
+        let state = driver.joint_state()?;
         group.set_state(robot, &state)?;
         self.occupy(&mut group, &scene, None);
         group.attach(
@@ -77,24 +83,21 @@ impl Run<'_> {
             protective,
             Pose::from_translation(sphere_centre),
         )?;
-        let to_camera = (cam - target).normalize_or(Vec3::Z);
-        let mut used = 0usize;
-        for (k, v) in p.scan_views.iter().enumerate() {
-            let v = Vec3::from_array(*v).normalize_or(Vec3::X);
-            let start = group.arm_values(&state);
-            let view = Quat::from_rotation_arc(v, to_camera);
-            let Some(plan) = self.plan_view(&mut group, &start, target, view, to_camera, k) else {
-                continue;
-            };
-            driver.execute(&plan.trajectory)?;
-            let seen = self.scan_view(driver, &tool_link, target, &mut scene)?;
-            if !seen.is_empty() {
-                used += 1;
-            }
-            model.extend(seen);
-            state = driver.joint_state()?;
-        }
-        let model = self.finish_model(model, used)?;
+        let mut scan = Scan {
+            group,
+            tool_link,
+            cam,
+            model,
+            scene,
+            used: 0,
+            trail: Vec::new(),
+            keep_within: f64::INFINITY,
+        };
+        let all: Vec<usize> = (0..p.scan_views.len()).collect();
+        let unseen = self.scan_views_at(driver, &mut scan, target, &all)?;
+        self.scan_shifted(driver, &mut scan, (target, forward), unseen)?;
+        let (model, scene) = (scan.model, scan.scene);
+        let model = self.finish_model(model, scan.used)?;
         Ok((model, scene))
     }
 
@@ -134,37 +137,6 @@ impl Run<'_> {
         Ok(())
     }
 
-    /// A plan from `start` that holds the tool at `target` turned by `view` (then
-    /// twisted about the line to the camera, `scan_twists` ways, until one plans);
-    /// `None` when no twist can be reached (view `k`, logged).
-    fn plan_view(
-        &mut self,
-        group: &mut MoveGroup,
-        start: &[f64],
-        target: Vec3,
-        view: Quat,
-        to_camera: Vec3,
-        k: usize,
-    ) -> Option<tabula_motion::Plan> {
-        let mut why = String::new();
-        let plan = self.decide(|r| {
-            let twists = r.params.scan_twists.max(1);
-            (0..twists).find_map(|t| {
-                let angle = std::f64::consts::TAU * t as f64 / twists as f64;
-                let twist = Quat::from_axis_angle(to_camera, angle);
-                let pose = Pose::from_parts(target, twist * view);
-                group
-                    .plan_to_pose(start, &pose)
-                    .map_err(|e| why = e.to_string())
-                    .ok()
-            })
-        });
-        if plan.is_none() {
-            self.mark(&format!("scan view {k} unreachable: {why}"));
-        }
-        plan
-    }
-
     /// The scan's points thinned to one per leaf (the views overlap; SPEC §1.1
     /// downsamples), reported; too few is an error.
     fn finish_model(&mut self, model: Vec<Vec3>, used: usize) -> Result<Vec<Vec3>, PlaceError> {
@@ -199,13 +171,13 @@ impl Run<'_> {
     }
 
     /// Looks at `at`, captures, and returns the held object's points in the tool frame;
-    /// everything else seen goes into `scene` (world frame).
+    /// everything else seen within `keep_within` of `at` goes into `scene` (world frame).
     pub(super) fn scan_view(
         &mut self,
         driver: &mut impl RobotDriver,
         tool_link: &str,
         at: Vec3,
-        scene: &mut Vec<Vec3>,
+        (scene, keep_within): (&mut Vec<Vec3>, f64),
     ) -> Result<Vec<Vec3>, PlaceError> {
         look_at(driver, at)?;
         let frame = driver.capture(&self.params.camera)?;
@@ -218,9 +190,10 @@ impl Run<'_> {
             let points = world_points(&frame, &solids, &p.observe, p.scan_leaf);
             let world_from_tool = tool_pose(robot, &state, root, tool_link)?;
             let tool = world_from_tool.translation;
-            let (near, far): (Vec<Vec3>, Vec<Vec3>) = points
+            let (near, mut far): (Vec<Vec3>, Vec<Vec3>) = points
                 .into_iter()
                 .partition(|q| q.distance(tool) <= p.crop_radius);
+            far.retain(|q| q.distance(at) <= keep_within);
             r.add_scene(scene, far);
             // The held object: clusters that reach into the hand.
             let parts = clusters(&near, p.observe.cluster_gap);
@@ -299,6 +272,16 @@ impl Run<'_> {
         self.report.poses_found = found.poses.len();
         let gripper = gripper_points(self.robot, arm);
         let com = Vec3::from_array(found.center_of_mass);
+        if self.trace {
+            for s in &found.poses {
+                tracing::debug!(
+                    "place: found pose {:?} topple {:.1}° clear {}",
+                    s.support_normal,
+                    s.topple_deg,
+                    s.clear_of(&gripper, p.gripper_clearance - p.release_height)
+                );
+            }
+        }
         // Ranked by the tilt that topples them, weighed by how much of the support the
         // object really touches (a bridge over a concavity rests on edges).
         let mut usable: Vec<(f64, StablePose)> = found

@@ -29,6 +29,9 @@ pub struct PlaceParams {
     pub scan_views: Vec<[f64; 3]>,
     /// Twists about the line of sight tried per view (the arm reaches some).
     pub scan_twists: usize,
+    /// Other places to hold the object for the views the arm cannot show at the scan
+    /// position: (forward, left, up) from it in the base's heading (m), tried in turn.
+    pub scan_shifts: Vec<[f64; 3]>,
     /// Points farther than this from the tool are not the object (m), SPEC §1.1: 40 cm.
     pub crop_radius: f64,
     /// The scan is downsampled to this leaf (m), SPEC §6: 5 mm.
@@ -131,6 +134,12 @@ impl Default for PlaceParams {
                 [s, -s, 0.0],
             ],
             scan_twists: 4,
+            scan_shifts: vec![
+                [-0.15, 0.3, 0.0],
+                [-0.15, -0.3, 0.0],
+                [-0.25, 0.35, 0.1],
+                [-0.25, -0.35, 0.1],
+            ],
             crop_radius: 0.4,
             scan_leaf: 0.005,
             grip_reach: 0.05,
@@ -222,6 +231,11 @@ impl Validate for PlaceParams {
             self.retreat_desired,
         )?;
         check_count(at, "scan_twists", self.scan_twists, 1)?;
+        for shift in &self.scan_shifts {
+            for v in shift {
+                check_in(at, "scan_shifts", *v, -1.0, 1.0)?;
+            }
+        }
         check_count(at, "poses_tried", self.poses_tried, 1)?;
         check_count(at, "search_decimate", self.search_decimate, 1)?;
         check_count(at, "roll_samples", self.roll_samples, 1)?;

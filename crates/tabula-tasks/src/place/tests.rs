@@ -67,3 +67,22 @@ fn the_protective_shape_holds_the_object_but_not_the_wrist_behind_the_palm() {
     let back = centre - Vec3::X * radius * 0.99;
     assert!(ball.contains_point(&at, back));
 }
+
+#[test]
+fn scan_shifts_past_a_metre_are_refused_by_name() {
+    use super::PlaceParams;
+    let parse = |text: &str| tabula_geom::input::parse_params::<PlaceParams>(text, "test");
+    let ok = parse("scan_shifts = [[-0.15, 0.3, 0.0], [0.0, -1.0, 1.0]]\n").unwrap();
+    assert_eq!(ok.scan_shifts.len(), 2);
+    assert!(parse("scan_shifts = []\n").unwrap().scan_shifts.is_empty());
+    for bad in [
+        "[[0.0, 1.5, 0.0]]",
+        "[[-2.0, 0.0, 0.0]]",
+        "[[0.0, 0.0, 1e300]]",
+    ] {
+        let e = parse(&format!("scan_shifts = {bad}\n"))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("scan_shifts"), "{bad}: {e}");
+    }
+}
