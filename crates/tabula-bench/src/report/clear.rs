@@ -102,6 +102,18 @@ pub fn summary_lines(out: &ClearRun) -> Vec<String> {
             }
         ));
     }
+    for o in &r.left {
+        lines.push(format!(
+            "  left: o{:<3} at ({:.3}, {:.3}), {:.0} × {:.0} × {:.0} mm: {}",
+            o.id,
+            o.position[0],
+            o.position[1],
+            o.size[0] * 1e3,
+            o.size[1] * 1e3,
+            o.size[2] * 1e3,
+            o.why
+        ));
+    }
     lines.push(format!(
         "  actions {} (grasps {}, failed {}, pushes {}), {:.2} objects per action; no-plan frames {}, IK backtracks {}, push loops {}",
         r.actions,

@@ -17,6 +17,7 @@ mod act;
 mod decide;
 mod execute;
 mod fallback;
+mod left;
 mod params;
 mod predicates;
 mod problem;
@@ -28,6 +29,7 @@ mod tests;
 mod track;
 
 pub use crate::scene::SeenObject;
+pub use left::LeftObject;
 pub use params::ClearParams;
 pub use report::{ActionRecord, ClearReport, FrameReport, Stats};
 pub use run::clear;

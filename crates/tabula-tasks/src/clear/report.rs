@@ -62,6 +62,9 @@ pub struct ClearReport {
     pub ik_ms: f64,
     /// Why the loop ended.
     pub stop: String,
+    /// The objects the last frame saw when the loop ended, each with why it stays
+    /// (empty when the table was cleared).
+    pub left: Vec<super::LeftObject>,
     pub frames: Vec<FrameReport>,
     pub log: Vec<ActionRecord>,
 }

@@ -1,6 +1,7 @@
 //! The clearing loop: a frame in, one action out, until the table is clear.
 
 use super::decide::{Decider, Decision};
+use super::left::{LeftObject, left_objects};
 use super::predicates::{Geometry, TableView};
 use super::track::{Track, track};
 use super::{
@@ -80,6 +81,7 @@ pub fn clear<D: RobotDriver>(
         }
         if run.report.actions >= max_actions.unwrap_or(usize::MAX) {
             run.report.stop = "action limit".into();
+            run.report.left = run.left(&objects, None);
             break;
         }
         let (chosen, geometry) = run.decide(&objects, &table, &state, &mut fr);
@@ -95,6 +97,7 @@ pub fn clear<D: RobotDriver>(
             },
             Decision::NothingRemovable => {
                 run.report.stop = "nothing left that can be removed".into();
+                run.report.left = run.left(&objects, Some(&geometry));
                 break;
             }
             Decision::NoPlan => {
@@ -102,6 +105,7 @@ pub fn clear<D: RobotDriver>(
                 no_plan_run += 1;
                 if no_plan_run >= params.max_no_plan_frames {
                     run.report.stop = "no plan".into();
+                    run.report.left = run.left(&objects, Some(&geometry));
                     break;
                 }
                 continue;
@@ -116,6 +120,7 @@ pub fn clear<D: RobotDriver>(
         };
         if let Err(e) = run.act(&step, act, watch) {
             run.report.stop = format!("driver failed: {e}");
+            run.report.left = run.left(&objects, None);
             break;
         }
     }
@@ -155,6 +160,17 @@ pub(super) struct Step<'a> {
 }
 
 impl<'a, D: RobotDriver> Run<'a, D> {
+    /// The objects left when the loop stops now, and why (see [`left_objects`]).
+    fn left(&self, objects: &[SeenObject], geometry: Option<&Geometry>) -> Vec<LeftObject> {
+        left_objects(
+            objects,
+            geometry,
+            &self.tracks,
+            self.params,
+            &self.report.stop,
+        )
+    }
+
     fn new(
         driver: &'a mut D,
         robot: &'a NamedRobot,

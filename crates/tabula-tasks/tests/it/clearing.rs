@@ -72,6 +72,7 @@ fn the_seed_scene_and_a_packed_grid_are_cleared_into_the_bin() {
         );
         assert_eq!(report.push_loops, 0, "{name}");
         assert_eq!(report.stop, "table clear", "{name}");
+        assert!(report.left.is_empty(), "{name}: {:?}", report.left);
         // Every object took at most two actions.
         assert!(
             report.actions <= 2 * verdict.objects,
@@ -88,6 +89,41 @@ fn the_seed_scene_and_a_packed_grid_are_cleared_into_the_bin() {
             "{name}"
         );
     }
+}
+
+#[test]
+fn what_no_grasp_fits_is_left_and_named_with_why() {
+    // The seed scene and a 12 × 12 cm tray beside it: wider every way than the WAM's
+    // 7 cm grip. Everything else goes to the bin; the loop ends saying the tray stays
+    // and why, where it was last seen and how big.
+    let tray = r#"
+[[object]]
+name = "tray"
+shape = { box = [0.12, 0.12, 0.04] }
+pose = { xyz = [0.50, 0.36, 0.741] }
+mass = 0.3
+color = [0.5, 0.5, 0.5]
+"#;
+    let scene = format!("{}{tray}", clearing_scene(ClearSuite::Seed, 1));
+    let (report, verdict) = run(&scene, 1);
+    let report = report.unwrap();
+    assert_eq!(verdict.in_bin + 1, verdict.objects, "{verdict:?}");
+    assert_eq!(report.stop, "nothing left that can be removed");
+    assert_eq!(report.left.len(), 1, "{:?}", report.left);
+    let left = &report.left[0];
+    assert!(
+        left.why.starts_with("no grasp of the gripper fits it"),
+        "{left:?}"
+    );
+    // On the table (0.7 × 1 m about (0.62, 0), top at 0.72 m), wherever pushes left it.
+    let [x, y, z] = left.position;
+    assert!((x - 0.62).abs() < 0.35 && y.abs() < 0.5, "{left:?}");
+    assert!((z - 0.74).abs() < 0.02, "{left:?}");
+    let (long, short) = (
+        left.size[0].max(left.size[1]),
+        left.size[0].min(left.size[1]),
+    );
+    assert!(long < 0.14 && short > 0.10, "{left:?}");
 }
 
 #[test]
