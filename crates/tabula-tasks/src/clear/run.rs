@@ -1,7 +1,7 @@
 //! The clearing loop: a frame in, one action out, until the table is clear.
 
 use super::decide::{Decider, Decision};
-use super::left::{LeftObject, left_objects};
+use super::left::left_objects;
 use super::predicates::{Geometry, TableView};
 use super::track::{Track, track};
 use super::{
@@ -80,8 +80,7 @@ pub fn clear<D: RobotDriver>(
             break;
         }
         if run.report.actions >= max_actions.unwrap_or(usize::MAX) {
-            run.report.stop = "action limit".into();
-            run.report.left = run.left(&objects, None);
+            run.stop("action limit".into(), &objects, None);
             break;
         }
         let (chosen, geometry) = run.decide(&objects, &table, &state, &mut fr);
@@ -96,16 +95,18 @@ pub fn clear<D: RobotDriver>(
                 nudged,
             },
             Decision::NothingRemovable => {
-                run.report.stop = "nothing left that can be removed".into();
-                run.report.left = run.left(&objects, Some(&geometry));
+                run.stop(
+                    "nothing left that can be removed".into(),
+                    &objects,
+                    Some(&geometry),
+                );
                 break;
             }
             Decision::NoPlan => {
                 run.report.no_plan_frames += 1;
                 no_plan_run += 1;
                 if no_plan_run >= params.max_no_plan_frames {
-                    run.report.stop = "no plan".into();
-                    run.report.left = run.left(&objects, Some(&geometry));
+                    run.stop("no plan".into(), &objects, Some(&geometry));
                     break;
                 }
                 continue;
@@ -119,8 +120,7 @@ pub fn clear<D: RobotDriver>(
             table: &table,
         };
         if let Err(e) = run.act(&step, act, watch) {
-            run.report.stop = format!("driver failed: {e}");
-            run.report.left = run.left(&objects, None);
+            run.stop(format!("driver failed: {e}"), &objects, None);
             break;
         }
     }
@@ -160,15 +160,11 @@ pub(super) struct Step<'a> {
 }
 
 impl<'a, D: RobotDriver> Run<'a, D> {
-    /// The objects left when the loop stops now, and why (see [`left_objects`]).
-    fn left(&self, objects: &[SeenObject], geometry: Option<&Geometry>) -> Vec<LeftObject> {
-        left_objects(
-            objects,
-            geometry,
-            &self.tracks,
-            self.params,
-            &self.report.stop,
-        )
+    /// Ends the loop for `reason` with `objects` still on the table: the report says
+    /// why it stopped and why each object stays (see [`left_objects`]).
+    fn stop(&mut self, reason: String, objects: &[SeenObject], geometry: Option<&Geometry>) {
+        self.report.left = left_objects(objects, geometry, &self.tracks, self.params, &reason);
+        self.report.stop = reason;
     }
 
     fn new(

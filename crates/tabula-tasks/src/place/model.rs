@@ -272,13 +272,16 @@ impl Run<'_> {
         self.report.poses_found = found.poses.len();
         let gripper = gripper_points(self.robot, arm);
         let com = Vec3::from_array(found.center_of_mass);
+        // At release the object hangs `release_height` above the surface: the hand may
+        // reach below the object's support plane by less than that.
+        let hand_clearance = p.gripper_clearance - p.release_height;
         if self.trace {
             for s in &found.poses {
                 tracing::debug!(
                     "place: found pose {:?} topple {:.1}° clear {}",
                     s.support_normal,
                     s.topple_deg,
-                    s.clear_of(&gripper, p.gripper_clearance - p.release_height)
+                    s.clear_of(&gripper, hand_clearance)
                 );
             }
         }
@@ -288,9 +291,7 @@ impl Run<'_> {
             .poses
             .iter()
             .filter(|s| s.topple_deg >= p.min_topple_deg)
-            // At release the object hangs `release_height` above the surface: the hand
-            // may reach below the object's support plane by less than that.
-            .filter(|s| s.clear_of(&gripper, p.gripper_clearance - p.release_height))
+            .filter(|s| s.clear_of(&gripper, hand_clearance))
             .map(|s| {
                 let fill = s.contact_fill(model, p.stable.cloud_contact_tolerance, p.scan_leaf);
                 // Rocking: a pose on a curved contact (a bottle or a ball on its side)
