@@ -158,6 +158,16 @@ impl CollisionWorld {
             self.allowed_matrix[a * n + b] = true;
             self.allowed_matrix[b * n + a] = true;
         }
+        self.rebuild_checked_pairs();
+    }
+
+    /// Lists the body pairs a check tests, after the matrix or the moving bodies changed.
+    pub(super) fn rebuild_checked_pairs(&mut self) {
+        let n = self.bodies.len();
+        self.checked_pairs = (0..n)
+            .flat_map(|a| (a + 1..n).map(move |b| (a, b)))
+            .filter(|&(a, b)| self.self_pair_checked(a, b))
+            .collect();
     }
 
     /// Takes a planning scene's matrix: pairs of robot links it settles (listed both, or

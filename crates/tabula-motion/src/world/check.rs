@@ -3,12 +3,12 @@
 //! GJK last.
 
 use super::gjk::{self, Hull};
-use super::placed::{Placed, balls_apart, balls_clear_of};
-use super::{CollisionWorld, Scratch, WorldError, WorldObject};
-use tabula_geom::Pose;
+use super::placed::{OnDemand, Placed, balls_apart, balls_clear_of, body_piece_pairs};
+use super::{CollisionWorld, WorldError, WorldObject};
 use tabula_geom::parry::bounding_volume::{Aabb, BoundingVolume};
 use tabula_geom::parry::query;
 use tabula_geom::parry::shape::SharedShape;
+use tabula_geom::{Pose, Vec3};
 
 /// A shape where it is, with the hull standing for it when it is a decomposed body's.
 #[derive(Clone, Copy)]
@@ -84,68 +84,77 @@ impl CollisionWorld {
     /// The first colliding pair at `q` (names), or `None` when `q` is valid. Joint limits
     /// count: a configuration outside them is reported as `("joint limits", name)`.
     pub fn first_collision(&self, q: &[f64]) -> Result<Option<Pair>, WorldError> {
-        self.with_bodies_at(q, |Scratch { poses, balls, .. }, outside| {
+        self.with_bodies_at(q, |scratch, outside| {
             if let Some(i) = outside {
                 return Some(("joint limits".into(), self.chain.joint_names[i].clone()));
             }
-            // Shapes in the world frame with their boxes, grown by their link's padding.
-            let placed = self.placed_shapes(poses, true, balls);
-            self.robot_hits_world(&placed, balls)
-                .or_else(|| self.robot_hits_itself(q, &placed, balls))
-                .or_else(|| self.attached_hit(poses, &placed))
+            // Shapes in the world frame with their boxes, grown by their link's padding,
+            // placed only where a body's bounding ball comes near something.
+            let mut bodies = OnDemand::new(self, scratch, true);
+            self.robot_hits_world(&mut bodies)
+                .or_else(|| self.robot_hits_itself(q, &mut bodies))
+                .or_else(|| {
+                    (!self.attached.is_empty())
+                        .then(|| self.attached_hit(bodies.poses(), bodies.all()))
+                        .flatten()
+                })
         })
     }
 
-    /// Robot against the world (only what moves can newly collide): the exact query
-    /// only where the shape's cover is within the padding of the object; a decomposed
-    /// link's pieces only against what its outer hull touches.
-    fn robot_hits_world(
-        &self,
-        placed: &[Placed],
-        balls: &[(tabula_geom::Vec3, f64)],
-    ) -> Option<Pair> {
-        let mut suspects: (usize, Vec<usize>) = (usize::MAX, Vec::new());
-        for p in placed {
-            let (b, pad) = (p.body, self.bodies[p.body].padding);
+    /// Robot against the world (only what moves can newly collide): a body's pieces only
+    /// against the objects its bounding ball reaches; there, the exact query only where
+    /// a piece's cover is within the padding of the object.
+    fn robot_hits_world(&self, bodies: &mut OnDemand) -> Option<Pair> {
+        for b in 0..self.bodies.len() {
             if !self.bodies[b].moving {
                 continue;
             }
-            let touches = |o: &WorldObject| {
-                !o.allowed_bodies.contains(&b)
-                    && o.aabb.intersects(&p.aabb)
-                    && !balls_clear_of(&balls[p.balls.clone()], o, pad)
-                    && Solid::of(p).touches(&p.aabb, o, pad)
-            };
-            if p.outer {
-                let near = self.object_indices_near(&p.aabb);
-                suspects = (b, near.filter(|&i| touches(&self.objects[i])).collect());
+            let Some((centre, reach)) = bodies.bound(b) else {
                 continue;
-            }
-            let hit = if suspects.0 == b {
-                suspects
-                    .1
-                    .iter()
-                    .map(|&i| &self.objects[i])
-                    .find(|o| touches(o))
-            } else {
-                self.objects_near(&p.aabb).find(|o| touches(o))
             };
-            if let Some(o) = hit {
-                return Some((self.bodies[b].name.clone(), o.name.clone()));
+            let around = Aabb::new(centre - Vec3::splat(reach), centre + Vec3::splat(reach));
+            for i in self.object_indices_near(&around) {
+                let o = &self.objects[i];
+                if o.allowed_bodies.contains(&b)
+                    || o.shape
+                        .distance_to_point(&o.world_from_object, centre, true)
+                        > reach
+                {
+                    continue;
+                }
+                let range = bodies.body(b);
+                if self.pieces_touch(&bodies.placed[range], bodies.balls, o) {
+                    return Some((self.bodies[b].name.clone(), o.name.clone()));
+                }
             }
         }
         None
     }
 
-    /// Robot against itself: body pairs first (a decomposed link has dozens of pieces),
-    /// then the pieces of the pairs whose boxes meet.
-    fn robot_hits_itself(
-        &self,
-        q: &[f64],
-        placed: &[Placed],
-        balls: &[(tabula_geom::Vec3, f64)],
-    ) -> Option<Pair> {
-        let meet = |pi: &Placed, pk: &Placed| {
+    /// Whether one body's placed entries touch object `o`: a decomposed body's pieces
+    /// only when its outer hull does.
+    fn pieces_touch(&self, entries: &[Placed], balls: &[(Vec3, f64)], o: &WorldObject) -> bool {
+        let Some(first) = entries.first() else {
+            return false;
+        };
+        let pad = self.bodies[first.body].padding;
+        let touches = |p: &Placed| {
+            o.aabb.intersects(&p.aabb)
+                && !balls_clear_of(&balls[p.balls.clone()], o, pad)
+                && Solid::of(p).touches(&p.aabb, o, pad)
+        };
+        if first.outer {
+            touches(first) && entries[1..].iter().any(touches)
+        } else {
+            entries.iter().any(touches)
+        }
+    }
+
+    /// Robot against itself: the pairs the matrix checks, by their bounding balls and
+    /// remembered distances first; a decomposed body's pieces only when its outer hull
+    /// meets the other body.
+    fn robot_hits_itself(&self, q: &[f64], bodies: &mut OnDemand) -> Option<Pair> {
+        let meet = |pi: &Placed, pk: &Placed, balls: &[(Vec3, f64)]| {
             let pad = self.bodies[pi.body]
                 .padding
                 .max(self.bodies[pk.body].padding);
@@ -153,17 +162,38 @@ impl CollisionWorld {
                 && !balls_apart(&balls[pi.balls.clone()], &balls[pk.balls.clone()], pad)
                 && Solid::of(pi).within(Solid::of(pk), pad)
         };
-        let apart = |a: usize, b: usize| {
+        let mut pairs = Vec::new();
+        for &(a, b) in &self.checked_pairs {
+            let (Some((ca, ra)), Some((cb, rb))) = (bodies.bound(a), bodies.bound(b)) else {
+                continue;
+            };
+            // Each ball is grown by its own padding: together at least the pair's.
+            if (ca - cb).length_squared() > (ra + rb) * (ra + rb) {
+                continue;
+            }
             let pad = self.bodies[a].padding.max(self.bodies[b].padding);
-            self.pair_tables
+            if self
+                .pair_tables
                 .floor(self, a, b, q)
                 .is_some_and(|d| d > pad)
-        };
-        for (i, k) in self.self_piece_pairs(placed, 0.0, apart, meet) {
-            let (pi, pk) = (&placed[i], &placed[k]);
-            let (a, b) = (pi.body, pk.body);
-            if self.self_pair_checked(a, b) && meet(pi, pk) {
-                return Some((self.bodies[a].name.clone(), self.bodies[b].name.clone()));
+            {
+                continue;
+            }
+            let (sa, sb) = (bodies.body(a), bodies.body(b));
+            pairs.clear();
+            let balls = &*bodies.balls;
+            body_piece_pairs(
+                &bodies.placed,
+                sa,
+                sb,
+                0.0,
+                |pi, pk| meet(pi, pk, balls),
+                &mut pairs,
+            );
+            for &(i, k) in &pairs {
+                if meet(&bodies.placed[i], &bodies.placed[k], balls) {
+                    return Some((self.bodies[a].name.clone(), self.bodies[b].name.clone()));
+                }
             }
         }
         None

@@ -5,6 +5,7 @@
 //! comes closer than the best found so far allows.
 
 use super::gjk::{self, Hull};
+use super::placed::{OnDemand, Placed, body_piece_pairs};
 use super::{CollisionWorld, Scratch, SweepRates, WorldError, WorldObject};
 use tabula_geom::parry::bounding_volume::{Aabb, BoundingVolume};
 use tabula_geom::parry::query;
@@ -97,80 +98,94 @@ impl CollisionWorld {
         })
     }
 
-    /// [`Self::time_margin`] of the bodies placed in `scratch`.
+    /// [`Self::time_margin`] of the bodies at the poses in `scratch`: a body is placed
+    /// only where its bounding ball comes closer to something than the best margin so
+    /// far allows.
     fn margin_of_placed(
         &self,
         q: &[f64],
-        Scratch { poses, balls, .. }: &mut Scratch,
+        scratch: &mut Scratch,
         rates: &SweepRates,
         pad: f64,
         cap: f64,
     ) -> f64 {
         let mut best = cap / rates.fastest().max(STILL);
-        let placed = self.placed_shapes(poses, false, balls);
-        // A decomposed link's pieces only where its outer hull comes closer than the
-        // best so far (the hull contains them: its distance bounds theirs from below).
-        let mut far: (usize, Vec<usize>) = (usize::MAX, Vec::new());
-        for p in placed.iter().filter(|p| self.bodies[p.body].moving) {
-            let rate = rates.body(p.body).max(STILL);
-            let limit = pad + best * rate;
-            let reach = p.aabb.loosened(limit);
-            let near: Vec<usize> = if far.0 == p.body {
-                far.1.clone()
-            } else {
-                self.object_indices_near(&reach).collect()
+        let mut bodies = OnDemand::new(self, scratch, false);
+        for b in (0..self.bodies.len()).filter(|&b| self.bodies[b].moving) {
+            let Some((centre, radius)) = bodies.bound(b) else {
+                continue;
             };
-            let mut closer = Vec::new();
-            for i in near {
+            let rate = rates.body(b).max(STILL);
+            let reach = radius + pad + best * rate;
+            let around = Aabb::new(centre - Vec3::splat(reach), centre + Vec3::splat(reach));
+            for i in self.object_indices_near(&around) {
                 let o = &self.objects[i];
                 let limit = pad + best * rate;
-                if o.allowed_bodies.contains(&p.body)
-                    || !p.aabb.loosened(limit).intersects(&o.aabb)
-                    || balls_to_object(&balls[p.balls.clone()], o, limit) >= limit
+                if o.allowed_bodies.contains(&b)
+                    || o.shape
+                        .distance_to_point(&o.world_from_object, centre, true)
+                        - radius
+                        >= limit
                 {
                     continue;
                 }
-                let d = self.object_distance(&Solid::of(p), &p.aabb.loosened(limit), o, limit);
-                if p.outer {
-                    if d < limit {
-                        closer.push(i);
-                    }
-                } else {
-                    best = best.min((d - pad) / rate);
-                    if best <= 0.0 {
-                        return best;
-                    }
+                let range = bodies.body(b);
+                let d = self.entries_distance(&bodies.placed[range], bodies.balls, o, limit);
+                best = best.min((d - pad) / rate);
+                if best <= 0.0 {
+                    return best;
                 }
             }
-            if p.outer {
-                far = (p.body, closer);
-            }
         }
-        let widest = pad + best * rates.fastest();
-        let apart = |a: usize, b: usize| {
-            let floor = self.pair_tables.floor(self, a, b, q);
-            floor.is_some_and(|d| d >= pad + best * rates.pair(a, b))
-        };
-        let pairs = self.self_piece_pairs(&placed, widest, apart, |pi, pk| {
-            let limit = pad + best * rates.pair(pi.body, pk.body);
-            balls_to_balls(&balls[pi.balls.clone()], &balls[pk.balls.clone()]) < limit
-                && Solid::of(pi).distance(&Solid::of(pk), limit) < limit
-        });
-        for (i, k) in pairs {
-            let (pi, pk) = (&placed[i], &placed[k]);
-            let rate = rates.pair(pi.body, pk.body).max(STILL);
+        let mut pairs = Vec::new();
+        for &(a, b) in &self.checked_pairs {
+            let (Some((ca, ra)), Some((cb, rb))) = (bodies.bound(a), bodies.bound(b)) else {
+                continue;
+            };
+            let rate = rates.pair(a, b).max(STILL);
             let limit = pad + best * rate;
-            if !pi.aabb.loosened(limit).intersects(&pk.aabb)
-                || balls_to_balls(&balls[pi.balls.clone()], &balls[pk.balls.clone()]) >= limit
+            if (ca - cb).length() - ra - rb >= limit
+                || self
+                    .pair_tables
+                    .floor(self, a, b, q)
+                    .is_some_and(|d| d >= limit)
             {
                 continue;
             }
-            let d = Solid::of(pi).distance(&Solid::of(pk), limit);
-            best = best.min((d - pad) / rate);
-            if best <= 0.0 {
-                return best;
+            let (sa, sb) = (bodies.body(a), bodies.body(b));
+            let balls = &*bodies.balls;
+            let apart = |pi: &Placed, pk: &Placed, limit: f64| {
+                balls_to_balls(&balls[pi.balls.clone()], &balls[pk.balls.clone()]) >= limit
+            };
+            pairs.clear();
+            body_piece_pairs(
+                &bodies.placed,
+                sa,
+                sb,
+                limit,
+                |pi, pk| {
+                    !apart(pi, pk, limit) && Solid::of(pi).distance(&Solid::of(pk), limit) < limit
+                },
+                &mut pairs,
+            );
+            for &(i, k) in &pairs {
+                let (pi, pk) = (&bodies.placed[i], &bodies.placed[k]);
+                let limit = pad + best * rate;
+                if !pi.aabb.loosened(limit).intersects(&pk.aabb) || apart(pi, pk, limit) {
+                    continue;
+                }
+                let d = Solid::of(pi).distance(&Solid::of(pk), limit);
+                best = best.min((d - pad) / rate);
+                if best <= 0.0 {
+                    return best;
+                }
             }
         }
+        if self.attached.is_empty() {
+            return best;
+        }
+        let poses = bodies.poses();
+        let placed = bodies.all();
         for att in &self.attached {
             let held = Solid {
                 pose: poses[att.body] * att.link_from_object,
@@ -201,6 +216,37 @@ impl CollisionWorld {
             }
         }
         best
+    }
+
+    /// Distance from one body's placed entries to object `o` (or `limit` when at least
+    /// that): a decomposed body's pieces only when its outer hull comes within `limit`.
+    fn entries_distance(
+        &self,
+        entries: &[Placed],
+        balls: &[(Vec3, f64)],
+        o: &WorldObject,
+        limit: f64,
+    ) -> f64 {
+        let distance = |p: &Placed, limit: f64| {
+            if !p.aabb.loosened(limit).intersects(&o.aabb)
+                || balls_to_object(&balls[p.balls.clone()], o, limit) >= limit
+            {
+                return limit;
+            }
+            self.object_distance(&Solid::of(p), &p.aabb.loosened(limit), o, limit)
+        };
+        let Some(first) = entries.first() else {
+            return limit;
+        };
+        if !first.outer {
+            return entries.iter().fold(limit, |d, p| d.min(distance(p, d)));
+        }
+        if distance(first, limit) >= limit {
+            return limit;
+        }
+        entries[1..]
+            .iter()
+            .fold(limit, |d, p| d.min(distance(p, d)))
     }
 
     /// Distance from a solid to an object (or `limit` when at least that); of a

@@ -59,12 +59,6 @@ impl Cover {
                 .collect(),
         }
     }
-
-    /// The box of the shape placed at `pose` (the local box's own box: conservative,
-    /// O(1), where the exact box of a mesh costs a pass over its vertices).
-    pub fn aabb_at(&self, pose: &tabula_geom::Pose) -> Aabb {
-        self.local_aabb.transform_by(pose)
-    }
 }
 
 /// The corners of a box, corner `i` taking the upper bound on axis `k` where bit `k` of

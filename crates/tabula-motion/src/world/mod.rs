@@ -110,6 +110,9 @@ struct LinkBody {
     outer: Option<Outer>,
     /// Moves with the planning joints.
     moving: bool,
+    /// A ball (link frame) holding every piece's cover: a check places the pieces only
+    /// where this ball comes within the padding of something. `None` without shapes.
+    bound: Option<(Vec3, f64)>,
 }
 
 /// A fixed object in the world.
@@ -147,6 +150,8 @@ pub struct CollisionWorld {
     allowed: HashSet<(usize, usize)>,
     /// `allowed` as a dense symmetric matrix (bodies × bodies), for the hot loop.
     allowed_matrix: Vec<bool>,
+    /// The robot's body pairs a check tests ([`Self::self_pair_checked`]), listed.
+    checked_pairs: Vec<(usize, usize)>,
     objects: Vec<WorldObject>,
     /// Broad phase over the world objects' boxes.
     objects_bvh: Bvh,
@@ -177,6 +182,10 @@ struct Scratch {
     poses: Vec<Pose>,
     frames: Vec<Pose>,
     balls: Vec<(Vec3, f64)>,
+    /// Per body: where its entries are once placed ([`placed::OnDemand`]).
+    spans: Vec<Option<std::ops::Range<usize>>>,
+    /// Per body: its bounding ball in the world.
+    bounds: Vec<Option<(Vec3, f64)>>,
 }
 
 /// A body's pose from the chain: `world_from_chain_base · F_k(q) · offset`, where `F_k`
@@ -271,9 +280,14 @@ impl CollisionWorld {
                 }
             }
             if !shapes.is_empty() {
+                let covers: Vec<Cover> =
+                    shapes.iter().map(|(s, p)| Cover::of(s).placed(p)).collect();
                 bodies.push(LinkBody {
                     outer: Outer::of(&shapes),
-                    covers: shapes.iter().map(|(s, p)| Cover::of(s).placed(p)).collect(),
+                    bound: placed::ball_around(
+                        covers.iter().flat_map(|c| c.spheres.iter().copied()),
+                    ),
+                    covers,
                     hulls: shapes
                         .iter()
                         .map(|(s, _)| s.as_convex_polyhedron().and_then(Hull::of))
@@ -305,6 +319,7 @@ impl CollisionWorld {
             bodies,
             allowed: HashSet::new(),
             allowed_matrix: Vec::new(),
+            checked_pairs: Vec::new(),
             objects: Vec::new(),
             objects_bvh: Bvh::new(),
             attached: Vec::new(),
@@ -342,6 +357,7 @@ impl CollisionWorld {
         for b in &mut w.bodies {
             b.moving = moves[b.link];
         }
+        w.rebuild_checked_pairs();
         w.motion_radius = coarse_motion_radius(&chain);
         w.chain = chain;
         w.values = values;

@@ -228,6 +228,7 @@ impl CollisionWorld {
                 let n = probe.bodies.len();
                 probe.allowed_matrix[x * n + y] = true;
                 probe.allowed_matrix[y * n + x] = true;
+                probe.rebuild_checked_pairs();
             } else if probe.attached.iter().any(|o| o.name == a) {
                 probe.attached.retain(|o| o.name != a);
             } else {
@@ -275,6 +276,7 @@ impl CollisionWorld {
                     hulls: Vec::new(),
                     outer: None,
                     moving: true,
+                    bound: None,
                 });
                 let root_poses = self.model.forward_kinematics(&self.values)?;
                 self.anchors.push(self.anchor_for(li, &root_poses));

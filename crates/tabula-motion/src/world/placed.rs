@@ -1,127 +1,215 @@
-//! What one query places: every body piece at its pose with its box and its cover's
-//! balls, the hull of a decomposed link's pieces in front of them, and the cheap tests
-//! on balls that spare the exact ones.
+//! What one query places, and only where it must: a body's pieces at their poses with
+//! their boxes and covers' balls (the hull of a decomposed link's pieces in front of
+//! them) once the body's bounding ball comes near something; the cheap tests on balls
+//! that spare the exact ones.
 
 use super::cover::{Cover, box_corners};
 use super::gjk::Hull;
-use super::{CollisionWorld, WorldObject};
+use super::{CollisionWorld, Scratch, WorldObject};
 use tabula_geom::parry::bounding_volume::{Aabb, BoundingVolume};
 use tabula_geom::parry::shape::SharedShape;
-use tabula_geom::{Pose, Vec3};
+use tabula_geom::{Mat3, Pose, Vec3};
 
 impl CollisionWorld {
-    /// Index pairs of placed pieces of two bodies that may collide (checked pair, not
-    /// allowed) and whose boxes, grown by `margin`, meet; bodies are paired first —
-    /// `apart` (body indices) drops pairs known to be far enough, and where either is
-    /// decomposed, `outers_meet` on the two outer shapes (a piece is its body's own outer
-    /// shape) decides whether their pieces are paired at all.
-    pub(super) fn self_piece_pairs(
-        &self,
-        placed: &[Placed<'_>],
-        margin: f64,
-        apart: impl Fn(usize, usize) -> bool,
-        outers_meet: impl Fn(&Placed<'_>, &Placed<'_>) -> bool,
-    ) -> Vec<(usize, usize)> {
-        // Per body: its outer entry (or its only piece), its pieces, its box.
-        let mut groups: Vec<(usize, usize, std::ops::Range<usize>, Aabb, bool)> =
-            Vec::with_capacity(self.bodies.len());
-        for (i, p) in placed.iter().enumerate() {
-            match groups.last_mut() {
-                Some((b, _, range, aabb, _)) if *b == p.body => {
-                    if range.start == range.end {
-                        *range = i..i + 1;
-                    } else {
-                        range.end = i + 1;
-                    }
-                    *aabb = aabb.merged(&p.aabb);
-                }
-                _ if p.outer => groups.push((p.body, i, i + 1..i + 1, p.aabb, true)),
-                _ => groups.push((p.body, i, i..i + 1, p.aabb, false)),
-            }
-        }
-        let mut pairs = Vec::new();
-        for (g, (a, rep_a, ra, box_a, outer_a)) in groups.iter().enumerate() {
-            let grown = box_a.loosened(margin);
-            for (b, rep_b, rb, box_b, outer_b) in &groups[g + 1..] {
-                if !self.self_pair_checked(*a, *b) || !grown.intersects(box_b) || apart(*a, *b) {
-                    continue;
-                }
-                if (*outer_a || *outer_b) && !outers_meet(&placed[*rep_a], &placed[*rep_b]) {
-                    continue;
-                }
-                for i in ra.clone() {
-                    let piece = placed[i].aabb.loosened(margin);
-                    for k in rb.clone() {
-                        if piece.intersects(&placed[k].aabb) {
-                            pairs.push((i, k));
-                        }
-                    }
-                }
-            }
-        }
-        pairs
-    }
-
-    /// Every body shape placed at `poses`, with its box (grown by the link's padding if
-    /// `padded`) and its cover's balls in the world (in `balls`).
-    pub(super) fn placed_shapes<'a>(
+    /// Appends body `b`'s entries at `world_from_link` (its outer hull first, then its
+    /// pieces) to `placed`, their balls to `balls`.
+    pub(super) fn place_body<'a>(
         &'a self,
-        poses: &[Pose],
+        b: usize,
+        world_from_link: &Pose,
         padded: bool,
         balls: &mut Vec<(Vec3, f64)>,
-    ) -> Vec<Placed<'a>> {
-        // Sized up front: growing these is a good part of a check's cost.
-        let (mut pieces, mut spheres) = (0, 0);
-        for lb in &self.bodies {
-            if let Some(o) = &lb.outer {
-                pieces += 1;
-                spheres += o.cover.spheres.len();
-            }
-            pieces += lb.shapes.len();
-            spheres += lb.covers.iter().map(|c| c.spheres.len()).sum::<usize>();
+        placed: &mut Vec<Placed<'a>>,
+    ) {
+        let lb = &self.bodies[b];
+        // The body's rotation as a matrix once: every box and ball of its pieces is
+        // placed by it (a quaternion per point costs twice as much).
+        let at = Frame::of(world_from_link);
+        let grow = if padded { lb.padding } else { 0.0 };
+        if let Some(o) = &lb.outer {
+            let first = balls.len();
+            at.place_balls(&o.cover.spheres, balls);
+            placed.push(Placed {
+                body: b,
+                outer: true,
+                pose: *world_from_link,
+                shape: &o.shape,
+                hull: o.hull.as_ref(),
+                aabb: at.place_aabb(&o.cover.local_aabb, grow),
+                balls: first..balls.len(),
+            });
         }
-        balls.reserve(spheres);
-        let mut placed = Vec::with_capacity(pieces);
-        for (b, lb) in self.bodies.iter().enumerate() {
-            if let Some(o) = &lb.outer {
-                let first = balls.len();
-                balls.extend(o.cover.spheres.iter().map(|(c, r)| (poses[b] * *c, *r)));
-                let aabb = o.cover.aabb_at(&poses[b]);
-                placed.push(Placed {
-                    body: b,
-                    outer: true,
-                    pose: poses[b],
-                    shape: &o.shape,
-                    hull: o.hull.as_ref(),
-                    aabb: if padded {
-                        aabb.loosened(lb.padding)
-                    } else {
-                        aabb
-                    },
-                    balls: first..balls.len(),
-                });
-            }
-            for (((s, p), cover), hull) in lb.shapes.iter().zip(&lb.covers).zip(&lb.hulls) {
-                let w = poses[b] * *p;
-                let aabb = cover.aabb_at(&poses[b]);
-                let first = balls.len();
-                balls.extend(cover.spheres.iter().map(|(c, r)| (poses[b] * *c, *r)));
-                placed.push(Placed {
-                    body: b,
-                    outer: false,
-                    pose: w,
-                    shape: s,
-                    hull: hull.as_ref(),
-                    aabb: if padded {
-                        aabb.loosened(lb.padding)
-                    } else {
-                        aabb
-                    },
-                    balls: first..balls.len(),
-                });
+        for (((s, p), cover), hull) in lb.shapes.iter().zip(&lb.covers).zip(&lb.hulls) {
+            let first = balls.len();
+            at.place_balls(&cover.spheres, balls);
+            placed.push(Placed {
+                body: b,
+                outer: false,
+                pose: *world_from_link * *p,
+                shape: s,
+                hull: hull.as_ref(),
+                aabb: at.place_aabb(&cover.local_aabb, grow),
+                balls: first..balls.len(),
+            });
+        }
+    }
+}
+
+/// The bodies of one check placed on demand: a body's pieces, boxes and balls are
+/// placed the first time a test needs them — most bodies of most checks are clear of
+/// everything by their bounding ball alone and are never placed.
+pub(super) struct OnDemand<'a, 'b> {
+    world: &'a CollisionWorld,
+    poses: &'b [Pose],
+    pub balls: &'b mut Vec<(Vec3, f64)>,
+    pub placed: Vec<Placed<'a>>,
+    /// Boxes and bounding balls grown by each body's padding.
+    padded: bool,
+    /// Per body: its entries in `placed` once placed.
+    spans: &'b mut Vec<Option<std::ops::Range<usize>>>,
+    /// Per body: its bounding ball in the world (grown by its padding if `padded`).
+    bounds: &'b mut Vec<Option<(Vec3, f64)>>,
+}
+
+impl<'a, 'b> OnDemand<'a, 'b> {
+    /// Nothing placed yet; every body's bounding ball at the poses in `scratch`.
+    pub fn new(world: &'a CollisionWorld, scratch: &'b mut Scratch, padded: bool) -> Self {
+        let Scratch {
+            poses,
+            balls,
+            spans,
+            bounds,
+            ..
+        } = scratch;
+        spans.clear();
+        spans.resize(world.bodies.len(), None);
+        bounds.clear();
+        bounds.extend(world.bodies.iter().zip(poses.iter()).map(|(lb, pose)| {
+            let grow = if padded { lb.padding } else { 0.0 };
+            lb.bound.map(|(c, r)| (*pose * c, r + grow))
+        }));
+        Self {
+            world,
+            poses,
+            balls,
+            placed: Vec::new(),
+            padded,
+            spans,
+            bounds,
+        }
+    }
+
+    pub fn poses(&self) -> &'b [Pose] {
+        self.poses
+    }
+
+    /// Body `b`'s entries in [`Self::placed`], placing it if it is not yet.
+    pub fn body(&mut self, b: usize) -> std::ops::Range<usize> {
+        if let Some(r) = &self.spans[b] {
+            return r.clone();
+        }
+        let first = self.placed.len();
+        self.world
+            .place_body(b, &self.poses[b], self.padded, self.balls, &mut self.placed);
+        self.spans[b] = Some(first..self.placed.len());
+        first..self.placed.len()
+    }
+
+    /// The ball around body `b` in the world (`None`: no shapes).
+    pub fn bound(&self, b: usize) -> Option<(Vec3, f64)> {
+        self.bounds[b]
+    }
+
+    /// Every body placed (for the tests that need them all: attached objects).
+    pub fn all(&mut self) -> &[Placed<'a>] {
+        for b in 0..self.spans.len() {
+            self.body(b);
+        }
+        &self.placed
+    }
+}
+
+/// Index pairs of two bodies' placed entries (`ra`, `rb`: their ranges in `placed`,
+/// a decomposed body's outer hull first) whose boxes, grown by `margin`, meet, pushed
+/// to `out`; where either is decomposed, only when `outers_meet` on the two outer
+/// shapes (a body of one piece is its own outer shape).
+pub(super) fn body_piece_pairs(
+    placed: &[Placed<'_>],
+    ra: std::ops::Range<usize>,
+    rb: std::ops::Range<usize>,
+    margin: f64,
+    outers_meet: impl Fn(&Placed<'_>, &Placed<'_>) -> bool,
+    out: &mut Vec<(usize, usize)>,
+) {
+    let (Some(pa), Some(pb)) = (placed.get(ra.start), placed.get(rb.start)) else {
+        return;
+    };
+    // The outer hull's box holds its pieces' boxes; a lone piece's box is the body's.
+    if !pa.aabb.loosened(margin).intersects(&pb.aabb) {
+        return;
+    }
+    if (pa.outer || pb.outer) && !outers_meet(pa, pb) {
+        return;
+    }
+    let pieces = |r: std::ops::Range<usize>, outer: bool| (r.start + outer as usize)..r.end;
+    for i in pieces(ra, pa.outer) {
+        let piece = placed[i].aabb.loosened(margin);
+        for k in pieces(rb.clone(), pb.outer) {
+            if piece.intersects(&placed[k].aabb) {
+                out.push((i, k));
             }
         }
-        placed
+    }
+}
+
+/// The smallest ball around a set of balls (centre of their box): `None` for none.
+pub(super) fn ball_around(balls: impl Iterator<Item = (Vec3, f64)> + Clone) -> Option<(Vec3, f64)> {
+    let (lo, hi) = balls.clone().fold(
+        (Vec3::splat(f64::INFINITY), Vec3::splat(f64::NEG_INFINITY)),
+        |(lo, hi), (c, r)| (lo.min(c - Vec3::splat(r)), hi.max(c + Vec3::splat(r))),
+    );
+    if !lo.is_finite() {
+        return None;
+    }
+    let centre = (lo + hi) * 0.5;
+    let radius = balls
+        .map(|(c, r)| (c - centre).length() + r)
+        .fold(0.0, f64::max);
+    Some((centre, radius))
+}
+
+/// A pose as a rotation matrix and a translation, for placing many points and boxes.
+struct Frame {
+    rotation: Mat3,
+    abs_rotation: Mat3,
+    translation: Vec3,
+}
+
+impl Frame {
+    fn of(pose: &Pose) -> Self {
+        let rotation = Mat3::from_quat(pose.rotation);
+        Self {
+            abs_rotation: rotation.abs(),
+            rotation,
+            translation: pose.translation,
+        }
+    }
+
+    /// Appends `local` balls placed in this frame to `out`.
+    fn place_balls(&self, local: &[(Vec3, f64)], out: &mut Vec<(Vec3, f64)>) {
+        out.extend(
+            local
+                .iter()
+                .map(|(c, r)| (self.rotation * *c + self.translation, *r)),
+        );
+    }
+
+    /// The box of a `local` box placed in this frame, grown by `grow` on every side
+    /// (as `Aabb::transform_by`, with the matrix made once).
+    fn place_aabb(&self, local: &Aabb, grow: f64) -> Aabb {
+        let centre = self.rotation * local.center() + self.translation;
+        let half = self.abs_rotation * local.half_extents() + Vec3::splat(grow);
+        Aabb::new(centre - half, centre + half)
     }
 }
 
@@ -188,4 +276,120 @@ pub(super) fn balls_apart(a: &[(Vec3, f64)], b: &[(Vec3, f64)], pad: f64) -> boo
             (*ca - *cb).length_squared() > reach * reach
         })
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::world::test_worlds::every_arm;
+    use crate::world::{CollisionWorld, SweepRates, WorldParams};
+    use rand::{RngExt, SeedableRng};
+    use rand_chacha::ChaCha8Rng;
+    use tabula_geom::parry::query;
+    use tabula_geom::{Pose, Quat, Vec3};
+
+    /// Every pair a check tests, measured by parry with nothing skipped: the least
+    /// distance beyond the padding, and the least margin along `rates` (capped as
+    /// `time_margin` caps it).
+    fn measured(world: &CollisionWorld, q: &[f64], rates: &SweepRates) -> (f64, f64) {
+        let poses = world.body_poses(q).expect("poses");
+        let pieces = |b: usize| {
+            world.bodies[b]
+                .shapes
+                .iter()
+                .map(|(s, p)| (s, poses[b] * *p))
+                .collect::<Vec<_>>()
+        };
+        let (mut gap, mut margin) = (f64::INFINITY, 0.1 / rates.fastest());
+        for (b, body) in world.bodies.iter().enumerate().filter(|(_, b)| b.moving) {
+            for o in world
+                .objects
+                .iter()
+                .filter(|o| !o.allowed_bodies.contains(&b))
+            {
+                for (s, pose) in pieces(b) {
+                    let d =
+                        query::distance(&pose, s.as_ref(), &o.world_from_object, o.shape.as_ref())
+                            .expect("distance")
+                            .distance;
+                    gap = gap.min(d - body.padding);
+                    margin = margin.min((d - 0.01) / rates.body(b));
+                }
+            }
+        }
+        for &(a, b) in &world.checked_pairs {
+            let pad = world.bodies[a].padding.max(world.bodies[b].padding);
+            for (sa, pa) in pieces(a) {
+                for (sb, pb) in pieces(b) {
+                    let d = query::distance(&pa, sa.as_ref(), &pb, sb.as_ref())
+                        .expect("distance")
+                        .distance;
+                    gap = gap.min(d - pad);
+                    margin = margin.min((d - 0.01) / rates.pair(a, b));
+                }
+            }
+        }
+        (gap, margin)
+    }
+
+    /// With boxes strewn around every arm of three robots, at random configurations:
+    /// a check that places bodies only where their bounding balls reach something gives
+    /// the verdict of measuring every pair, and the margin conservative advancement
+    /// steps by is the least over every pair.
+    #[test]
+    fn bodies_placed_on_demand_answer_as_every_pair_measured() {
+        let mut rng = ChaCha8Rng::seed_from_u64(3);
+        let params = WorldParams {
+            acm_samples: 200,
+            ..WorldParams::default()
+        };
+        for (name, mut world) in every_arm(&params) {
+            let (centre, reach) = world.moving_bound().expect("anchored");
+            for i in 0..8 {
+                let at = centre
+                    + Vec3::new(
+                        rng.random_range(-1.0..1.0),
+                        rng.random_range(-1.0..1.0),
+                        rng.random_range(-1.0..1.0),
+                    ) * reach;
+                let size = Vec3::new(
+                    rng.random_range(0.02..0.3),
+                    rng.random_range(0.02..0.3),
+                    rng.random_range(0.02..0.3),
+                );
+                let turn = Quat::from_rotation_z(rng.random_range(-3.0..3.0));
+                world
+                    .add_box(&format!("box{i}"), size, Pose::from_parts(at, turn))
+                    .expect("box");
+            }
+            let (mut valid, mut invalid) = (0, 0);
+            for _ in 0..300 {
+                let q = world.chain.random_configuration(&mut rng);
+                let to = world.chain.random_configuration(&mut rng);
+                let rates = world.sweep_rates(&q, &to);
+                let (gap, margin) = measured(&world, &q, &rates);
+                if gap.abs() < 1e-7 {
+                    continue;
+                }
+                let hit = world.first_collision(&q).expect("check");
+                assert_eq!(hit.is_some(), gap < 0.0, "{name}: gap {gap}, hit {hit:?}");
+                let stepped = world.time_margin(&q, &rates, 0.01, 0.1).expect("margin");
+                if margin > 1e-7 {
+                    // GJK stops within its tolerance (micrometres here); parry's
+                    // distance converges further.
+                    let off = (stepped - margin).abs();
+                    assert!(
+                        off <= 1e-3 * margin.max(1e-3),
+                        "{name}: {stepped} vs {margin}"
+                    );
+                } else {
+                    assert!(stepped <= 1e-7, "{name}: {stepped} with {margin}");
+                }
+                if gap < 0.0 { invalid += 1 } else { valid += 1 }
+            }
+            assert!(
+                valid > 20 && invalid > 20,
+                "{name}: {valid} valid, {invalid} not"
+            );
+        }
+    }
 }
