@@ -161,8 +161,14 @@ impl CollisionWorld {
         self.rebuild_checked_pairs();
     }
 
-    /// Lists the body pairs a check tests, after the matrix or the moving bodies changed.
+    /// Lists the body pairs a check tests, after the matrix, the bodies or the moving
+    /// bodies changed.
     pub(super) fn rebuild_checked_pairs(&mut self) {
+        self.pieces = self
+            .bodies
+            .iter()
+            .map(|b| b.shapes.len() + usize::from(b.outer.is_some()))
+            .sum();
         let n = self.bodies.len();
         self.checked_pairs = (0..n)
             .flat_map(|a| (a + 1..n).map(move |b| (a, b)))

@@ -152,6 +152,8 @@ pub struct CollisionWorld {
     allowed_matrix: Vec<bool>,
     /// The robot's body pairs a check tests ([`Self::self_pair_checked`]), listed.
     checked_pairs: Vec<(usize, usize)>,
+    /// Entries placing every body takes (pieces and outer hulls).
+    pieces: usize,
     objects: Vec<WorldObject>,
     /// Broad phase over the world objects' boxes.
     objects_bvh: Bvh,
@@ -320,6 +322,7 @@ impl CollisionWorld {
             allowed: HashSet::new(),
             allowed_matrix: Vec::new(),
             checked_pairs: Vec::new(),
+            pieces: 0,
             objects: Vec::new(),
             objects_bvh: Bvh::new(),
             attached: Vec::new(),
@@ -511,12 +514,17 @@ impl CollisionWorld {
         let mut t = self.world_from_chain_base;
         for e in &self.chain.elements {
             let v = e.multiplier * q[e.var] + e.offset;
-            let motion = if e.prismatic {
-                Pose::from_translation(e.axis * v)
+            // `t · pre · motion`, with the motion's zero part left out (a joint's motion
+            // is a pure rotation or a pure translation).
+            let at = t * e.pre;
+            t = if e.prismatic {
+                Pose::from_parts(at.translation + at.rotation * (e.axis * v), at.rotation)
             } else {
-                Pose::from_rotation(Quat::from_axis_angle(e.axis, v))
+                Pose::from_parts(
+                    at.translation,
+                    at.rotation * Quat::from_axis_angle(e.axis, v),
+                )
             };
-            t = t * e.pre * motion;
             frames.push(t);
         }
         poses.extend(self.anchors.iter().map(|a| match a.element {

@@ -108,6 +108,10 @@ impl<'a, 'b> OnDemand<'a, 'b> {
         if let Some(r) = &self.spans[b] {
             return r.clone();
         }
+        if self.placed.capacity() == 0 {
+            // Sized once: growing it is a good part of a check that places anything.
+            self.placed.reserve(self.world.pieces);
+        }
         let first = self.placed.len();
         self.world
             .place_body(b, &self.poses[b], self.padded, self.balls, &mut self.placed);
