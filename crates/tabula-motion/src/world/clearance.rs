@@ -73,6 +73,11 @@ fn balls_to_balls(a: &[(Vec3, f64)], b: &[(Vec3, f64)]) -> f64 {
     lb.max(0.0)
 }
 
+/// The share of the margin still possible (`limit` less the padding) that a piece's
+/// cover must give for its lower bound to stand for the exact distance to an object.
+/// Measured: 0.1–0.5 alike (WAM median 0.15 → 0.10 ms); 1 (never) is the slowest.
+pub(super) const BALLS_ENOUGH: f64 = 0.3;
+
 /// Rates at or below this count as "does not move": a pair that cannot come closer
 /// along the segment needs only its distance above the padding.
 const STILL: f64 = 1e-12;
@@ -130,7 +135,7 @@ impl CollisionWorld {
                     continue;
                 }
                 let range = bodies.body(b);
-                let d = self.entries_distance(&bodies.placed[range], bodies.balls, o, limit);
+                let d = self.entries_distance(&bodies.placed[range], bodies.balls, o, pad, limit);
                 best = best.min((d - pad) / rate);
                 if best <= 0.0 {
                     return best;
@@ -225,13 +230,21 @@ impl CollisionWorld {
         entries: &[Placed],
         balls: &[(Vec3, f64)],
         o: &WorldObject,
+        pad: f64,
         limit: f64,
     ) -> f64 {
         let distance = |p: &Placed, limit: f64| {
-            if !p.aabb.loosened(limit).intersects(&o.aabb)
-                || balls_to_object(&balls[p.balls.clone()], o, limit) >= limit
-            {
+            if !p.aabb.loosened(limit).intersects(&o.aabb) {
                 return limit;
+            }
+            let lb = balls_to_object(&balls[p.balls.clone()], o, limit);
+            if lb >= limit {
+                return limit;
+            }
+            // The balls' bound stands for the distance when it gives a good part of
+            // the margin asked for: a shorter step, but no GJK.
+            if !p.outer && lb > pad && lb - pad >= BALLS_ENOUGH * (limit - pad) {
+                return lb;
             }
             self.object_distance(&Solid::of(p), &p.aabb.loosened(limit), o, limit)
         };
