@@ -158,12 +158,12 @@ impl CollisionWorld {
             self.allowed_matrix[a * n + b] = true;
             self.allowed_matrix[b * n + a] = true;
         }
-        self.rebuild_checked_pairs();
+        self.rebuild_body_index();
     }
 
-    /// Lists the body pairs a check tests, after the matrix, the bodies or the moving
-    /// bodies changed.
-    pub(super) fn rebuild_checked_pairs(&mut self) {
+    /// What a check reads of the bodies, after the matrix, the bodies or the moving
+    /// bodies changed: the pairs it tests and how many entries placing them all takes.
+    pub(super) fn rebuild_body_index(&mut self) {
         self.pieces = self
             .bodies
             .iter()

@@ -360,7 +360,7 @@ impl CollisionWorld {
         for b in &mut w.bodies {
             b.moving = moves[b.link];
         }
-        w.rebuild_checked_pairs();
+        w.rebuild_body_index();
         w.motion_radius = coarse_motion_radius(&chain);
         w.chain = chain;
         w.values = values;

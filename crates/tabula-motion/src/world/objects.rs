@@ -228,7 +228,7 @@ impl CollisionWorld {
                 let n = probe.bodies.len();
                 probe.allowed_matrix[x * n + y] = true;
                 probe.allowed_matrix[y * n + x] = true;
-                probe.rebuild_checked_pairs();
+                probe.rebuild_body_index();
             } else if probe.attached.iter().any(|o| o.name == a) {
                 probe.attached.retain(|o| o.name != a);
             } else {

@@ -291,6 +291,9 @@ mod tests {
     use tabula_geom::parry::query;
     use tabula_geom::{Pose, Quat, Vec3};
 
+    /// The padding of the test's worlds, which margins keep.
+    const PAD: f64 = 0.01;
+
     /// Every pair a check tests, measured by parry with nothing skipped: the least
     /// distance beyond the padding, and the least margin along `rates` (capped as
     /// `time_margin` caps it).
@@ -316,7 +319,7 @@ mod tests {
                             .expect("distance")
                             .distance;
                     gap = gap.min(d - body.padding);
-                    margin = margin.min((d - 0.01) / rates.body(b));
+                    margin = margin.min((d - PAD) / rates.body(b));
                 }
             }
         }
@@ -328,7 +331,7 @@ mod tests {
                         .expect("distance")
                         .distance;
                     gap = gap.min(d - pad);
-                    margin = margin.min((d - 0.01) / rates.pair(a, b));
+                    margin = margin.min((d - PAD) / rates.pair(a, b));
                 }
             }
         }
@@ -344,6 +347,7 @@ mod tests {
         let mut rng = ChaCha8Rng::seed_from_u64(3);
         let params = WorldParams {
             acm_samples: 200,
+            padding: PAD,
             ..WorldParams::default()
         };
         for (name, mut world) in every_arm(&params) {
@@ -376,7 +380,7 @@ mod tests {
                 }
                 let hit = world.first_collision(&q).expect("check");
                 assert_eq!(hit.is_some(), gap < 0.0, "{name}: gap {gap}, hit {hit:?}");
-                let stepped = world.time_margin(&q, &rates, 0.01, 0.1).expect("margin");
+                let stepped = world.time_margin(&q, &rates, PAD, 0.1).expect("margin");
                 if margin > 1e-7 {
                     // Never more than the least margin (GJK stops within its tolerance,
                     // micrometres here; parry's distance converges further), and where a
