@@ -72,19 +72,11 @@ impl CollisionWorld {
         &'a self,
         aabb: &'a Aabb,
     ) -> impl Iterator<Item = usize> + 'a {
-        let few = self.objects.len() <= LINEAR_SCAN_OBJECTS;
-        let linear = few.then(|| {
-            self.objects
-                .iter()
-                .enumerate()
-                .filter(|(_, o)| o.aabb.intersects(aabb))
-                .map(|(i, _)| i)
-        });
-        let walk = (!few).then(|| self.objects_bvh.intersect_aabb(aabb).map(|i| i as usize));
-        linear
-            .into_iter()
-            .flatten()
-            .chain(walk.into_iter().flatten())
+        if self.objects.len() <= LINEAR_SCAN_OBJECTS {
+            NearObjects::Scan(self.objects.iter().enumerate(), aabb)
+        } else {
+            NearObjects::Walk(self.objects_bvh.intersect_aabb(aabb))
+        }
     }
 
     /// A mesh file (OBJ or STL) as a world object: its convex hull, or with `decompose`
@@ -303,5 +295,26 @@ impl CollisionWorld {
             self.pair_tables = PairTables::build(self);
         }
         Ok(())
+    }
+}
+
+/// [`CollisionWorld::object_indices_near`]'s two ways, one iterator: a BVH walk carries
+/// a traversal stack of a few hundred bytes, which an `Option`-and-`chain` of both
+/// copied three times over on every call (a tenth of a check's time, profiled).
+enum NearObjects<'a, W> {
+    Scan(std::iter::Enumerate<std::slice::Iter<'a, WorldObject>>, &'a Aabb),
+    Walk(W),
+}
+
+impl<W: Iterator<Item = u32>> Iterator for NearObjects<'_, W> {
+    type Item = usize;
+
+    fn next(&mut self) -> Option<usize> {
+        match self {
+            NearObjects::Scan(objects, aabb) => objects
+                .find(|(_, o)| o.aabb.intersects(aabb))
+                .map(|(i, _)| i),
+            NearObjects::Walk(leaves) => leaves.next().map(|i| i as usize),
+        }
     }
 }
