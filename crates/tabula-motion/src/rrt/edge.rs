@@ -1,7 +1,7 @@
 //! Edge checks: fixed spacing, and certification by conservative advancement.
 
 use super::linf;
-use crate::world::CollisionWorld;
+use crate::world::{CollisionWorld, Keep};
 
 /// True when the straight segment a→b is valid: configurations are checked at most
 /// `resolution` rad apart (max over joints) and close enough that no point of the robot
@@ -32,11 +32,7 @@ pub fn segment_certified(world: &CollisionWorld, a: &[f64], b: &[f64], resolutio
 /// [`segment_certified`] without the coarse look first: for edges that passed it
 /// already (a path the trees found on coarse checks).
 pub(super) fn certify(world: &CollisionWorld, a: &[f64], b: &[f64], resolution: f64) -> bool {
-    if spacing_certifies(world) {
-        segment_valid(world, a, b, resolution)
-    } else {
-        segment_valid_advancing(world, a, b, resolution)
-    }
+    segment_valid_advancing(world, a, b, resolution)
 }
 
 /// Whether a configuration on a→b is invalid among a few: four times the world's step
@@ -76,7 +72,15 @@ pub fn segment_valid_advancing(
     resolution: f64,
 ) -> bool {
     let spaced_fallback = spacing_certifies(world);
-    let pad = world.max_padding();
+    // Where the padding certifies fixed spacing, samples keep each link's padding and
+    // the stretches between them all but half a step of it, as fixed spacing's do.
+    let keep = if spaced_fallback {
+        Keep::LinkPaddings {
+            spend: 0.5 * world.params.max_step_displacement,
+        }
+    } else {
+        Keep::Padding(world.max_padding())
+    };
     let rates = world.sweep_rates(a, b);
     let fastest = rates.fastest();
     // Margins beyond 10 cm of motion buy little but cost distance queries.
@@ -86,7 +90,7 @@ pub fn segment_valid_advancing(
         for k in 0..a.len() {
             q[k] = a[k] + (b[k] - a[k]) * t;
         }
-        let m = world.time_margin(&q, &rates, pad, cap).ok()?;
+        let m = world.margin(&q, &rates, keep, cap).ok()?;
         (m > 0.0).then_some(m)
     };
     let (Some(ma), Some(mb)) = (margin_at(0.0), margin_at(1.0)) else {

@@ -128,7 +128,9 @@ fn extend(
     }
 }
 
-/// The RRT-Connect loop with edges checked at `spacing`; `None` at the deadline.
+/// The RRT-Connect loop with edges checked at `spacing`; `None` at the deadline. The
+/// straight line is not tried: the caller has certified it or found it blocked, and a
+/// coarse check passing it again would hand back the same refused path every round.
 pub(super) fn grow(
     world: &CollisionWorld,
     start: &[f64],
@@ -137,16 +139,6 @@ pub(super) fn grow(
     spacing: f64,
     deadline: Instant,
 ) -> Option<Path> {
-    // Straight line first: in open space that is the answer.
-    for g in goals {
-        if segment_valid_spaced(world, start, g, p.resolution, spacing) {
-            return Some(Path {
-                waypoints: vec![start.to_vec(), g.clone()],
-                planning_time: 0.0,
-                tree_nodes: 2,
-            });
-        }
-    }
     let mut rng = ChaCha8Rng::seed_from_u64(p.seed);
     let mut a = Tree::new(vec![start.to_vec()]);
     let mut b = Tree::new(goals.to_vec());

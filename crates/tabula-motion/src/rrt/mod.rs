@@ -200,6 +200,9 @@ pub fn rrt_connect(
     // Each round grows new trees from its own seed: a path that failed certification
     // would otherwise be found again the same way. Rounds go on until the deadline.
     for round in 0u64.. {
+        if Instant::now() >= deadline {
+            break;
+        }
         let spacing = spacings[(round as usize).min(spacings.len() - 1)];
         let seeded = PlannerParams {
             seed: p.seed.wrapping_add(round),

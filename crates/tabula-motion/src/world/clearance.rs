@@ -82,6 +82,52 @@ pub(super) const BALLS_ENOUGH: f64 = 0.3;
 /// along the segment needs only its distance above the padding.
 const STILL: f64 = 1e-12;
 
+/// What a margin keeps between each pair, at `q` and along the stretch it allows.
+#[derive(Clone, Copy, Debug)]
+pub enum Keep {
+    /// `pad` everywhere: the margin is `(distance − pad) / rate`.
+    Padding(f64),
+    /// Each pair's own padding at `q` (as [`CollisionWorld::first_collision`] asks), and
+    /// along the stretch that padding less `spend`: the margin is `(distance − (own −
+    /// spend)) / rate`. With `spend` half the world's step this is what fixed spacing
+    /// certifies (every configuration between two samples is within half a step of
+    /// one), in far fewer samples where things are far apart.
+    LinkPaddings { spend: f64 },
+}
+
+impl Keep {
+    /// The distance below which `q` is refused, for a pair whose padding is `own`.
+    fn floor(self, own: f64) -> f64 {
+        match self {
+            Keep::Padding(pad) => pad,
+            Keep::LinkPaddings { .. } => own,
+        }
+    }
+
+    /// The distance not spent along the stretch.
+    fn kept(self, own: f64) -> f64 {
+        match self {
+            Keep::Padding(pad) => pad,
+            Keep::LinkPaddings { spend } => (own - spend).max(0.0),
+        }
+    }
+
+    /// The distance up to which a pair must be measured while `best` is the margin:
+    /// beyond it the pair neither refuses `q` nor shortens the margin.
+    fn limit(self, own: f64, best: f64, rate: f64) -> f64 {
+        self.floor(own).max(self.kept(own) + best * rate)
+    }
+
+    /// The margin after a pair closing at `rate` measured `d` apart: not above 0 when
+    /// `d` is under the pair's floor (`own`: its padding). A distance measured up to a
+    /// limit comes back as the limit when it is at least that, and the limit may be
+    /// the floor itself: that is clear.
+    fn after(self, best: f64, d: f64, own: f64, rate: f64) -> f64 {
+        let m = best.min((d - self.kept(own)) / rate);
+        if d < self.floor(own) { m.min(0.0) } else { m }
+    }
+}
+
 impl CollisionWorld {
     /// The margin of `q` along a segment, in the segment's own length (0 at its start,
     /// 1 at its end): the smallest `(distance − pad) / rate` over every pair that
@@ -97,35 +143,67 @@ impl CollisionWorld {
         pad: f64,
         cap: f64,
     ) -> Result<f64, WorldError> {
+        self.margin(q, rates, Keep::Padding(pad), cap)
+    }
+
+    /// The margin of `q` keeping what `keep` says ([`Self::time_margin`] is
+    /// `Keep::Padding`): non-positive when `q` is out of limits or refused.
+    pub fn margin(
+        &self,
+        q: &[f64],
+        rates: &SweepRates,
+        keep: Keep,
+        cap: f64,
+    ) -> Result<f64, WorldError> {
         self.with_bodies_at(q, |scratch, outside| match outside {
             Some(_) => -1.0,
-            None => self.margin_of_placed(q, scratch, rates, pad, cap),
+            None => self.margin_of_placed(q, scratch, rates, keep, cap),
         })
     }
 
-    /// [`Self::time_margin`] of the bodies at the poses in `scratch`: a body is placed
-    /// only where its bounding ball comes closer to something than the best margin so
-    /// far allows.
+    /// [`Self::margin`] of the bodies at the poses in `scratch`: a body is placed only
+    /// where its bounding ball comes closer to something than the best margin so far
+    /// allows. Each part returns the margin left, non-positive once `q` is refused.
     fn margin_of_placed(
         &self,
         q: &[f64],
         scratch: &mut Scratch,
         rates: &SweepRates,
-        pad: f64,
+        keep: Keep,
         cap: f64,
     ) -> f64 {
-        let mut best = cap / rates.fastest().max(STILL);
+        let best = cap / rates.fastest().max(STILL);
         let mut bodies = OnDemand::new(self, scratch, false);
+        let best = self.objects_margin(&mut bodies, rates, keep, best);
+        if best <= 0.0 {
+            return best;
+        }
+        let best = self.own_pairs_margin(q, &mut bodies, rates, keep, best);
+        if best <= 0.0 || self.attached.is_empty() {
+            return best;
+        }
+        self.attached_margin(&mut bodies, rates, keep, best)
+    }
+
+    /// The margin against the world's objects.
+    fn objects_margin(
+        &self,
+        bodies: &mut OnDemand,
+        rates: &SweepRates,
+        keep: Keep,
+        mut best: f64,
+    ) -> f64 {
         for b in (0..self.bodies.len()).filter(|&b| self.bodies[b].moving) {
             let Some((centre, radius)) = bodies.bound(b) else {
                 continue;
             };
             let rate = rates.body(b).max(STILL);
-            let reach = radius + pad + best * rate;
+            let own = self.bodies[b].padding;
+            let reach = radius + keep.limit(own, best, rate);
             let around = Aabb::new(centre - Vec3::splat(reach), centre + Vec3::splat(reach));
             for i in self.object_indices_near(&around) {
                 let o = &self.objects[i];
-                let limit = pad + best * rate;
+                let limit = keep.limit(own, best, rate);
                 if o.allowed_bodies.contains(&b)
                     || o.shape
                         .distance_to_point(&o.world_from_object, centre, true)
@@ -135,20 +213,35 @@ impl CollisionWorld {
                     continue;
                 }
                 let range = bodies.body(b);
-                let d = self.entries_distance(&bodies.placed[range], bodies.balls, o, pad, limit);
-                best = best.min((d - pad) / rate);
+                let floors = (keep.floor(own), keep.kept(own));
+                let d =
+                    self.entries_distance(&bodies.placed[range], bodies.balls, o, floors, limit);
+                best = keep.after(best, d, own, rate);
                 if best <= 0.0 {
                     return best;
                 }
             }
         }
+        best
+    }
+
+    /// The margin between the robot's own bodies (the pairs the matrix checks).
+    fn own_pairs_margin(
+        &self,
+        q: &[f64],
+        bodies: &mut OnDemand,
+        rates: &SweepRates,
+        keep: Keep,
+        mut best: f64,
+    ) -> f64 {
         let mut pairs = Vec::new();
         for &(a, b) in &self.checked_pairs {
             let (Some((ca, ra)), Some((cb, rb))) = (bodies.bound(a), bodies.bound(b)) else {
                 continue;
             };
             let rate = rates.pair(a, b).max(STILL);
-            let limit = pad + best * rate;
+            let own = self.bodies[a].padding.max(self.bodies[b].padding);
+            let limit = keep.limit(own, best, rate);
             if (ca - cb).length() - ra - rb >= limit
                 || self
                     .pair_tables
@@ -175,20 +268,28 @@ impl CollisionWorld {
             );
             for &(i, k) in &pairs {
                 let (pi, pk) = (&bodies.placed[i], &bodies.placed[k]);
-                let limit = pad + best * rate;
+                let limit = keep.limit(own, best, rate);
                 if !pi.aabb.loosened(limit).intersects(&pk.aabb) || apart(pi, pk, limit) {
                     continue;
                 }
                 let d = Solid::of(pi).distance(&Solid::of(pk), limit);
-                best = best.min((d - pad) / rate);
+                best = keep.after(best, d, own, rate);
                 if best <= 0.0 {
                     return best;
                 }
             }
         }
-        if self.attached.is_empty() {
-            return best;
-        }
+        best
+    }
+
+    /// The margin of the objects the robot holds, against the world and the robot.
+    fn attached_margin(
+        &self,
+        bodies: &mut OnDemand,
+        rates: &SweepRates,
+        keep: Keep,
+        mut best: f64,
+    ) -> f64 {
         let poses = bodies.poses();
         let placed = bodies.all();
         for att in &self.attached {
@@ -197,23 +298,24 @@ impl CollisionWorld {
                 shape: &att.shape,
                 hull: None,
             };
+            let own = self.bodies[att.body].padding;
             let aabb = att.shape.compute_aabb(&held.pose);
             let rate = rates.body(att.body).max(STILL);
-            let limit = pad + best * rate;
+            let limit = keep.limit(own, best, rate);
             for o in self.objects_near(&aabb.loosened(limit)) {
-                let limit = pad + best * rate;
+                let limit = keep.limit(own, best, rate);
                 let d = self.object_distance(&held, &aabb.loosened(limit), o, limit);
-                best = best.min((d - pad) / rate);
+                best = keep.after(best, d, own, rate);
                 if best <= 0.0 {
                     return best;
                 }
             }
             for p in placed.iter().filter(|p| !p.outer) {
                 let rate = rates.pair(att.body, p.body).max(STILL);
-                let limit = pad + best * rate;
+                let limit = keep.limit(own, best, rate);
                 if !att.touch.contains(&p.body) && aabb.loosened(limit).intersects(&p.aabb) {
                     let d = held.distance(&Solid::of(p), limit);
-                    best = best.min((d - pad) / rate);
+                    best = keep.after(best, d, own, rate);
                     if best <= 0.0 {
                         return best;
                     }
@@ -230,7 +332,7 @@ impl CollisionWorld {
         entries: &[Placed],
         balls: &[(Vec3, f64)],
         o: &WorldObject,
-        pad: f64,
+        (floor, kept): (f64, f64),
         limit: f64,
     ) -> f64 {
         let distance = |p: &Placed, limit: f64| {
@@ -243,7 +345,7 @@ impl CollisionWorld {
             }
             // The balls' bound stands for the distance when it gives a good part of
             // the margin asked for: a shorter step, but no GJK.
-            if !p.outer && lb > pad && lb - pad >= BALLS_ENOUGH * (limit - pad) {
+            if !p.outer && lb > floor && lb - kept >= BALLS_ENOUGH * (limit - kept) {
                 return lb;
             }
             self.object_distance(&Solid::of(p), &p.aabb.loosened(limit), o, limit)

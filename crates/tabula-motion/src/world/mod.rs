@@ -14,6 +14,7 @@ mod placed;
 mod sweep;
 
 pub use allowed::AllowedCollisions;
+pub use clearance::Keep;
 pub use edit::IgnoredJoints;
 pub use sweep::SweepRates;
 
@@ -157,6 +158,8 @@ pub struct CollisionWorld {
     objects: Vec<WorldObject>,
     /// Broad phase over the world objects' boxes.
     objects_bvh: Bvh,
+    /// Each object's box, packed for the scans of small scenes.
+    object_boxes: Vec<Aabb>,
     attached: Vec<Attached>,
     pub params: WorldParams,
     checks: Cell<u64>,
@@ -325,6 +328,7 @@ impl CollisionWorld {
             pieces: 0,
             objects: Vec::new(),
             objects_bvh: Bvh::new(),
+            object_boxes: Vec::new(),
             attached: Vec::new(),
             params,
             checks: Cell::new(0),

@@ -52,9 +52,11 @@ impl CollisionWorld {
         Ok(())
     }
 
+    /// The objects' boxes and their BVH, after any change to the objects (indices into
+    /// both are the objects' own).
     pub(super) fn rebuild_bvh(&mut self) {
-        let boxes: Vec<Aabb> = self.objects.iter().map(|o| o.aabb).collect();
-        self.objects_bvh = Bvh::from_leaves(BvhBuildStrategy::default(), &boxes);
+        self.object_boxes = self.objects.iter().map(|o| o.aabb).collect();
+        self.objects_bvh = Bvh::from_leaves(BvhBuildStrategy::default(), &self.object_boxes);
     }
 
     /// World objects whose boxes meet `aabb` (through the BVH).
@@ -73,7 +75,7 @@ impl CollisionWorld {
         aabb: &'a Aabb,
     ) -> impl Iterator<Item = usize> + 'a {
         if self.objects.len() <= LINEAR_SCAN_OBJECTS {
-            NearObjects::Scan(self.objects.iter().enumerate(), aabb)
+            NearObjects::Scan(self.object_boxes.iter().enumerate(), aabb)
         } else {
             NearObjects::Walk(self.objects_bvh.intersect_aabb(aabb))
         }
@@ -213,6 +215,7 @@ impl CollisionWorld {
             }
             if probe.objects.iter().any(|o| o.name == b) {
                 probe.objects.retain(|o| o.name != b);
+                probe.rebuild_bvh();
             } else if let (Some(x), Some(y)) = (
                 probe.bodies.iter().position(|l| l.name == a),
                 probe.bodies.iter().position(|l| l.name == b),
@@ -298,11 +301,12 @@ impl CollisionWorld {
     }
 }
 
-/// [`CollisionWorld::object_indices_near`]'s two ways, one iterator: a BVH walk carries
-/// a traversal stack of a few hundred bytes, which an `Option`-and-`chain` of both
-/// copied three times over on every call (a tenth of a check's time, profiled).
+/// [`CollisionWorld::object_indices_near`]'s two ways, one iterator. The scan reads
+/// the packed boxes, not whole objects; a BVH walk carries a traversal stack of a few
+/// hundred bytes, which an `Option`-and-`chain` of both copied three times over on
+/// every call (a tenth of a check's time, profiled).
 enum NearObjects<'a, W> {
-    Scan(std::iter::Enumerate<std::slice::Iter<'a, WorldObject>>, &'a Aabb),
+    Scan(std::iter::Enumerate<std::slice::Iter<'a, Aabb>>, &'a Aabb),
     Walk(W),
 }
 
@@ -311,9 +315,9 @@ impl<W: Iterator<Item = u32>> Iterator for NearObjects<'_, W> {
 
     fn next(&mut self) -> Option<usize> {
         match self {
-            NearObjects::Scan(objects, aabb) => objects
-                .find(|(_, o)| o.aabb.intersects(aabb))
-                .map(|(i, _)| i),
+            NearObjects::Scan(objects, aabb) => {
+                objects.find(|(_, b)| b.intersects(aabb)).map(|(i, _)| i)
+            }
             NearObjects::Walk(leaves) => leaves.next().map(|i| i as usize),
         }
     }
