@@ -95,7 +95,7 @@ impl CollisionWorld {
                 .or_else(|| self.robot_hits_itself(q, &mut bodies))
                 .or_else(|| {
                     (!self.attached.is_empty())
-                        .then(|| self.attached_hit(bodies.poses(), bodies.all()))
+                        .then(|| self.attached_hit(&mut bodies))
                         .flatten()
                 })
         })
@@ -200,10 +200,12 @@ impl CollisionWorld {
     }
 
     /// Attached objects against the world and the robot.
-    fn attached_hit(&self, poses: &[Pose], placed: &[Placed]) -> Option<Pair> {
+    fn attached_hit(&self, bodies: &mut OnDemand) -> Option<Pair> {
         let n = self.bodies.len();
+        bodies.place_all();
+        let placed = &bodies.placed;
         for a in &self.attached {
-            let w = poses[a.body] * a.link_from_object;
+            let w = bodies.pose(a.body) * a.link_from_object;
             let pad = self.bodies[a.body].padding;
             let aabb = a.shape.compute_aabb(&w).loosened(pad);
             let solid = Solid {

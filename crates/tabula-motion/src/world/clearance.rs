@@ -290,11 +290,11 @@ impl CollisionWorld {
         keep: Keep,
         mut best: f64,
     ) -> f64 {
-        let poses = bodies.poses();
-        let placed = bodies.all();
+        bodies.place_all();
+        let placed = &bodies.placed;
         for att in &self.attached {
             let held = Solid {
-                pose: poses[att.body] * att.link_from_object,
+                pose: bodies.pose(att.body) * att.link_from_object,
                 shape: &att.shape,
                 hull: None,
             };

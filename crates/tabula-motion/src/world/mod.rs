@@ -200,6 +200,8 @@ struct Scratch {
 struct Anchor {
     element: Option<usize>,
     offset: Pose,
+    /// The body's bounding ball in the element's frame (`offset` applied).
+    bound: Option<(Vec3, f64)>,
 }
 
 /// Per link: does a chain joint (or a joint mimicking one) lie on its path to the root?
@@ -419,7 +421,7 @@ impl CollisionWorld {
             }
         }
         self.anchors = (0..self.bodies.len())
-            .map(|b| self.anchor_for(self.bodies[b].link, &root_poses))
+            .map(|b| self.anchor_for(b, &root_poses))
             .collect();
         self.tighten_motion_radius();
         self.pair_tables = PairTables::build(self);
@@ -443,11 +445,14 @@ impl CollisionWorld {
         Some((centre, radius))
     }
 
-    fn anchor_for(&self, link: usize, root_poses: &[Pose]) -> Anchor {
-        let world = Anchor {
+    fn anchor_for(&self, body: usize, root_poses: &[Pose]) -> Anchor {
+        let link = self.bodies[body].link;
+        let placed = |offset: Pose| Anchor {
             element: None,
-            offset: self.world_from_root * root_poses[link],
+            offset,
+            bound: self.bodies[body].bound.map(|(c, r)| (offset * c, r)),
         };
+        let world = placed(self.world_from_root * root_poses[link]);
         let Some(elements) = &self.element_joints else {
             return world;
         };
@@ -457,7 +462,7 @@ impl CollisionWorld {
                 let child = self.model.joints[j].child;
                 return Anchor {
                     element: Some(k),
-                    offset: root_poses[child].inverse() * root_poses[link],
+                    ..placed(root_poses[child].inverse() * root_poses[link])
                 };
             }
             l = self.model.joints[j].parent;
@@ -468,14 +473,16 @@ impl CollisionWorld {
     /// World poses of every body's link at `q`.
     #[cfg(test)]
     fn body_poses(&self, q: &[f64]) -> Result<Vec<Pose>, WorldError> {
-        let mut poses = Vec::new();
-        self.body_poses_into(q, &mut poses, &mut Vec::new())?;
-        Ok(poses)
+        let (mut frames, mut poses) = (Vec::new(), Vec::new());
+        self.frames_into(q, &mut frames, &mut poses)?;
+        Ok((0..self.bodies.len())
+            .map(|b| self.body_pose(b, &frames, &poses))
+            .collect())
     }
 
-    /// One check's start: counts it, places every body at `q` in the world's buffers
-    /// (fresh ones when a caller up the stack holds them) and hands them to `f` with
-    /// the first joint outside its limits, if any.
+    /// One check's start: counts it, computes the chain's frames at `q` in the world's
+    /// buffers (fresh ones when a caller up the stack holds them) and hands them to `f`
+    /// with the first joint outside its limits, if any.
     fn with_bodies_at<R>(
         &self,
         q: &[f64],
@@ -485,7 +492,7 @@ impl CollisionWorld {
         let mut kept = self.scratch.try_borrow_mut().ok();
         let mut own = Scratch::default();
         let scratch = kept.as_deref_mut().unwrap_or(&mut own);
-        self.body_poses_into(q, &mut scratch.poses, &mut scratch.frames)?;
+        self.frames_into(q, &mut scratch.frames, &mut scratch.poses)?;
         scratch.balls.clear();
         let outside = q
             .iter()
@@ -494,16 +501,24 @@ impl CollisionWorld {
         Ok(f(scratch, outside))
     }
 
-    /// [`Self::body_poses`] into `poses`, with `frames` for the chain's frames: buffers a
-    /// check reuses rather than allocates.
-    fn body_poses_into(
+    /// Whether every body hangs from a chain element or stands still
+    /// ([`Anchor`]): then a check computes the chain's frames only, and a body's pose
+    /// from them when a test needs it.
+    fn anchored(&self) -> bool {
+        self.element_joints.is_some() && self.anchors.len() == self.bodies.len()
+    }
+
+    /// The chain's frames at `q` in the world into `frames` — or, where the bodies
+    /// could not be anchored, every body's pose into `poses` (else left empty).
+    fn frames_into(
         &self,
         q: &[f64],
-        poses: &mut Vec<Pose>,
         frames: &mut Vec<Pose>,
+        poses: &mut Vec<Pose>,
     ) -> Result<(), WorldError> {
+        frames.clear();
         poses.clear();
-        if self.element_joints.is_none() || self.anchors.len() != self.bodies.len() {
+        if !self.anchored() {
             let links = self.root_from_links(q)?;
             poses.extend(
                 self.bodies
@@ -513,8 +528,6 @@ impl CollisionWorld {
             return Ok(());
         }
         self.check_length_and_finite(q)?;
-        // The chain's frames after each element, in the world.
-        frames.clear();
         let mut t = self.world_from_chain_base;
         for e in &self.chain.elements {
             let v = e.multiplier * q[e.var] + e.offset;
@@ -531,11 +544,32 @@ impl CollisionWorld {
             };
             frames.push(t);
         }
-        poses.extend(self.anchors.iter().map(|a| match a.element {
+        Ok(())
+    }
+
+    /// Body `b`'s world pose from a check's [`Self::frames_into`].
+    fn body_pose(&self, b: usize, frames: &[Pose], poses: &[Pose]) -> Pose {
+        if !poses.is_empty() {
+            return poses[b];
+        }
+        let a = &self.anchors[b];
+        match a.element {
             Some(k) => frames[k] * a.offset,
             None => a.offset,
-        }));
-        Ok(())
+        }
+    }
+
+    /// Body `b`'s bounding ball in the world from a check's [`Self::frames_into`]: one
+    /// point moved, not the body's pose composed.
+    fn body_bound(&self, b: usize, frames: &[Pose], poses: &[Pose]) -> Option<(Vec3, f64)> {
+        if !poses.is_empty() {
+            return self.bodies[b].bound.map(|(c, r)| (poses[b] * c, r));
+        }
+        let a = &self.anchors[b];
+        a.bound.map(|(c, r)| match a.element {
+            Some(k) => (frames[k] * c, r),
+            None => (c, r),
+        })
     }
 
     /// Scales every link's padding (and the default for links added later) by `factor`.

@@ -274,7 +274,8 @@ impl CollisionWorld {
                     bound: None,
                 });
                 let root_poses = self.model.forward_kinematics(&self.values)?;
-                self.anchors.push(self.anchor_for(li, &root_poses));
+                self.anchors
+                    .push(self.anchor_for(self.bodies.len() - 1, &root_poses));
                 self.rebuild_allowed_matrix();
                 self.bodies.len() - 1
             }

@@ -60,6 +60,8 @@ impl CollisionWorld {
 /// everything by their bounding ball alone and are never placed.
 pub(super) struct OnDemand<'a, 'b> {
     world: &'a CollisionWorld,
+    /// The check's chain frames (or every body's pose: [`CollisionWorld::frames_into`]).
+    frames: &'b [Pose],
     poses: &'b [Pose],
     pub balls: &'b mut Vec<(Vec3, f64)>,
     pub placed: Vec<Placed<'a>>,
@@ -72,24 +74,27 @@ pub(super) struct OnDemand<'a, 'b> {
 }
 
 impl<'a, 'b> OnDemand<'a, 'b> {
-    /// Nothing placed yet; every body's bounding ball at the poses in `scratch`.
+    /// Nothing placed yet; every body's bounding ball at the frames in `scratch`.
     pub fn new(world: &'a CollisionWorld, scratch: &'b mut Scratch, padded: bool) -> Self {
         let Scratch {
+            frames,
             poses,
             balls,
             spans,
             bounds,
-            ..
         } = scratch;
         spans.clear();
         spans.resize(world.bodies.len(), None);
         bounds.clear();
-        bounds.extend(world.bodies.iter().zip(poses.iter()).map(|(lb, pose)| {
+        bounds.extend(world.bodies.iter().enumerate().map(|(b, lb)| {
             let grow = if padded { lb.padding } else { 0.0 };
-            lb.bound.map(|(c, r)| (*pose * c, r + grow))
+            world
+                .body_bound(b, frames, poses)
+                .map(|(c, r)| (c, r + grow))
         }));
         Self {
             world,
+            frames,
             poses,
             balls,
             placed: Vec::new(),
@@ -99,8 +104,9 @@ impl<'a, 'b> OnDemand<'a, 'b> {
         }
     }
 
-    pub fn poses(&self) -> &'b [Pose] {
-        self.poses
+    /// Body `b`'s pose in the world.
+    pub fn pose(&self, b: usize) -> Pose {
+        self.world.body_pose(b, self.frames, self.poses)
     }
 
     /// Body `b`'s entries in [`Self::placed`], placing it if it is not yet.
@@ -113,8 +119,9 @@ impl<'a, 'b> OnDemand<'a, 'b> {
             self.placed.reserve(self.world.pieces);
         }
         let first = self.placed.len();
+        let pose = self.pose(b);
         self.world
-            .place_body(b, &self.poses[b], self.padded, self.balls, &mut self.placed);
+            .place_body(b, &pose, self.padded, self.balls, &mut self.placed);
         self.spans[b] = Some(first..self.placed.len());
         first..self.placed.len()
     }
@@ -124,12 +131,11 @@ impl<'a, 'b> OnDemand<'a, 'b> {
         self.bounds[b]
     }
 
-    /// Every body placed (for the tests that need them all: attached objects).
-    pub fn all(&mut self) -> &[Placed<'a>] {
+    /// Places every body (for the tests that need them all: attached objects).
+    pub fn place_all(&mut self) {
         for b in 0..self.spans.len() {
             self.body(b);
         }
-        &self.placed
     }
 }
 
@@ -285,7 +291,7 @@ pub(super) fn balls_apart(a: &[(Vec3, f64)], b: &[(Vec3, f64)], pad: f64) -> boo
 #[cfg(test)]
 mod tests {
     use crate::world::test_worlds::every_arm;
-    use crate::world::{CollisionWorld, SweepRates, WorldParams};
+    use crate::world::{CollisionWorld, Keep, SweepRates, WorldParams};
     use rand::{RngExt, SeedableRng};
     use rand_chacha::ChaCha8Rng;
     use tabula_geom::parry::query;
@@ -293,11 +299,22 @@ mod tests {
 
     /// The padding of the test's worlds, which margins keep.
     const PAD: f64 = 0.01;
+    /// What `Keep::LinkPaddings` may spend of it between samples.
+    const SPEND: f64 = 0.004;
 
-    /// Every pair a check tests, measured by parry with nothing skipped: the least
-    /// distance beyond the padding, and the least margin along `rates` (capped as
-    /// `time_margin` caps it).
-    fn measured(world: &CollisionWorld, q: &[f64], rates: &SweepRates) -> (f64, f64) {
+    /// The least of each kind over every pair a check tests.
+    struct Least {
+        /// Distance beyond the pair's padding.
+        gap: f64,
+        /// Margin along the rates keeping `PAD` (`Keep::Padding`), capped as
+        /// `time_margin` caps it.
+        margin: f64,
+        /// Margin keeping the pair's padding less `SPEND` (`Keep::LinkPaddings`).
+        between: f64,
+    }
+
+    /// Every pair a check tests, measured by parry with nothing skipped.
+    fn measured(world: &CollisionWorld, q: &[f64], rates: &SweepRates) -> Least {
         let poses = world.body_poses(q).expect("poses");
         let pieces = |b: usize| {
             world.bodies[b]
@@ -306,7 +323,17 @@ mod tests {
                 .map(|(s, p)| (s, poses[b] * *p))
                 .collect::<Vec<_>>()
         };
-        let (mut gap, mut margin) = (f64::INFINITY, 0.1 / rates.fastest());
+        let cap = 0.1 / rates.fastest();
+        let mut least = Least {
+            gap: f64::INFINITY,
+            margin: cap,
+            between: cap,
+        };
+        let mut pair = |d: f64, pad: f64, rate: f64| {
+            least.gap = least.gap.min(d - pad);
+            least.margin = least.margin.min((d - PAD) / rate);
+            least.between = least.between.min((d - (pad - SPEND)) / rate);
+        };
         for (b, body) in world.bodies.iter().enumerate().filter(|(_, b)| b.moving) {
             for o in world
                 .objects
@@ -318,8 +345,7 @@ mod tests {
                         query::distance(&pose, s.as_ref(), &o.world_from_object, o.shape.as_ref())
                             .expect("distance")
                             .distance;
-                    gap = gap.min(d - body.padding);
-                    margin = margin.min((d - PAD) / rates.body(b));
+                    pair(d, body.padding, rates.body(b));
                 }
             }
         }
@@ -330,12 +356,32 @@ mod tests {
                     let d = query::distance(&pa, sa.as_ref(), &pb, sb.as_ref())
                         .expect("distance")
                         .distance;
-                    gap = gap.min(d - pad);
-                    margin = margin.min((d - PAD) / rates.pair(a, b));
+                    pair(d, pad, rates.pair(a, b));
                 }
             }
         }
-        (gap, margin)
+        least
+    }
+
+    /// A margin stepped by the world against the least measured: never more, and where
+    /// a cover's bound stood for a distance, at least its share of it; not above 0
+    /// where the least is not.
+    fn stepped_within(name: &str, stepped: f64, least: f64) {
+        if least > 1e-7 {
+            // GJK stops within its tolerance (micrometres here; parry's distance
+            // converges further).
+            let share = super::super::clearance::BALLS_ENOUGH;
+            assert!(
+                stepped <= least + 1e-3 * least.max(1e-3),
+                "{name}: {stepped} > {least}"
+            );
+            assert!(
+                stepped >= share * least * (1.0 - 1e-3),
+                "{name}: {stepped} ≪ {least}"
+            );
+        } else {
+            assert!(stepped <= 1e-7, "{name}: {stepped} with {least}");
+        }
     }
 
     /// With boxes strewn around every arm of three robots, at random configurations:
@@ -374,28 +420,23 @@ mod tests {
                 let q = world.chain.random_configuration(&mut rng);
                 let to = world.chain.random_configuration(&mut rng);
                 let rates = world.sweep_rates(&q, &to);
-                let (gap, margin) = measured(&world, &q, &rates);
+                let least = measured(&world, &q, &rates);
+                let gap = least.gap;
                 if gap.abs() < 1e-7 {
                     continue;
                 }
                 let hit = world.first_collision(&q).expect("check");
                 assert_eq!(hit.is_some(), gap < 0.0, "{name}: gap {gap}, hit {hit:?}");
                 let stepped = world.time_margin(&q, &rates, PAD, 0.1).expect("margin");
-                if margin > 1e-7 {
-                    // Never more than the least margin (GJK stops within its tolerance,
-                    // micrometres here; parry's distance converges further), and where a
-                    // cover's bound stood for a distance, at least its share of it.
-                    let share = super::super::clearance::BALLS_ENOUGH;
-                    assert!(
-                        stepped <= margin + 1e-3 * margin.max(1e-3),
-                        "{name}: {stepped} > {margin}"
-                    );
-                    assert!(
-                        stepped >= share * margin * (1.0 - 1e-3),
-                        "{name}: {stepped} ≪ {margin}"
-                    );
+                stepped_within(&name, stepped, least.margin);
+                // Keeping each pair's padding at `q`: refused exactly where the check
+                // is, else stepped by what is left after spending `SPEND`.
+                let keep = Keep::LinkPaddings { spend: SPEND };
+                let between = world.margin(&q, &rates, keep, 0.1).expect("margin");
+                if gap < 0.0 {
+                    assert!(between <= 0.0, "{name}: {between} where the check refuses");
                 } else {
-                    assert!(stepped <= 1e-7, "{name}: {stepped} with {margin}");
+                    stepped_within(&name, between, least.between);
                 }
                 if gap < 0.0 { invalid += 1 } else { valid += 1 }
             }
