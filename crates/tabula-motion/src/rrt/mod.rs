@@ -215,7 +215,7 @@ pub fn rrt_connect(
         let verified = path
             .waypoints
             .windows(2)
-            .all(|w| edge::certify(world, &w[0], &w[1], p.resolution));
+            .all(|w| segment_valid_advancing(world, &w[0], &w[1], p.resolution));
         if verified {
             path.planning_time = t0.elapsed().as_secs_f64();
             return Ok(path);

@@ -73,7 +73,7 @@ fn balls_to_balls(a: &[(Vec3, f64)], b: &[(Vec3, f64)]) -> f64 {
     lb.max(0.0)
 }
 
-/// The share of the margin still possible (`limit` less the padding) that a piece's
+/// The share of the margin still possible (`limit` less what the pair keeps) that a piece's
 /// cover must give for its lower bound to stand for the exact distance to an object.
 /// Measured: 0.1–0.5 alike (WAM median 0.15 → 0.10 ms); 1 (never) is the slowest.
 pub(super) const BALLS_ENOUGH: f64 = 0.3;
