@@ -128,6 +128,13 @@ impl Keep {
     }
 }
 
+/// What a margin is asked along: how fast each pair closes, and what it keeps.
+#[derive(Clone, Copy)]
+struct Along<'r> {
+    rates: &'r SweepRates,
+    keep: Keep,
+}
+
 impl CollisionWorld {
     /// The margin of `q` along a segment, in the segment's own length (0 at its start,
     /// 1 at its end): the smallest `(distance − pad) / rate` over every pair that
@@ -174,25 +181,21 @@ impl CollisionWorld {
     ) -> f64 {
         let best = cap / rates.fastest().max(STILL);
         let mut bodies = OnDemand::new(self, scratch, false);
-        let best = self.objects_margin(&mut bodies, rates, keep, best);
+        let along = Along { rates, keep };
+        let best = self.objects_margin(&mut bodies, along, best);
         if best <= 0.0 {
             return best;
         }
-        let best = self.own_pairs_margin(q, &mut bodies, rates, keep, best);
+        let best = self.own_pairs_margin(q, &mut bodies, along, best);
         if best <= 0.0 || self.attached.is_empty() {
             return best;
         }
-        self.attached_margin(&mut bodies, rates, keep, best)
+        self.attached_margin(&mut bodies, along, best)
     }
 
     /// The margin against the world's objects.
-    fn objects_margin(
-        &self,
-        bodies: &mut OnDemand,
-        rates: &SweepRates,
-        keep: Keep,
-        mut best: f64,
-    ) -> f64 {
+    fn objects_margin(&self, bodies: &mut OnDemand, along: Along, mut best: f64) -> f64 {
+        let Along { rates, keep } = along;
         for b in (0..self.bodies.len()).filter(|&b| self.bodies[b].moving) {
             let Some((centre, radius)) = bodies.bound(b) else {
                 continue;
@@ -230,10 +233,10 @@ impl CollisionWorld {
         &self,
         q: &[f64],
         bodies: &mut OnDemand,
-        rates: &SweepRates,
-        keep: Keep,
+        along: Along,
         mut best: f64,
     ) -> f64 {
+        let Along { rates, keep } = along;
         let mut pairs = Vec::new();
         for &(a, b) in &self.checked_pairs {
             let (Some((ca, ra)), Some((cb, rb))) = (bodies.bound(a), bodies.bound(b)) else {
@@ -283,13 +286,8 @@ impl CollisionWorld {
     }
 
     /// The margin of the objects the robot holds, against the world and the robot.
-    fn attached_margin(
-        &self,
-        bodies: &mut OnDemand,
-        rates: &SweepRates,
-        keep: Keep,
-        mut best: f64,
-    ) -> f64 {
+    fn attached_margin(&self, bodies: &mut OnDemand, along: Along, mut best: f64) -> f64 {
+        let Along { rates, keep } = along;
         bodies.place_all();
         let placed = &bodies.placed;
         for att in &self.attached {
