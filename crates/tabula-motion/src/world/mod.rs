@@ -184,7 +184,10 @@ pub struct CollisionWorld {
 /// What a check fills per configuration, kept between checks.
 #[derive(Clone, Default)]
 struct Scratch {
+    /// Every body's pose, only where the bodies could not be anchored
+    /// ([`CollisionWorld::frames_into`]).
     poses: Vec<Pose>,
+    /// The chain's frames after each element, in the world.
     frames: Vec<Pose>,
     balls: Vec<(Vec3, f64)>,
     /// Per body: where its entries are once placed ([`placed::OnDemand`]).
