@@ -510,3 +510,41 @@ fn the_pedestal_is_part_of_the_robot_and_the_arm_keeps_off_it() {
     }
     assert!(hits >= 5, "{hits} configurations reach into the pedestal");
 }
+
+/// Every object the arm touches is named, in a scene large enough for the objects' BVH
+/// (more than 32 objects): `contacts` removes each object it reports and asks again,
+/// and the index over the objects must follow.
+#[test]
+fn contacts_name_every_object_touched_among_many() {
+    let (robot, chain) = wam();
+    let mut world = robot_world(&robot, chain, WorldParams::default()).unwrap();
+    let q = vec![0.0, 0.6, 0.0, 1.6, 0.0, 0.4, 0.0];
+    let tip = world.tip_pose(&q).unwrap().translation;
+    for i in 0..40 {
+        let far = Vec3::new(3.0 + 0.2 * i as f64, 3.0, 0.0);
+        world
+            .add_box(
+                &format!("far{i}"),
+                Vec3::splat(0.05),
+                Pose::from_translation(far),
+            )
+            .unwrap();
+    }
+    for (name, dz) in [("first", 0.0), ("second", 0.01)] {
+        let at = Pose::from_translation(tip + Vec3::new(0.0, 0.0, dz));
+        world.add_box(name, Vec3::splat(0.03), at).unwrap();
+    }
+    let touched: Vec<String> = world
+        .contacts(&q)
+        .unwrap()
+        .into_iter()
+        .map(|(_, object)| object)
+        .collect();
+    for name in ["first", "second"] {
+        assert!(
+            touched.iter().any(|o| o == name),
+            "{name} not in {touched:?}"
+        );
+    }
+    assert!(!touched.iter().any(|o| o.starts_with("far")), "{touched:?}");
+}
