@@ -17,6 +17,13 @@ fn wam() -> (robots::NamedRobot, Chain) {
     (r, chain)
 }
 
+/// The WAM alone in its world, and a configuration reaching forward and down.
+fn wam_reaching() -> (tabula_motion::CollisionWorld, Vec<f64>) {
+    let (robot, chain) = wam();
+    let world = robot_world(&robot, chain, WorldParams::default()).unwrap();
+    (world, vec![0.0, 0.6, 0.0, 1.6, 0.0, 0.4, 0.0])
+}
+
 #[test]
 fn a_thousand_plans_are_valid_at_ten_times_finer_resolution() {
     let (robot, chain) = wam();
@@ -226,9 +233,7 @@ fn bad_starts_goals_and_input_get_clear_answers() {
 
 #[test]
 fn cartesian_approach_and_timing() {
-    let (robot, chain) = wam();
-    let world = robot_world(&robot, chain, WorldParams::default()).unwrap();
-    let q = vec![0.0, 0.6, 0.0, 1.6, 0.0, 0.4, 0.0];
+    let (world, q) = wam_reaching();
     let from = world.tip_pose(&q).unwrap();
     // 10 cm straight down the tool axis, the seed's approach (SPEC §6).
     let goal = Pose::from_parts(
@@ -267,9 +272,7 @@ fn cartesian_approach_and_timing() {
 
 #[test]
 fn point_cloud_occupancy_and_contact_lists() {
-    let (robot, chain) = wam();
-    let mut world = robot_world(&robot, chain, WorldParams::default()).unwrap();
-    let q = vec![0.0, 0.6, 0.0, 1.6, 0.0, 0.4, 0.0];
+    let (mut world, q) = wam_reaching();
     let tip = world.tip_pose(&q).unwrap().translation;
     // A dense blob of points around the tool, with NaN points that must be skipped.
     let mut points = vec![Vec3::NAN; 10];
@@ -516,9 +519,7 @@ fn the_pedestal_is_part_of_the_robot_and_the_arm_keeps_off_it() {
 /// and the index over the objects must follow.
 #[test]
 fn contacts_name_every_object_touched_among_many() {
-    let (robot, chain) = wam();
-    let mut world = robot_world(&robot, chain, WorldParams::default()).unwrap();
-    let q = vec![0.0, 0.6, 0.0, 1.6, 0.0, 0.4, 0.0];
+    let (mut world, q) = wam_reaching();
     let tip = world.tip_pose(&q).unwrap().translation;
     for i in 0..40 {
         let far = Vec3::new(3.0 + 0.2 * i as f64, 3.0, 0.0);
