@@ -11,6 +11,7 @@ mod edges;
 mod enclosed;
 mod joins;
 mod occluded;
+mod parts;
 mod prism;
 mod stride;
 
@@ -393,6 +394,9 @@ impl Seen<'_> {
             let edge = edges.as_ref().map(|(data, _)| data);
             regions = standing(pts, plane, regions, (threshold, occluded, edge), p);
         }
+        if let Some(width) = self.grid {
+            regions = parts::join_parts(pts, width, (self.locals, plane), regions);
+        }
         claim_object_bases(pts, plane, &mut table.inliers, &mut regions, threshold);
         let (mut partial, mut objects): (Vec<TableObject>, Vec<TableObject>) = regions
             .into_iter()
@@ -422,31 +426,9 @@ fn standing(
     p: &TabletopParams,
 ) -> Vec<Vec<usize>> {
     let (u, v) = plane_basis(plane.normal);
-    struct Extent {
-        lowest: f64,
-        highest: f64,
-        lo: Vec2,
-        hi: Vec2,
-    }
-    let extents: Vec<Extent> = regions
+    let extents: Vec<parts::Extent> = regions
         .iter()
-        .map(|r| {
-            let mut e = Extent {
-                lowest: f64::INFINITY,
-                highest: f64::NEG_INFINITY,
-                lo: Vec2::splat(f64::INFINITY),
-                hi: Vec2::splat(f64::NEG_INFINITY),
-            };
-            for &i in r {
-                let h = plane.distance(pts[i]);
-                let q = Vec2::new(pts[i].dot(u), pts[i].dot(v));
-                e.lowest = e.lowest.min(h);
-                e.highest = e.highest.max(h);
-                e.lo = e.lo.min(q);
-                e.hi = e.hi.max(q);
-            }
-            e
-        })
+        .map(|r| parts::Extent::of(pts, plane, r))
         .collect();
     let small = |k: usize| {
         let flat: Vec<Vec2> = regions[k]
