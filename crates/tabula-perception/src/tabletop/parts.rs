@@ -11,7 +11,8 @@ use crate::segment::Locals;
 use tabula_geom::{Vec2, Vec3};
 
 /// A part is at most this share of its body's points (a cap or fin is a tenth of its
-/// bottle or carton; stacked objects of a pile or a stack are of one size).
+/// bottle or carton; objects piled on each other are mostly of one size, and a small
+/// box on a big one is told apart by its level seam).
 const MAX_PART_SHARE: f64 = 0.25;
 /// The part's footprint lies within the body's, grown by this (m): the sensor's noise.
 const FOOTPRINT_SLACK: f64 = 0.01;
@@ -19,6 +20,11 @@ const FOOTPRINT_SLACK: f64 = 0.01;
 const LEVEL_TILT: f64 = 0.35;
 /// … and sloping up to this; steeper points are the body's side, no evidence either way.
 const SIDE_TILT: f64 = 1.22;
+/// A part's seam has this many sloping points for each level one, at least: a box on
+/// a box's top near its edge sees some of the edge's blurred normals as sloping (a box
+/// on a box in mOSD's complex scenes: 1–2.3 sloping to each level one; the milk frame's
+/// caps and fin: 16 or more).
+const SLOPING_TO_LEVEL: usize = 4;
 /// Seam points on the grid: pixels of the body at most this far from the part.
 const SEAM_PIXELS: isize = 2;
 
@@ -125,7 +131,7 @@ pub(super) fn join_parts(
         for body in bodies {
             let (level, sloping) =
                 seam_slopes(&label, width, (locals, plane), &regions[part], body as u32);
-            if sloping > 2 * level && sloping > 0 {
+            if sloping > SLOPING_TO_LEVEL * level && sloping > 0 {
                 pairs.push((part, body));
                 break;
             }
@@ -186,6 +192,22 @@ mod tests {
             2,
             "beside the body's wall: no evidence"
         );
+    }
+
+    /// A box near the edge of a box's top: the edge's blurred normals slope, the top's
+    /// are level; three sloping points to each level one are not a shoulder.
+    #[test]
+    fn a_seam_of_level_and_blurred_edge_points_is_a_stack() {
+        let (pts, mut locals, regions) = scene(5f64.to_radians());
+        let blurred = Vec3::new(0.0, 40f64.to_radians().sin(), 40f64.to_radians().cos());
+        for &i in regions[0].iter().filter(|&&i| i % 4 != 0) {
+            locals.planes[i].0 = blurred;
+        }
+        let table = Plane {
+            normal: Vec3::Z,
+            d: 0.0,
+        };
+        assert_eq!(join_parts(&pts, WIDTH, (&locals, &table), regions).len(), 2);
     }
 
     #[test]

@@ -40,20 +40,20 @@ pub(super) fn expand(
     let mut members: Vec<Vec<usize>> = vec![Vec::new(); n_objects];
     let mut table = Vec::new();
     let mut kept = 0;
+    let columns: Vec<(usize, usize)> = (0..full.width).map(|x| grid.around(x)).collect();
     for y in 0..full.height {
         let rows = grid.around(y);
-        for x in 0..full.width {
+        for (x, &cols) in columns.iter().enumerate() {
             let i = y * full.width + x;
             let q = full.points[i];
             if !q.is_finite() {
                 continue;
             }
-            let (around, n) = grid.around_pixel(rows, grid.around(x));
-            let around = &around[..n];
+            let around = grid.around_pixel(rows, cols);
             // The points whose own sample (up and left) passed outlier removal.
             kept += usize::from(keep[around[0].0]);
             let reach = p.cluster_tolerance + p.cluster_range_gain * q.distance_squared(eye);
-            let Some(k) = pick(q, around, (&owners, &full.points), reach * reach) else {
+            let Some(k) = pick(q, &around, (&owners, &full.points), reach * reach) else {
                 continue;
             };
             match owners[k] {
@@ -155,26 +155,17 @@ impl<'a> Samples<'a> {
         )
     }
 
-    /// The samples at `rows` × `cols` (see [`Self::around`]) inside the grid: coarse
-    /// index and full index of each, the one up and left first, and how many.
+    /// The samples at `rows` × `cols` (see [`Self::around`]; a row or column past the
+    /// grid's last is its last): coarse index and full index of each, the one up and
+    /// left first. A pixel on a sample's row or column has the same sample twice.
     fn around_pixel(
         &self,
         (r0, r1): (usize, usize),
         (c0, c1): (usize, usize),
-    ) -> ([(usize, usize); 4], usize) {
+    ) -> [(usize, usize); 4] {
         let r1 = if r1 < self.height { r1 } else { r0 };
         let c1 = if c1 < self.width { c1 } else { c0 };
-        let mut out = [(0, 0); 4];
-        let mut n = 0;
-        for r in [r0, r1].into_iter().take(if r1 == r0 { 1 } else { 2 }) {
-            for c in [c0, c1].into_iter().take(if c1 == c0 { 1 } else { 2 }) {
-                out[n] = (
-                    r * self.width + c,
-                    r * self.stride * self.full.width + c * self.stride,
-                );
-                n += 1;
-            }
-        }
-        (out, n)
+        let at = |r: usize, c: usize| (r * self.width + c, (r * self.full.width + c) * self.stride);
+        [at(r0, c0), at(r0, c1), at(r1, c0), at(r1, c1)]
     }
 }
