@@ -34,6 +34,14 @@ fn perceive_with(
     (framing, t)
 }
 
+/// The default parameters on every `stride`-th pixel of every `stride`-th row.
+fn at_stride(stride: usize) -> TabletopParams {
+    TabletopParams {
+        frame_stride: stride,
+        ..TabletopParams::default()
+    }
+}
+
 #[test]
 fn laptop_and_box_on_a_carpet() {
     let file = load("kinect_laptop_box.pcd");
@@ -107,11 +115,7 @@ fn office_floor_under_a_bigger_back_wall() {
 fn a_mug_with_its_handle_is_one_object() {
     let file = load("stereo_mug.pcd");
     for stride in [1, 2] {
-        let p = TabletopParams {
-            frame_stride: stride,
-            ..TabletopParams::default()
-        };
-        let (_, t) = perceive_with(&file, &p);
+        let (_, t) = perceive_with(&file, &at_stride(stride));
         let sizes: Vec<Vec3> = t.objects.iter().map(|o| o.obb.half_extents * 2.0).collect();
         assert_eq!(t.objects.len(), 1, "stride {stride}: {sizes:?}");
         assert!(t.partial.is_empty(), "stride {stride}");
@@ -132,11 +136,7 @@ fn a_mug_with_its_handle_is_one_object() {
 fn caps_and_a_gable_top_stay_on_their_bottles() {
     let file = load("milk_detergent.pcd");
     for stride in [1, 2] {
-        let p = TabletopParams {
-            frame_stride: stride,
-            ..TabletopParams::default()
-        };
-        let (_, t) = perceive_with(&file, &p);
+        let (_, t) = perceive_with(&file, &at_stride(stride));
         let mut heights: Vec<f64> = t
             .objects
             .iter()
