@@ -19,18 +19,27 @@ pub(super) fn labels(n: usize, regions: &[Vec<usize>]) -> Vec<u32> {
 /// Whether some pixel of `members` is within [`TOUCH_PIXELS`] of one labelled `other`
 /// (`label` on a grid `width` wide).
 pub(super) fn touches(label: &[u32], width: usize, members: &[usize], other: u32) -> bool {
+    pixels_near(label, width, members, other).next().is_some()
+}
+
+/// The pixels labelled `other` within [`TOUCH_PIXELS`] of some pixel of `members`
+/// (`label` on a grid `width` wide), once for each member they are near.
+pub(super) fn pixels_near<'a>(
+    label: &'a [u32],
+    width: usize,
+    members: &'a [usize],
+    other: u32,
+) -> impl Iterator<Item = usize> + 'a {
     let height = label.len() / width;
     let t = TOUCH_PIXELS as isize;
-    members.iter().any(|&i| {
+    members.iter().flat_map(move |&i| {
         let (x, y) = ((i % width) as isize, (i / width) as isize);
-        (-t..=t).any(|dy| {
-            (-t..=t).any(|dx| {
+        (-t..=t).flat_map(move |dy| {
+            (-t..=t).filter_map(move |dx| {
                 let (xx, yy) = (x + dx, y + dy);
-                xx >= 0
-                    && yy >= 0
-                    && (xx as usize) < width
-                    && (yy as usize) < height
-                    && label[yy as usize * width + xx as usize] == other
+                let inside = xx >= 0 && yy >= 0 && (xx as usize) < width && (yy as usize) < height;
+                let j = yy as usize * width + xx as usize;
+                (inside && label[j] == other).then_some(j)
             })
         })
     })

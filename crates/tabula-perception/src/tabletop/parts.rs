@@ -25,8 +25,6 @@ const SIDE_TILT: f64 = 1.22;
 /// on a box in mOSD's complex scenes: 1–2.3 sloping to each level one; the milk frame's
 /// caps and fin: 16 or more).
 const SLOPING_TO_LEVEL: usize = 4;
-/// Seam points on the grid: pixels of the body at most this far from the part.
-const SEAM_PIXELS: isize = 2;
 
 /// A region's extent: lowest and highest above the table, footprint box (in the
 /// table's [`plane_basis`](crate::surfaces::plane_basis)).
@@ -66,8 +64,8 @@ impl Extent {
     }
 }
 
-/// The body's seam points along `part` on a grid `width` wide, counted as level and
-/// sloping by their local normals.
+/// The body's seam points along `part` (pixels where they touch, [`joins::pixels_near`])
+/// on a grid `width` wide, counted as level and sloping by their local normals.
 fn seam_slopes(
     label: &[u32],
     width: usize,
@@ -75,32 +73,19 @@ fn seam_slopes(
     part: &[usize],
     body: u32,
 ) -> (usize, usize) {
-    let height = (label.len() / width) as isize;
+    let (cos_level, cos_side) = (LEVEL_TILT.cos(), SIDE_TILT.cos());
     let mut seen = rustc_hash::FxHashSet::default();
     let (mut level, mut sloping) = (0, 0);
-    for &i in part {
-        let (x, y) = ((i % width) as isize, (i / width) as isize);
-        for dy in -SEAM_PIXELS..=SEAM_PIXELS {
-            for dx in -SEAM_PIXELS..=SEAM_PIXELS {
-                let (xx, yy) = (x + dx, y + dy);
-                if xx < 0 || yy < 0 || xx >= width as isize || yy >= height {
-                    continue;
-                }
-                let j = yy as usize * width + xx as usize;
-                if label[j] != body || !seen.insert(j) {
-                    continue;
-                }
-                let normal = locals.get(j).0;
-                let tilt = normal.dot(plane.normal).abs().min(1.0).acos();
-                if tilt.is_nan() {
-                    continue;
-                }
-                if tilt <= LEVEL_TILT {
-                    level += 1;
-                } else if tilt <= SIDE_TILT {
-                    sloping += 1;
-                }
-            }
+    for j in joins::pixels_near(label, width, part, body) {
+        if !seen.insert(j) {
+            continue;
+        }
+        // A point without a normal (NaN) is neither.
+        let upright = locals.get(j).0.dot(plane.normal).abs();
+        if upright >= cos_level {
+            level += 1;
+        } else if upright >= cos_side {
+            sloping += 1;
         }
     }
     (level, sloping)
@@ -131,7 +116,7 @@ pub(super) fn join_parts(
         for body in bodies {
             let (level, sloping) =
                 seam_slopes(&label, width, (locals, plane), &regions[part], body as u32);
-            if sloping > SLOPING_TO_LEVEL * level && sloping > 0 {
+            if sloping > SLOPING_TO_LEVEL * level {
                 pairs.push((part, body));
                 break;
             }
