@@ -14,6 +14,28 @@ use tabula_geom::{Pose, Vec3};
 use tabula_motion::MoveGroup;
 use tabula_robot::driver::RobotDriver;
 
+/// A stable pose the object can be set down in with the gripper where it holds it.
+#[derive(Debug, Clone)]
+pub(super) struct Resting {
+    pub(super) pose: StablePose,
+    /// How high above the surface it is let go (m): as low as the hand's clearance of
+    /// the surface allows, within `release_height_min`…`release_height`.
+    pub(super) release_height: f64,
+}
+
+impl Resting {
+    /// `pose` let go as low as `gripper` (points in the object's frame) stays
+    /// `gripper_clearance` above the surface.
+    pub(super) fn new(pose: StablePose, gripper: &[Vec3], p: &super::PlaceParams) -> Self {
+        let release_height = (p.gripper_clearance - pose.hand_margin(gripper))
+            .clamp(p.release_height_min, p.release_height);
+        Self {
+            pose,
+            release_height,
+        }
+    }
+}
+
 impl Run<'_> {
     /// Alg. 1: hold the object before the head camera and look at it from many sides;
     /// returns the model in the tool frame and the scene points seen meanwhile.
@@ -263,7 +285,7 @@ impl Run<'_> {
         &mut self,
         arm: &str,
         model: &[Vec3],
-    ) -> Result<Vec<StablePose>, PlaceError> {
+    ) -> Result<Vec<Resting>, PlaceError> {
         let p = self.params;
         let found = of_cloud(model, &p.stable).map_err(|e| PlaceError::Model(e.to_string()))?;
         if let Some(m) = self.report.model.as_mut() {
@@ -287,7 +309,7 @@ impl Run<'_> {
         }
         // Ranked by the tilt that topples them, weighed by how much of the support the
         // object really touches (a bridge over a concavity rests on edges).
-        let mut usable: Vec<(f64, StablePose)> = found
+        let mut usable: Vec<(f64, Resting)> = found
             .poses
             .iter()
             .filter(|s| s.topple_deg >= p.min_topple_deg)
@@ -302,11 +324,14 @@ impl Run<'_> {
                     s.support_normal,
                     s.topple_deg
                 );
-                (s.topple_deg * (0.4 + 0.6 * fill) * rocking, s.clone())
+                (
+                    s.topple_deg * (0.4 + 0.6 * fill) * rocking,
+                    Resting::new(s.clone(), &gripper, p),
+                )
             })
             .collect();
         usable.sort_by(|a, b| b.0.total_cmp(&a.0));
-        let usable: Vec<StablePose> = usable
+        let usable: Vec<Resting> = usable
             .into_iter()
             .take(p.poses_tried.max(1))
             .map(|(_, s)| s)
@@ -322,8 +347,8 @@ impl Run<'_> {
         self.mark(&format!(
             "{} stable poses, best normal {:?} topple {:.1}°",
             found.poses.len(),
-            usable[0].support_normal,
-            usable[0].topple_deg
+            usable[0].pose.support_normal,
+            usable[0].pose.topple_deg
         ));
         Ok(usable)
     }

@@ -78,9 +78,15 @@ pub struct PlaceParams {
     pub approach_run: f64,
     /// Roll angles about the support normal per spot, SPEC §6: 10.
     pub roll_samples: usize,
-    /// The object's lowest point this far above the surface when released (m), SPEC
-    /// §6: 8 mm.
+    /// The object's lowest point at most this far above the surface when released
+    /// (m), SPEC §6: 8 mm …
     pub release_height: f64,
+    /// … and at least this far: lower where the hand stays `gripper_clearance` above
+    /// the surface there. A drop of 8 mm sets a mug held by its rim or a cone on its
+    /// side rocking; this is what the model's support plane is uncertain by (the
+    /// scan's depth noise, ≈ 0.5 mm at the scan's 0.6 m, and a held object's slip).
+    /// Not in the seed.
+    pub release_height_min: f64,
     /// Free margin around the resting footprint: to edges, objects, unseen cells (m).
     pub place_margin: f64,
     /// Approach from above the spot: desired and minimum (m), SPEC §6: 0.2 / 0.1.
@@ -165,6 +171,7 @@ impl Default for PlaceParams {
             approach_run: 0.5,
             roll_samples: 10,
             release_height: 0.008,
+            release_height_min: 0.003,
             place_margin: 0.02,
             approach_desired: 0.2,
             approach_min: 0.1,
@@ -216,6 +223,13 @@ impl Validate for PlaceParams {
             check_non_negative(at, name, v)?;
         }
         check_in(at, "min_topple_deg", self.min_topple_deg, 0.0, 90.0)?;
+        check_in(
+            at,
+            "release_height_min",
+            self.release_height_min,
+            0.0,
+            self.release_height,
+        )?;
         check_in(
             at,
             "approach_min",

@@ -1,9 +1,9 @@
 //! The run: what placing carries from stage to stage, and its loop.
 
 use super::body::{heading, holding_arm, retry_behind, world_from_base};
+use super::model::Resting;
 use super::{PlaceError, PlaceParams, PlaceReport, PlaceRequest};
 use crate::skills::Phase;
-use crate::stable::StablePose;
 use std::time::Instant;
 use tabula_geom::parry::shape::SharedShape;
 use tabula_geom::{Pose, Vec3};
@@ -30,7 +30,7 @@ pub(super) type FreeSpot = (usize, Vec3, f64, f64);
 pub(super) struct Target<'a> {
     pub(super) arm: &'a str,
     pub(super) hull: &'a SharedShape,
-    pub(super) poses: &'a [StablePose],
+    pub(super) poses: &'a [Resting],
     pub(super) surface: &'a Surface,
 }
 

@@ -28,13 +28,13 @@ impl Run<'_> {
             .iter()
             .filter(|s| s.1.distance(shoulder) <= p.reach)
             .map(|&(k, position, yaw, clearance)| {
-                let pose = &poses[k];
-                let rotation = pose.resting_rotation(yaw);
-                let c = Vec3::from_array(pose.contact_centroid);
+                let resting = &poses[k];
+                let rotation = resting.pose.resting_rotation(yaw);
+                let c = Vec3::from_array(resting.pose.contact_centroid);
                 // On the plane under `position`, raised by the release height.
                 let on_plane = position - n * (position.dot(n) - offset);
                 let world_from_tool = Pose::from_parts(
-                    on_plane + Vec3::Z * p.release_height - rotation * c,
+                    on_plane + Vec3::Z * resting.release_height - rotation * c,
                     rotation,
                 );
                 let score = k as f64 * 10.0 + position.distance(shoulder) - 0.5 * clearance;

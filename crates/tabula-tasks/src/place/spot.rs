@@ -5,12 +5,12 @@ use super::body::{
     base_half_extent, forward_extent, shoulder_lateral, shoulder_position, surface_slab,
     world_from_base,
 };
+use super::model::Resting;
 use super::outline::{Outline, footprint_of, nearest_edge, path_blocked};
 use super::run::{FreeSpot, Run, Spot, Target};
 use super::sequence::Sequence;
 use super::{PlaceError, PlaceTopView, pose_array};
 use crate::observe::clusters;
-use crate::stable::StablePose;
 use tabula_geom::polygon::convex_hull_2d;
 use tabula_geom::{Pose, Vec2, Vec3};
 use tabula_perception::freespace::FreeSpaceMap;
@@ -50,7 +50,7 @@ impl Run<'_> {
             sh = self.shoulder(driver, t.arm)?;
         }
         let (seq, spot, pose_index) = self.plan_on(driver, t, &spots, sh, scene)?;
-        self.report.stable_pose = Some(t.poses[pose_index].clone());
+        self.report.stable_pose = Some(t.poses[pose_index].pose.clone());
         self.report.planned_world_from_tool = Some(pose_array(&spot.world_from_tool));
         self.record_spot(&spot, t.surface);
         self.execute_placement(driver, t.arm, &seq)
@@ -200,7 +200,7 @@ impl Run<'_> {
     /// footprint origin, yaw in the world, score), best first.
     pub(super) fn free_spots(
         &mut self,
-        poses: &[StablePose],
+        poses: &[Resting],
         surface: &Surface,
         scene: &[Vec3],
     ) -> Result<Vec<FreeSpot>, PlaceError> {
@@ -236,7 +236,7 @@ impl Run<'_> {
         let cell = p.search_leaf * p.search_leaf;
         let footprint_cells = poses
             .iter()
-            .map(|s| s.area_m2 / cell)
+            .map(|s| s.pose.area_m2 / cell)
             .fold(f64::INFINITY, f64::min);
         let edge_points = if near.len() as f64 >= 4.0 * footprint_cells.max(25.0) {
             seen.inliers = near;
@@ -256,7 +256,7 @@ impl Run<'_> {
         let u_yaw = map.u.y.atan2(map.u.x);
         let mut out = Vec::new();
         for (k, pose) in poses.iter().enumerate() {
-            let footprint = footprint_of(pose, &self.report.model_points);
+            let footprint = footprint_of(&pose.pose, &self.report.model_points);
             // Spots all over the surface: which the arm reaches decides later.
             for pl in map.places(&footprint, p.place_margin, 400, 0.04) {
                 out.push((k, pl.position, pl.yaw + u_yaw, pl.clearance));

@@ -2,11 +2,11 @@
 //! horizontal ones within reach, try them in turn.
 
 use super::body::{arm_gripper, heading, look_at, tool_pose, world_from_base};
+use super::model::Resting;
 use super::outline::Outline;
 use super::run::{Run, Target};
 use super::{PlaceError, SurfaceReport};
 use crate::observe::{robot_solids, world_points_unthinned};
-use crate::stable::StablePose;
 use tabula_geom::parry::shape::SharedShape;
 use tabula_geom::{PointCloud, Vec3};
 use tabula_perception::selffilter::{PlacedSolid, Solid};
@@ -209,7 +209,7 @@ impl Run<'_> {
         driver: &mut impl RobotDriver,
         arm: &str,
         hull: &SharedShape,
-        poses: &[StablePose],
+        poses: &[Resting],
         surfaces: &[Surface],
         scene: &mut Vec<Vec3>,
     ) -> Result<(), PlaceError> {

@@ -86,3 +86,29 @@ fn scan_shifts_past_a_metre_are_refused_by_name() {
         assert!(e.contains("scan_shifts"), "{bad}: {e}");
     }
 }
+
+#[test]
+fn an_object_is_let_go_as_low_as_the_hand_stays_clear_of_the_surface() {
+    use super::PlaceParams;
+    use super::model::Resting;
+    use crate::stable::{StableParams, of_mesh};
+    let (v, t) = tabula_sim::objects::cuboid(Vec3::splat(-0.025), Vec3::splat(0.05));
+    let poses = of_mesh(&v, &t, &StableParams::default()).unwrap();
+    let bottom = poses
+        .poses
+        .iter()
+        .find(|s| s.normal().z < -0.999)
+        .expect("a cube rests on its bottom")
+        .clone();
+    let p = PlaceParams::default();
+    // The hand's lowest point `h` above the cube's bottom (support plane z = −0.025).
+    let release =
+        |h: f64| Resting::new(bottom.clone(), &[Vec3::new(0.0, 0.0, h - 0.025)], &p).release_height;
+    // Held high: down to the lowest release, 3 mm.
+    assert!((release(0.03) - p.release_height_min).abs() < 1e-12);
+    // Fingers level with the bottom: the hand needs its 3 mm of clearance.
+    assert!((release(0.0) - p.gripper_clearance).abs() < 1e-12);
+    // Fingers 4 mm below it: 7 mm; 2 cm below: never above SPEC's 8 mm.
+    assert!((release(-0.004) - 0.007).abs() < 1e-12);
+    assert!((release(-0.02) - p.release_height).abs() < 1e-12);
+}

@@ -236,9 +236,19 @@ impl StablePose {
     /// the support plane with `clearance` to spare (seed 000's Alg. 6: a plane that
     /// cuts the gripper is unusable — the hand would have to be inside the table).
     pub fn clear_of(&self, gripper: &[Vec3], clearance: f64) -> bool {
+        self.hand_margin(gripper) >= clearance
+    }
+
+    /// How far the gripper's lowest point (points in the object's frame) stays above
+    /// the support plane when the object rests so (m; negative: below it, inside the
+    /// surface). Infinite for no points.
+    pub fn hand_margin(&self, gripper: &[Vec3]) -> f64 {
         let n = self.normal();
         let d = self.origin_height();
-        gripper.iter().all(|g| g.dot(n) <= d - clearance)
+        gripper
+            .iter()
+            .map(|g| d - g.dot(n))
+            .fold(f64::INFINITY, f64::min)
     }
 }
 

@@ -142,3 +142,22 @@ fn a_curved_side_has_no_energy_barrier_and_a_flat_end_has_it_all() {
         assert!(p.rocking(&v, com) > 0.99, "{:?}", p.support_normal);
     }
 }
+
+#[test]
+fn the_hand_margin_is_the_grippers_lowest_point_above_the_support_plane() {
+    let (v, t) = box_mesh(Vec3::new(0.3, 0.1, 0.05));
+    let s = of_mesh(&v, &t, &StableParams::default()).unwrap();
+    // Resting on its bottom (−z face): the support plane is z = −0.025.
+    let bottom = s
+        .poses
+        .iter()
+        .find(|p| p.normal().z < -0.999)
+        .expect("the bottom face holds");
+    let fingers = [Vec3::new(0.0, 0.06, 0.01), Vec3::new(0.0, -0.06, -0.02)];
+    assert!((bottom.hand_margin(&fingers) - 0.005).abs() < 1e-12);
+    assert!(bottom.clear_of(&fingers, 0.005));
+    assert!(!bottom.clear_of(&fingers, 0.006));
+    // A finger below the plane: a negative margin.
+    assert!((bottom.hand_margin(&[Vec3::new(0.0, 0.0, -0.03)]) + 0.005).abs() < 1e-12);
+    assert_eq!(bottom.hand_margin(&[]), f64::INFINITY);
+}
