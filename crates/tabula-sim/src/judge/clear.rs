@@ -170,12 +170,18 @@ impl ClearJudge {
             if target.contains(name) {
                 continue;
             }
-            if world
-                .pose(name)
-                .is_ok_and(|p| (p.translation - pose.translation).length() > 0.02)
-                && !self.disturbed.contains(name)
-            {
-                self.disturbed.push(name.clone());
+            let Ok(now) = world.pose(name) else {
+                continue;
+            };
+            if (now.translation - pose.translation).length() > 0.02 {
+                tracing::debug!(
+                    "judge: {name} moved from {:.3?} to {:.3?} by an action on another",
+                    pose.translation,
+                    now.translation
+                );
+                if !self.disturbed.contains(name) {
+                    self.disturbed.push(name.clone());
+                }
             }
         }
         if let Ok(mut t) = self.target.lock() {

@@ -161,3 +161,66 @@ fn the_hand_margin_is_the_grippers_lowest_point_above_the_support_plane() {
     assert!((bottom.hand_margin(&[Vec3::new(0.0, 0.0, -0.03)]) + 0.005).abs() < 1e-12);
     assert_eq!(bottom.hand_margin(&[]), f64::INFINITY);
 }
+
+/// A 10 × 10 cm plate, 5 mm thick, with a 1 cm square rod 10 cm tall on one corner
+/// (a door handle's rose and lever in miniature), its surface sampled every 2.5 mm.
+fn plate_with_a_rod() -> (Vec<Vec3>, Vec<Vec3>) {
+    let step = 0.0025;
+    let grid = |n: usize| (0..=n).map(move |i| i as f64 * step);
+    let mut plate = Vec::new();
+    for x in grid(40) {
+        for y in grid(40) {
+            plate.push(Vec3::new(x, y, 0.0));
+            plate.push(Vec3::new(x, y, 0.005));
+        }
+    }
+    let mut rod = Vec::new();
+    for s in grid(4) {
+        for z in grid(40) {
+            let z = 0.005 + z * 0.095 / 0.1;
+            rod.extend([
+                Vec3::new(s, 0.0, z),
+                Vec3::new(s, 0.01, z),
+                Vec3::new(0.0, s, z),
+                Vec3::new(0.01, s, z),
+            ]);
+        }
+    }
+    (plate, rod)
+}
+
+#[test]
+fn a_scanned_clouds_centre_of_mass_is_its_surfaces_not_its_hulls() {
+    let (plate, rod) = plate_with_a_rod();
+    let cloud: Vec<Vec3> = plate.iter().chain(&rod).copied().collect();
+    let s = of_cloud(&cloud, &StableParams::default()).unwrap();
+    assert_eq!(s.com_method, ComMethod::CloudSurface);
+    let com = Vec3::from_array(s.center_of_mass);
+    // Areas: the plate's two faces 0.02 m² at z = 2.5 mm, the rod's sides 0.0038 m²
+    // at z = 5.25 cm: z ≈ 1.05 cm. The hull (a pyramid over the plate) has its
+    // centroid near 2.8 cm.
+    let expected_z = (0.02 * 0.0025 + 0.0038 * 0.0525) / 0.0238;
+    assert!(
+        (com.z - expected_z).abs() < 0.002,
+        "{com:?} vs z {expected_z}"
+    );
+    let hull_z = super::hull::Hull::new(&cloud).unwrap().volume_centroid().z;
+    assert!(
+        hull_z > 0.02,
+        "the hull's centroid {hull_z} is another point"
+    );
+    // Seen ten times over, the rod weighs what its area weighs.
+    let mut oversampled = cloud.clone();
+    for _ in 0..10 {
+        oversampled.extend(&rod);
+    }
+    let again = of_cloud(&oversampled, &StableParams::default()).unwrap();
+    assert!(Vec3::from_array(again.center_of_mass).distance(com) < 5e-4);
+    // A leaf that is not a length is refused, not used.
+    let p = StableParams {
+        cloud_com_leaf: 0.0,
+        ..StableParams::default()
+    };
+    assert!(tabula_geom::input::Validate::check(&p, "stable").is_err());
+    assert!(super::cloud_surface_centroid(&cloud, f64::NAN).is_none());
+}
