@@ -8,7 +8,8 @@ Usage:
 
 For every placed trial (`success`), MuJoCo (pip `mujoco`, not a dependency of tabula)
 gets the table as a box and the object as the scene gives it (box, cylinder, or the
-OBJ mesh — MuJoCo collides with a mesh's convex hull), at the pose tabula's physics
+OBJ mesh — MuJoCo collides with a mesh's convex hull, its mass is the mesh's own
+volume's), at the pose tabula's physics
 left it in, with the scene's density (500 kg/m³) and friction 0.8; then simulates
 `--seconds` and reports how far the object slid and turned. It agrees that the object
 rests when it moved < 1 cm and turned < 5° (the placing judge's limits).
@@ -49,7 +50,11 @@ def shape_xml(shape, mesh_dir):
         if not path.startswith("/"):
             path = f"{mesh_dir}/{path.split('/')[-1]}"
         scale = " ".join(str(s) for s in m.get("scale", [1, 1, 1]))
-        asset = f'<mesh name="held" file="{path}" scale="{scale}"/>'
+        # Mass and inertia from the mesh's own volume (`exact`), not its convex
+        # hull's: a door handle's hull fills the space between lever and rose and puts
+        # the centre of mass centimetres off. Contact still uses the hull, which is
+        # exact for resting on a flat table (only the hull touches a plane).
+        asset = f'<mesh name="held" file="{path}" scale="{scale}" inertia="exact"/>'
         return '<geom type="mesh" mesh="held"/>', asset
     raise ValueError(f"shape not checked: {shape}")
 
