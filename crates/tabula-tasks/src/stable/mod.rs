@@ -326,27 +326,12 @@ pub fn of_cloud(points: &[Vec3], params: &StableParams) -> Result<StablePoses, S
     Ok(hull.stable_poses(com, method, params.cloud_contact_tolerance, params))
 }
 
-/// The mean of the cells' centroids, `leaf` wide: a cloud's surface centroid with every
-/// patch of surface weighed by its area, not by how many views saw it.
+/// The mean of the centroids of the cells `leaf` wide (perception's voxel grid): a
+/// cloud's surface centroid with every patch of surface weighed by its area, not by
+/// how many views saw it. `None` for no finite point or a leaf the grid refuses.
 pub fn cloud_surface_centroid(points: &[Vec3], leaf: f64) -> Option<Vec3> {
-    if !(leaf.is_finite() && leaf > 0.0) {
-        return None;
-    }
-    let mut cells: FxHashMap<[i64; 3], (Vec3, usize)> = FxHashMap::default();
-    for q in points.iter().filter(|q| q.is_finite()) {
-        let key = (*q / leaf).floor().as_i64vec3().to_array();
-        let cell = cells.entry(key).or_insert((Vec3::ZERO, 0));
-        cell.0 += *q;
-        cell.1 += 1;
-    }
-    let n = cells.len();
-    (n > 0).then(|| {
-        cells
-            .values()
-            .map(|(sum, k)| *sum / *k as f64)
-            .sum::<Vec3>()
-            / n as f64
-    })
+    let cells = tabula_perception::filters::voxel_grid(points, leaf).ok()?;
+    (!cells.is_empty()).then(|| cells.iter().copied().sum::<Vec3>() / cells.len() as f64)
 }
 
 enum MeshCentroid {
