@@ -10,9 +10,9 @@ mod prism;
 mod recycling_tests;
 pub mod robot;
 mod rolling;
+#[cfg(test)]
+mod rolling_tests;
 mod saved;
-
-pub use rolling::ROLLING_DAMPING;
 
 use crate::scene::{FurnitureSpec, ObjectSpec, PoseSpec, Scene, ShapeSpec};
 use rapier3d_f64::prelude::*;
@@ -99,6 +99,11 @@ pub struct PhysicsParams {
     /// instead of 10). 1 cm, the planner's padding, keeps a stale point at most that far
     /// out of date and the piles in the bin (`BENCHMARKS.md`, issue 36 item 6).
     pub contact_recycle_distance: f64,
+    /// Coefficient of rolling resistance (dimensionless, clamped to 0–1): the torque
+    /// against an object's spin is at most this times its weight times the radius it
+    /// rolls on. 0.01 is rubber or cardboard on wood; 0 leaves rolling to the engine,
+    /// which lets a nudged can roll on for ever (see `rolling.rs`).
+    pub rolling_resistance: f64,
 }
 
 impl Default for PhysicsParams {
@@ -107,6 +112,7 @@ impl Default for PhysicsParams {
             dt: 1.0 / 120.0,
             settle_time_limit: 10.0,
             contact_recycle_distance: 0.01,
+            rolling_resistance: 0.01,
         }
     }
 }
