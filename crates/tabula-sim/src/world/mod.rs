@@ -41,6 +41,8 @@ pub struct Entity {
     pub color: [f64; 3],
     /// Deleted entities keep their slot so labels stay stable; their body is gone.
     pub deleted: bool,
+    /// The radius an object rolls on, for its rolling resistance (0 for the rest).
+    pub rolling_radius: f64,
 }
 
 /// Why a world operation failed.
@@ -388,12 +390,18 @@ impl SimWorld {
         body: RigidBodyHandle,
         color: [f64; 3],
     ) {
+        let rolling_radius = if kind == EntityKind::Object {
+            self.rolling_radius(body)
+        } else {
+            0.0
+        };
         self.entities.push(Entity {
             name: name.to_string(),
             kind,
             body,
             color,
             deleted: false,
+            rolling_radius,
         });
     }
 

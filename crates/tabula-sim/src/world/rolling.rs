@@ -41,7 +41,7 @@ impl SimWorld {
             .iter()
             .filter(|e| e.kind == EntityKind::Object && !e.deleted && touching.contains(&e.body))
         {
-            let radius = self.rolling_radius(e.body);
+            let radius = e.rolling_radius;
             let Some(b) = self.physics.bodies.get_mut(e.body) else {
                 continue;
             };
@@ -60,8 +60,9 @@ impl SimWorld {
     }
 
     /// The radius an object rolls on: the smallest half-extent of its colliders' local
-    /// bounds (a lying cylinder's radius, a ball's radius, a box's half thickness).
-    fn rolling_radius(&self, body: rapier3d_f64::prelude::RigidBodyHandle) -> f64 {
+    /// bounds (a lying cylinder's radius, a ball's radius, a box's half thickness),
+    /// computed once when the object enters the world.
+    pub(super) fn rolling_radius(&self, body: rapier3d_f64::prelude::RigidBodyHandle) -> f64 {
         let Some(b) = self.physics.bodies.get(body) else {
             return 0.0;
         };
