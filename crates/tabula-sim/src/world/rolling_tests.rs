@@ -71,6 +71,10 @@ fn a_rolling_can_stops_where_rolling_resistance_says() {
 fn a_can_nudged_gently_stays_near_where_it_was() {
     // It rolled on at 5.3 cm/s for ever with the spin damping used before.
     let (d, v) = roll(0.03, 10.0, PhysicsParams::default());
+    eprintln!(
+        "from 0.03 m/s: rolled {d:.4} m (Coulomb {:.4} m)",
+        stopping_distance(0.03, 0.01)
+    );
     assert!(d < 0.05 && v < 1e-3, "rolled {d} m, at {v} m/s");
 }
 
