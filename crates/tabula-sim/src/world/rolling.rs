@@ -1,7 +1,7 @@
 //! Rolling resistance, which the physics engine does not model.
 //!
 //! Without it a can lying on the table and nudged rolls on for ever; worse, rapier's
-//! cylinder-on-box contact feeds a slowly rolling can energy (one set rolling at
+//! rolling contact (measured with a cylinder on a box) feeds a slowly rolling can energy (one set rolling at
 //! 2 cm/s speeds up to 5.3 cm/s and keeps that pace across any table, see
 //! `rolling_tests`). A viscous spin damping (1/s, used before) only slows a can to
 //! that pace: cans left the table after a neighbour was lifted from beside them.
@@ -20,7 +20,7 @@ impl SimWorld {
     pub(super) fn resist_rolling(&mut self) {
         let c_rr = self.params.rolling_resistance;
         // Off at 0, and for a value that is not a number rather than stopping every spin.
-        if !(c_rr > 0.0) {
+        if c_rr.is_nan() || c_rr <= 0.0 {
             return;
         }
         let c_rr = c_rr.min(1.0);
