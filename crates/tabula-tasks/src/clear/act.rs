@@ -3,6 +3,7 @@
 
 use super::execute::{Executor, GraspAction, drop_offset};
 use super::run::{Act, Run, Step};
+use super::track::shoved_along;
 use super::{ActionKind, ActionRecord, ClearEvent};
 use crate::skills::SkillError;
 use crate::skills::motion::go_home;
@@ -125,6 +126,8 @@ impl<D: RobotDriver> Run<'_, D> {
             ActionKind::Grasp => {
                 self.report.grasps += 1;
                 self.tracks[t].grasp_attempts += 1;
+                // Taken away: its place no longer splits what is seen there.
+                self.tracks[t].live = false;
                 let Some(grasp) = &step.geometry.grasps[i] else {
                     return Err(SkillError::Motion("no grasp fits the object".into()));
                 };
@@ -144,6 +147,8 @@ impl<D: RobotDriver> Run<'_, D> {
                 track.pushes.push(p.direction);
                 track.expected = o.rect.center + p.direction * p.length;
                 track.pending = Some((p.direction, p.length, o.rect.center));
+                track.pushed_together |= !p.chain.is_empty();
+                shoved_along(&mut self.tracks, step.objects, i, p);
                 exec.push(step.objects, i, p, act.ik)
             }
         }

@@ -3,7 +3,7 @@
 use super::decide::{Decider, Decision};
 use super::left::left_objects;
 use super::predicates::{Geometry, TableView};
-use super::track::{Track, track};
+use super::track::{Track, split_merged, track};
 use super::{
     ActionKind, ClearError, ClearEvent, ClearParams, ClearReport, ClearRequest, DOMAIN,
     FrameReport, SeenObject, Table,
@@ -255,6 +255,7 @@ impl<'a, D: RobotDriver> Run<'a, D> {
             .map_err(|e| ClearError::Perception(e.to_string()))
             .map(|o| {
                 let (table, mut objects, perception) = (o.table, o.objects, o.cpu_s);
+                split_merged(&mut objects, &self.tracks);
                 track(
                     &mut objects,
                     &mut self.tracks,

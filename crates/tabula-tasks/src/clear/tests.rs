@@ -3,7 +3,7 @@
 use super::execute::drop_offset;
 use super::fallback::penetration;
 use super::predicates::{TableView, descent_poses};
-use super::track::track;
+use super::track::{split_merged, track};
 use super::*;
 use crate::skills::grasp::{GraspTarget, NarrowPartGrasps};
 use crate::skills::hand::extent_along;
@@ -202,6 +202,54 @@ fn tracks_follow_objects_and_pushes_where_they_went() {
     ];
     track(&mut next, &mut tracks, 0.06, 0.35);
     assert_eq!((next[0].id, next[1].id, next[2].id), (1, 0, 2));
+}
+
+/// Two boxes pushed together are seen as one 10 × 5 cm segment: it is split where the
+/// two tracks expect them, while a stack (tracks at one place) and boxes not moved by a
+/// push are left as seen.
+#[test]
+fn a_segment_two_pushed_boxes_merged_into_is_split_between_them() {
+    let mut tracks = Vec::new();
+    let mut first = vec![
+        seen_box(0, Vec2::new(0.60, 0.0), Vec2::new(0.05, 0.05), 0.08, 0.72),
+        seen_box(0, Vec2::new(0.66, 0.0), Vec2::new(0.05, 0.05), 0.08, 0.72),
+    ];
+    track(&mut first, &mut tracks, 0.06, 0.35);
+    let merged = || {
+        vec![seen_box(
+            0,
+            Vec2::new(0.55, 0.0),
+            Vec2::new(0.10, 0.05),
+            0.08,
+            0.72,
+        )]
+    };
+    // Not moved by a push: what is seen stays one object.
+    let mut seen = merged();
+    split_merged(&mut seen, &tracks);
+    assert_eq!(seen.len(), 1);
+    // Pushed 8 cm along −x together (the second shoved along by the first).
+    for (t, x) in tracks.iter_mut().zip([0.525, 0.575]) {
+        t.expected = Vec2::new(x, 0.0);
+        t.pushed_together = true;
+    }
+    let mut seen = merged();
+    split_merged(&mut seen, &tracks);
+    assert_eq!(seen.len(), 2, "split in two");
+    let mut xs: Vec<f64> = seen.iter().map(|o| o.rect.center.x).collect();
+    xs.sort_by(f64::total_cmp);
+    assert!(
+        (xs[0] - 0.525).abs() < 0.005 && (xs[1] - 0.575).abs() < 0.005,
+        "{xs:?}"
+    );
+    assert!(seen.iter().all(|o| o.rect.size.max_element() < 0.055));
+    // A stack: both expected at the same place.
+    for t in tracks.iter_mut() {
+        t.expected = Vec2::new(0.55, 0.0);
+    }
+    let mut seen = merged();
+    split_merged(&mut seen, &tracks);
+    assert_eq!(seen.len(), 1);
 }
 
 /// How far the open hand reaches into a neighbour: nothing when it is clear, about
