@@ -119,8 +119,8 @@ pub(super) fn shoved_along(tracks: &mut [Track], objects: &[SeenObject], i: usiz
     }
 }
 
-/// Splits a segment that holds where two or more objects seen apart in the last frame
-/// are expected: pushed against each other, two boxes with a seam the camera cannot
+/// Splits a segment that holds where two or more live objects a push moved together
+/// are expected, side by side: pushed against each other, two boxes with a seam the camera cannot
 /// see become one segment, and a grasp across its middle pinches both at the seam (one
 /// falls on the way to the bin). Its points go to the nearest of those positions,
 /// refined as k-means; a part with too few points keeps the segment whole.
