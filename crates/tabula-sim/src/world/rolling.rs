@@ -1,9 +1,9 @@
 //! Rolling resistance, which the physics engine does not model.
 //!
 //! Without it a can lying on the table and nudged rolls on for ever; worse, rapier's
-//! rolling contact (measured with a cylinder on a box) feeds a slowly rolling can energy (one set rolling at
-//! 2 cm/s speeds up to 5.3 cm/s and keeps that pace across any table, see
-//! `rolling_tests`). A viscous spin damping (1/s, used before) only slows a can to
+//! rolling contact (measured with a cylinder on a box) feeds a slowly rolling can
+//! energy (one set rolling at 2 cm/s speeds up to 5.3 cm/s and keeps that pace across
+//! any table, see `rolling_tests`). A viscous spin damping (1/s, used before) only slows a can to
 //! that pace: cans left the table after a neighbour was lifted from beside them.
 //!
 //! The model is Coulomb's, as MuJoCo's rolling friction: an object touching something

@@ -3,9 +3,9 @@
 
 use super::push::Push;
 use super::{ClearParams, SeenObject};
+use crate::scene::tabletop::seen_standing;
 use tabula_geom::Vec2;
 use tabula_geom::polygon::inside_convex;
-use tabula_geom::polygon::{convex_hull_2d, min_area_rectangle};
 
 /// A tracked object: where it is expected next and what was done to it.
 #[derive(Debug, Clone)]
@@ -202,11 +202,7 @@ fn split(o: &SeenObject, mut centres: Vec<Vec2>) -> Option<Vec<SeenObject>> {
             if points.len() < least.max(3) {
                 return None;
             }
-            let flat: Vec<Vec2> = points.iter().map(|q| q.truncate()).collect();
-            let footprint: Vec<Vec2> = convex_hull_2d(&flat).iter().map(|&i| flat[i]).collect();
-            let rect = min_area_rectangle(&footprint)?;
-            let top = points.iter().map(|q| q.z).fold(f64::NEG_INFINITY, f64::max);
-            SeenObject::standing(points, (footprint, rect), (o.bottom, top))
+            seen_standing(points, o.bottom)
         })
         .collect()
 }

@@ -89,17 +89,30 @@ fn segment(cloud: &PointCloud, indices: &[usize]) -> Option<Segment> {
         .map(|&i| cloud.points[i])
         .filter(|q| q.is_finite())
         .collect();
-    let flat: Vec<Vec2> = points.iter().map(|q| q.truncate()).collect();
-    let hull = convex_hull_2d(&flat);
-    let footprint: Vec<Vec2> = hull.iter().map(|&i| flat[i]).collect();
-    let rect = min_area_rectangle(&footprint)?;
-    let top = points.iter().map(|q| q.z).fold(f64::NEG_INFINITY, f64::max);
-    Some(Segment {
-        points,
-        footprint,
-        rect,
-        top,
-    })
+    Segment::of(points)
+}
+
+impl Segment {
+    /// `points` with their footprint, its rectangle and their top; `None` for a
+    /// footprint without area.
+    fn of(points: Vec<Vec3>) -> Option<Segment> {
+        let flat: Vec<Vec2> = points.iter().map(|q| q.truncate()).collect();
+        let hull = convex_hull_2d(&flat);
+        let footprint: Vec<Vec2> = hull.iter().map(|&i| flat[i]).collect();
+        let rect = min_area_rectangle(&footprint)?;
+        let top = points.iter().map(|q| q.z).fold(f64::NEG_INFINITY, f64::max);
+        Some(Segment {
+            points,
+            footprint,
+            rect,
+            top,
+        })
+    }
+}
+
+/// The object `points` make standing at `bottom` (a part of a segment split apart).
+pub(crate) fn seen_standing(points: Vec<Vec3>, bottom: f64) -> Option<SeenObject> {
+    seen_object(&Segment::of(points)?, bottom)
 }
 
 /// The height segment `i` stands on: the table (`table_z` under it), or an object whose
