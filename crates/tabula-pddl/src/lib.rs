@@ -25,6 +25,7 @@ pub use ast::*;
 pub use ground::{GroundError, GroundOptions, GroundTask};
 pub use parse::{parse_domain, parse_problem};
 pub use planner::{NoPlan, Plan, Planner, SearchMode};
+pub use search::Budget;
 pub use validate::{PlanError, PlanStep, parse_plan, validate};
 
 /// A place in a PDDL file (1-based).

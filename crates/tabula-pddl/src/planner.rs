@@ -2,9 +2,9 @@
 //! change facts and the goal and replan without parsing or grounding again.
 
 use crate::ground::{GroundError, GroundOptions, GroundTask, Lit};
-use crate::search::{SearchResult, SearchStatus, astar, gbfs};
+use crate::search::{Budget, SearchResult, SearchStatus, astar, gbfs};
 use crate::*;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 /// Which search to run.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -30,7 +30,7 @@ pub struct Plan {
 pub enum NoPlan {
     #[error("unsolvable: no plan exists (search space exhausted)")]
     Unsolvable,
-    #[error("no plan found within the time limit")]
+    #[error("no plan found within the search budget (time or expanded states)")]
     Timeout,
     #[error("{0}")]
     Ground(#[from] GroundError),
@@ -156,12 +156,17 @@ impl Planner {
         Ok(())
     }
 
-    /// Plans from the current initial state.
+    /// Plans from the current initial state within a wall-clock limit.
     pub fn plan(&self, mode: SearchMode, timeout: Option<Duration>) -> Result<Plan, NoPlan> {
-        let deadline = timeout.map(|t| Instant::now() + t);
+        self.plan_within(mode, Budget::timeout(timeout))
+    }
+
+    /// Plans from the current initial state within a budget: with `max_expanded` set the
+    /// answer does not depend on the machine's speed or load.
+    pub fn plan_within(&self, mode: SearchMode, budget: Budget) -> Result<Plan, NoPlan> {
         let r = match mode {
-            SearchMode::Optimal => astar(&self.task, true, deadline),
-            SearchMode::Fast => gbfs(&self.task, deadline),
+            SearchMode::Optimal => astar(&self.task, true, budget),
+            SearchMode::Fast => gbfs(&self.task, budget),
         };
         self.to_plan(r, mode == SearchMode::Optimal)
     }
@@ -243,13 +248,13 @@ impl Planner {
     /// domain this is every object that can never be removed — those whose every action
     /// is IK-infeasible (the seed's rule) and also, e.g., two objects blocking each
     /// other's grasp with every push blocked, which the seed's rule misses.
-    pub fn unreachable_goal_atoms(&self, timeout_each: Option<Duration>) -> Vec<GroundAtom> {
+    /// Each search runs within `budget_each`; one that runs out keeps its atom.
+    pub fn unreachable_goal_atoms(&self, budget_each: Budget) -> Vec<GroundAtom> {
         let Some(atoms) = self.goal_atoms() else {
             return Vec::new();
         };
-        let deadline = || timeout_each.map(|t| Instant::now() + t);
         // The whole goal reachable: nothing to drop.
-        if gbfs(&self.task, deadline()).status == SearchStatus::Solved {
+        if gbfs(&self.task, budget_each).status == SearchStatus::Solved {
             return Vec::new();
         }
         let relaxed_reachable =
@@ -274,7 +279,7 @@ impl Planner {
                 positive: true,
             }];
             single.goal_unreachable = false;
-            if gbfs(&single, deadline()).status == SearchStatus::Unsolvable {
+            if gbfs(&single, budget_each).status == SearchStatus::Unsolvable {
                 out.push(a);
             }
         }
@@ -285,9 +290,9 @@ impl Planner {
     /// returns them.
     pub fn drop_unreachable_goals(
         &mut self,
-        timeout_each: Option<Duration>,
+        budget_each: Budget,
     ) -> Result<Vec<GroundAtom>, GroundError> {
-        let dropped = self.unreachable_goal_atoms(timeout_each);
+        let dropped = self.unreachable_goal_atoms(budget_each);
         if let Some(atoms) = self.goal_atoms()
             && !dropped.is_empty()
         {

@@ -15,7 +15,58 @@ use crate::heuristic::{Relaxed, Scratch};
 use crate::task::State;
 use std::cmp::Reverse;
 use std::collections::{BinaryHeap, HashMap};
-use std::time::Instant;
+use std::time::{Duration, Instant};
+
+/// When a search gives up. Expansions are counted, so a budget of them gives the same
+/// answer on a loaded machine as on an idle one (a clearing run must not depend on
+/// what else the cores do); the timeout is a wall-clock safety net on top.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Budget {
+    /// Wall time from the search's start.
+    pub timeout: Option<Duration>,
+    /// States expanded, at most.
+    pub max_expanded: Option<usize>,
+}
+
+impl Budget {
+    /// No limit: the search runs until it finds a plan or exhausts the space.
+    pub const UNLIMITED: Budget = Budget {
+        timeout: None,
+        max_expanded: None,
+    };
+
+    /// Only a wall-clock limit.
+    pub fn timeout(timeout: Option<Duration>) -> Self {
+        Budget {
+            timeout,
+            max_expanded: None,
+        }
+    }
+
+    /// The running search's clock, started now.
+    fn start(self) -> Limit {
+        Limit {
+            deadline: self.timeout.and_then(|t| Instant::now().checked_add(t)),
+            max_expanded: self.max_expanded,
+        }
+    }
+}
+
+/// A [`Budget`] whose clock has started.
+#[derive(Debug, Clone, Copy)]
+struct Limit {
+    deadline: Option<Instant>,
+    max_expanded: Option<usize>,
+}
+
+impl Limit {
+    /// Whether the `expanded`th expansion is over the budget (the clock is read every
+    /// 128): a search that needs `max_expanded` expansions still finds its plan.
+    fn spent(&self, expanded: usize) -> bool {
+        self.max_expanded.is_some_and(|m| expanded > m)
+            || (expanded.is_multiple_of(128) && self.deadline.is_some_and(|d| Instant::now() >= d))
+    }
+}
 
 /// How a search ended.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -25,7 +76,7 @@ pub enum SearchStatus {
     /// The whole reachable space was searched (or the initial state is a relaxed dead
     /// end): no plan exists.
     Unsolvable,
-    /// The time limit ran out first.
+    /// The budget (time or expansions) ran out first.
     Timeout,
 }
 
@@ -233,7 +284,8 @@ fn applicable_all(task: &GroundTask, state: &[u64], out: &mut Vec<usize>) {
 
 /// A* with LM-cut; `stubborn` switches strong stubborn sets on. Ties on f go to the
 /// lower h, then to the earlier generated node, so the result is deterministic.
-pub fn astar(task: &GroundTask, stubborn: bool, deadline: Option<Instant>) -> SearchResult {
+pub fn astar(task: &GroundTask, stubborn: bool, budget: Budget) -> SearchResult {
+    let limit = budget.start();
     let relaxed = Relaxed::new(task);
     let sss = stubborn.then(|| Interference::new(task));
     let mut scratch = Scratch::default();
@@ -273,7 +325,7 @@ pub fn astar(task: &GroundTask, stubborn: bool, deadline: Option<Instant>) -> Se
             return result;
         }
         result.expanded += 1;
-        if result.expanded.is_multiple_of(128) && deadline.is_some_and(|d| Instant::now() >= d) {
+        if limit.spent(result.expanded) {
             result.status = SearchStatus::Timeout;
             return result;
         }
@@ -326,7 +378,8 @@ pub fn astar(task: &GroundTask, stubborn: bool, deadline: Option<Instant>) -> Se
 /// evaluation. Ties go to the newest node: on plateaus (equal h) that dives instead of
 /// sweeping the plateau breadth-first, which on generated tables took 51,005
 /// expansions for a 53-step plan (FIFO) against 53 (LIFO).
-pub fn gbfs(task: &GroundTask, deadline: Option<Instant>) -> SearchResult {
+pub fn gbfs(task: &GroundTask, budget: Budget) -> SearchResult {
+    let limit = budget.start();
     let relaxed = Relaxed::new(task);
     // Stubborn sets keep at least one plan (completeness), so they prune here too.
     let sss = Interference::new(task);
@@ -389,7 +442,7 @@ pub fn gbfs(task: &GroundTask, deadline: Option<Instant>) -> SearchResult {
             return result;
         }
         result.expanded += 1;
-        if result.expanded.is_multiple_of(128) && deadline.is_some_and(|d| Instant::now() >= d) {
+        if limit.spent(result.expanded) {
             result.status = SearchStatus::Timeout;
             return result;
         }

@@ -140,7 +140,7 @@ pub fn planning(tour: &mut Tour) -> Result<()> {
     planner.set_fact(&infeasible, true)?;
     // Objects that can no longer be removed leave the goal (the seed's rule, made exact).
     let dropped: Vec<String> = planner
-        .drop_unreachable_goals(None)?
+        .drop_unreachable_goals(tabula_pddl::Budget::UNLIMITED)?
         .iter()
         .map(|a| a.args.join(" "))
         .collect();
@@ -168,7 +168,7 @@ pub fn planning(tour: &mut Tour) -> Result<()> {
         big,
         GroundOptions::switchable(&domain, "ik_unfeasible"),
     )?;
-    let dropped = planner.drop_unreachable_goals(None)?;
+    let dropped = planner.drop_unreachable_goals(tabula_pddl::Budget::UNLIMITED)?;
     let plan = planner.plan(SearchMode::Optimal, None)?;
     say!(
         tour,

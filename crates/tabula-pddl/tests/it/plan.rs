@@ -62,7 +62,7 @@ fn generated_tables_solve_optimally_and_validate() {
             GroundOptions::switchable(&d, "ik_unfeasible"),
         )
         .unwrap();
-        let dropped = planner.drop_unreachable_goals(None).unwrap();
+        let dropped = planner.drop_unreachable_goals(Budget::UNLIMITED).unwrap();
         let pruned_problem = planner.problem().clone();
         let opt = planner
             .plan(SearchMode::Optimal, Some(Duration::from_secs(20)))
@@ -74,6 +74,39 @@ fn generated_tables_solve_optimally_and_validate() {
         validate(&d, &pruned_problem, &fast.steps).unwrap();
         assert!(fast.cost >= opt.cost, "n={n}");
         assert!(opt.steps.len() >= n - dropped.len());
+    }
+}
+
+/// A budget of expanded states binds at the same count on any machine: the plan found
+/// within exactly as many as the unlimited search expanded is its plan, and one state
+/// short of that there is none.
+#[test]
+fn an_expansion_budget_gives_the_same_answer_on_any_machine() {
+    let d = seed_domain();
+    let p = parse_problem(&table_clearing_problem(20, 3), &d).unwrap();
+    let planner = Planner::new(d.clone(), p, GroundOptions::default()).unwrap();
+    for mode in [SearchMode::Optimal, SearchMode::Fast] {
+        let free = planner.plan_within(mode, Budget::UNLIMITED).unwrap();
+        assert!(
+            free.expanded > 1,
+            "{mode:?}: a search this small pins nothing"
+        );
+        let enough = Budget {
+            timeout: None,
+            max_expanded: Some(free.expanded),
+        };
+        let within = planner.plan_within(mode, enough).unwrap();
+        assert_eq!(within.steps, free.steps, "{mode:?}");
+        assert_eq!(within.expanded, free.expanded, "{mode:?}");
+        let short = Budget {
+            timeout: None,
+            max_expanded: Some(free.expanded - 1),
+        };
+        assert_eq!(
+            planner.plan_within(mode, short).unwrap_err(),
+            NoPlan::Timeout,
+            "{mode:?}"
+        );
     }
 }
 
@@ -141,7 +174,7 @@ fn astar_with_stubborn_sets_is_optimal_against_brute_force() {
         let task = GroundTask::new(&d, &p, &GroundOptions::default()).unwrap();
         let truth = brute_force_cost(&task);
         for stubborn in [true, false] {
-            let r = search::astar(&task, stubborn, None);
+            let r = search::astar(&task, stubborn, search::Budget::UNLIMITED);
             match truth {
                 Some(c) => {
                     assert_eq!(r.status, search::SearchStatus::Solved, "seed {seed}");
@@ -163,7 +196,7 @@ fn astar_with_stubborn_sets_is_optimal_against_brute_force() {
         let (d, p) = classic(domain, problem);
         let task = GroundTask::new(&d, &p, &GroundOptions::default()).unwrap();
         assert_eq!(
-            Some(search::astar(&task, true, None).cost),
+            Some(search::astar(&task, true, search::Budget::UNLIMITED).cost),
             brute_force_cost(&task),
             "{problem}"
         );
@@ -282,7 +315,7 @@ fn objects_that_can_never_be_removed_are_found() {
         NoPlan::Unsolvable
     );
     let mut dropped: Vec<String> = planner
-        .drop_unreachable_goals(None)
+        .drop_unreachable_goals(Budget::UNLIMITED)
         .unwrap()
         .iter()
         .map(|a| a.args[0].clone())
@@ -323,7 +356,7 @@ fn the_corrected_domain_has_the_same_optima_and_never_touches_removed_objects() 
             GroundOptions::switchable(&fixed, "ik_unfeasible"),
         )
         .unwrap();
-        planner.drop_unreachable_goals(None).unwrap();
+        planner.drop_unreachable_goals(Budget::UNLIMITED).unwrap();
         let fast = planner.plan(SearchMode::Fast, None).unwrap();
         let mut removed = std::collections::HashSet::new();
         for s in &fast.steps {

@@ -12,7 +12,7 @@ use std::time::Duration;
 use tabula_geom::{Pose, Vec3};
 use tabula_motion::MoveGroup;
 use tabula_motion::group::thread_cpu;
-use tabula_pddl::{Domain, Planner, SearchMode};
+use tabula_pddl::{Budget, Domain, Planner, SearchMode};
 use tabula_robot::driver::JointState;
 use tabula_robot::robots::NamedRobot;
 
@@ -101,16 +101,27 @@ impl Decider<'_> {
         } else {
             SearchMode::Fast
         };
-        let timeout = Some(Duration::from_secs_f64(
-            self.params.plan_timeout_s.max(1e-3),
-        ));
+        let budget = Budget {
+            timeout: Some(Duration::from_secs_f64(
+                self.params.plan_timeout_s.max(1e-3),
+            )),
+            max_expanded: Some(self.params.plan_max_expanded),
+        };
         for _ in 0..(5 * n + 5) {
-            let plan = match planner.plan(mode, timeout) {
-                Ok(p) => p,
+            let plan = match planner.plan_within(mode, budget) {
+                Ok(p) => {
+                    tracing::debug!(
+                        expanded = p.expanded,
+                        generated = p.generated,
+                        objects = n,
+                        "clear: plan"
+                    );
+                    p
+                }
                 Err(tabula_pddl::NoPlan::Unsolvable) => {
                     // Objects that can never be removed leave the goal (SPEC §3.5) —
                     // again after every IK backtrack that makes more of them so.
-                    match planner.drop_unreachable_goals(timeout) {
+                    match planner.drop_unreachable_goals(budget) {
                         Ok(d) if !d.is_empty() => {
                             report.dropped_from_goal = report.dropped_from_goal.max(d.len());
                             if planner.goal_atoms().is_some_and(|a| a.is_empty()) {

@@ -93,7 +93,12 @@ pub struct ClearParams {
     pub max_grasp_attempts: usize,
     /// Frames in a row without a plan before giving up.
     pub max_no_plan_frames: usize,
-    /// Search time per plan (s).
+    /// States one search may expand (each plan, each unreachable-goal test). A count, not
+    /// a time, so a decision is the same on a loaded machine. Not in the seed, which
+    /// ran Fast Downward without a limit; the pile suite's hardest table (27 objects)
+    /// takes 26,000 (0.7 s), where the old 1 s limit failed under load.
+    pub plan_max_expanded: usize,
+    /// Wall time per search (s): a safety net far above what `plan_max_expanded` takes.
     pub plan_timeout_s: f64,
     /// Optimal (A* + LM-cut) plans up to this many objects, greedy plans above.
     pub optimal_up_to: usize,
@@ -217,7 +222,8 @@ impl Default for ClearParams {
             push_jam_share: 0.35,
             max_grasp_attempts: 2,
             max_no_plan_frames: 3,
-            plan_timeout_s: 1.0,
+            plan_max_expanded: 100_000,
+            plan_timeout_s: 30.0,
             optimal_up_to: 10,
             ik_attempts: 40,
         }
@@ -229,6 +235,7 @@ impl Validate for ClearParams {
         self.tabletop.check(&nested(at, "tabletop"))?;
         self.motion.check(&nested(at, "motion"))?;
         check_count(at, "decimate", self.decimate, 1)?;
+        check_count(at, "plan_max_expanded", self.plan_max_expanded, 1)?;
         ClearParams::validate(self).map_err(|e| e.to_string())
     }
 }
