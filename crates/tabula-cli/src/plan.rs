@@ -7,7 +7,7 @@ use std::time::{Duration, Instant};
 use tabula_geom::input::{Format, read_text};
 use tabula_pddl::generator::table_clearing_problem;
 use tabula_pddl::{
-    Domain, GroundError, GroundOptions, NoPlan, Planner, Problem, SearchMode, parse_domain,
+    Budget, Domain, GroundError, GroundOptions, NoPlan, Planner, Problem, SearchMode, parse_domain,
     parse_plan, parse_problem, validate,
 };
 
@@ -28,6 +28,10 @@ pub struct PlanArgs {
     /// exhaust ends there, with exit status 2).
     #[arg(long, default_value_t = 600.0, value_parser = crate::args::seconds)]
     timeout: f64,
+    /// Give up after expanding this many states: unlike `--timeout`, the same answer on
+    /// any machine under any load.
+    #[arg(long, value_parser = crate::args::count)]
+    max_expanded: Option<usize>,
     /// Check PLAN against DOMAIN and PROBLEM instead of planning.
     #[arg(long)]
     validate: bool,
@@ -129,7 +133,11 @@ pub fn run(a: PlanArgs) -> Result<()> {
     let ground_ms = t0.elapsed().as_secs_f64() * 1e3;
     let t1 = Instant::now();
     progress.set_message("searching");
-    let result = planner.plan(mode, Some(deadline.saturating_duration_since(t1)));
+    let budget = Budget {
+        timeout: Some(deadline.saturating_duration_since(t1)),
+        max_expanded: a.max_expanded,
+    };
+    let result = planner.plan_within(mode, budget);
     let search_ms = t1.elapsed().as_secs_f64() * 1e3;
     progress.finish_and_clear();
     let unit = !(planner.domain().uses_action_costs() && planner.problem().minimize_total_cost);
@@ -178,7 +186,7 @@ pub fn run(a: PlanArgs) -> Result<()> {
             std::process::exit(crate::exit::NO_SOLUTION)
         }
         Err(NoPlan::Timeout) => {
-            println!("; no plan found within the time limit");
+            println!("; no plan found within the time limit or --max-expanded");
             std::process::exit(crate::exit::NO_SOLUTION)
         }
         Err(e) => Err(e.into()),

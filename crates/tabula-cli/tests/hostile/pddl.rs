@@ -208,6 +208,20 @@ pub(super) fn pddl(c: &mut Corpus) {
         NoSolution,
         &["plan", &f, &p, "--timeout", "5"],
     );
+    // A budget of expanded states ends the search where it binds, on any machine.
+    c.case(
+        "pddl-expansion-budget",
+        "unbounded",
+        NoSolution,
+        &[
+            "plan",
+            &d,
+            "@pddl/valid-problem.pddl",
+            "--max-expanded",
+            "1",
+        ],
+    );
+    c.needs("--max-expanded");
     // A plan to validate that is malformed.
     let good_plan = c.file("pddl/plan-ok.txt", "(grasp o6)\n");
     c.case(
