@@ -95,8 +95,8 @@ pub struct ClearParams {
     pub max_no_plan_frames: usize,
     /// States one search may expand (each plan, each unreachable-goal test). A count, not
     /// a time, so a decision is the same on a loaded machine. Not in the seed, which
-    /// ran Fast Downward without a limit; the pile suite's hardest table (27 objects)
-    /// takes 26,000 (0.7 s), where the old 1 s limit failed under load.
+    /// ran Fast Downward without a limit; greedy search takes 26,000 (0.7 s) on the pile
+    /// suite's hardest frame, where the old 1 s limit failed under load.
     pub plan_max_expanded: usize,
     /// Wall time per search (s): a safety net far above what `plan_max_expanded` takes.
     pub plan_timeout_s: f64,
