@@ -35,6 +35,10 @@ pub struct ClearParams {
     pub drop_clearance: f64,
     /// The gripper opening must exceed the object's width by this much on each side (m).
     pub grasp_margin: f64,
+    /// A grasp leaving less than this on each side of the open fingers (m) is taken
+    /// only where no roomier one holds the object ([`TopGrasps::snug_room`]). Not in
+    /// the seed.
+    pub grasp_snug_room: f64,
     /// Before a grasp the fingers open to the object's width plus this on each side (m),
     /// not fully: in clutter a finger 1 cm from the object fits gaps a fully opened one
     /// (the seed's 7 cm, SPEC §6) does not. Not in the seed; a value at least the
@@ -130,6 +134,7 @@ impl ClearParams {
             ("lift", self.lift),
             ("drop_clearance", self.drop_clearance),
             ("grasp_margin", self.grasp_margin),
+            ("grasp_snug_room", self.grasp_snug_room),
             ("pregrasp_gap", self.pregrasp_gap),
             ("shallow_grip", self.shallow_grip),
             ("push_distance", self.push_distance),
@@ -207,6 +212,7 @@ impl Default for ClearParams {
             lift: 0.20,
             drop_clearance: 0.08,
             grasp_margin: 0.0,
+            grasp_snug_room: 0.0015,
             pregrasp_gap: 0.01,
             shallow_grip: 0.02,
             push_distance: 0.03,
@@ -255,6 +261,7 @@ impl ClearParams {
             depth: self.grasp_depth,
             fingertip_clearance: self.fingertip_clearance,
             margin: self.grasp_margin,
+            snug_room: self.grasp_snug_room,
             pregrasp_gap: self.pregrasp_gap,
             shallow_grip: self.shallow_grip,
         };

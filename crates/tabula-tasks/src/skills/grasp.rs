@@ -65,6 +65,12 @@ pub struct TopGrasps {
     pub fingertip_clearance: f64,
     /// The opening must exceed the object's width by this much on each side (m).
     pub margin: f64,
+    /// A closing direction whose full opening leaves less than this on each side of the
+    /// seen width (m) is offered only for an object no roomier direction holds: the
+    /// camera sees an object a few millimetres narrower than it is (its edges fall
+    /// between pixels), so a prism seen 6.9 cm long in a 7 cm hand is 7.07 cm and the
+    /// fingers land on its ends. Not in the seed.
+    pub snug_room: f64,
     /// The fingers open to the object's width plus this on each side (m).
     pub pregrasp_gap: f64,
     /// The same grasps held only this deep below the top come after the full-depth
@@ -78,6 +84,7 @@ impl tabula_geom::input::Validate for TopGrasps {
             ("depth", self.depth),
             ("fingertip_clearance", self.fingertip_clearance),
             ("margin", self.margin),
+            ("snug_room", self.snug_room),
             ("pregrasp_gap", self.pregrasp_gap),
             ("shallow_grip", self.shallow_grip),
         ] {
@@ -94,6 +101,7 @@ impl Default for TopGrasps {
             depth: 0.03,
             fingertip_clearance: 0.01,
             margin: 0.0,
+            snug_room: 0.0015,
             pregrasp_gap: 0.01,
             shallow_grip: 0.02,
         }
@@ -126,10 +134,14 @@ impl GraspPlanner for TopGrasps {
     fn candidates(&self, target: &GraspTarget<'_>, hand: &Hand, up: Vec3) -> Vec<GraspCandidate> {
         let (major, minor) = target.rect.principal_axes();
         let rect = &target.rect;
-        let fits: Vec<Vec2> = [minor, major]
+        let mut fits: Vec<Vec2> = [minor, major]
             .into_iter()
             .filter(|&c| hand.holds(rect.extent_along(c), self.margin))
             .collect();
+        let roomy = |c: &Vec2| hand.holds(rect.extent_along(*c), self.margin.max(self.snug_room));
+        if fits.iter().any(roomy) {
+            fits.retain(roomy);
+        }
         let deep = self.tip_z(target, hand, target.top);
         let at_height = |z: f64| {
             fits.iter().map(move |&c| {
@@ -513,6 +525,33 @@ mod tests {
         }
         let first = (grasps[0].poses[0].rotation * h.closing).truncate();
         assert!(first.y.abs() > 0.99, "across the 4 cm side: {first}");
+    }
+
+    /// Blocks 105: a lying prism seen 6.9 × 3.7 cm, 7.07 cm long, held along its length
+    /// by the 7 cm hand's full opening — the fingers landed on its ends, and it left the
+    /// open hand only outside the bin.
+    #[test]
+    fn a_snug_grasp_is_offered_only_where_no_roomier_one_holds() {
+        let h = hand();
+        let closings = |size: Vec2| {
+            let outline = box_outline(Vec2::new(0.6, 0.0), size);
+            let t = target(&outline, 0.1, None);
+            let grasps = TopGrasps::default().candidates(&t, &h, Vec3::Z);
+            for g in &grasps {
+                check_candidate(g, &h, &t, 0.0);
+            }
+            grasps
+                .iter()
+                .map(|g| (g.poses[0].rotation * h.closing).truncate().x.abs() > 0.99)
+                .collect::<Vec<bool>>()
+        };
+        let snug = h.open_width - 0.001;
+        // Across its 3.7 cm only (closing along y), deep then shallow.
+        assert_eq!(closings(Vec2::new(snug, 0.037)), vec![false, false]);
+        // Both ways when both leave room …
+        assert_eq!(closings(Vec2::new(0.05, 0.037)).len(), 4);
+        // … and the snug way when it is the only one.
+        assert_eq!(closings(Vec2::new(snug, 0.09)), vec![true, true]);
     }
 
     #[test]
