@@ -139,14 +139,13 @@ fn the_packed_grid_needs_pushes_before_any_grasp() {
 /// each: a 3 × 3 grid of blocks that are not boxes (prisms, arches, half-cylinders,
 /// tiles on edge, bars) packed 1–4 mm apart, a grid of boxes and cylinders, and objects
 /// at the grip's limits (flat discs and boxes 1.5–3 cm tall, thin tall ones), and a
-/// block as long as the hand is wide. Every
-/// object ends in the bin, none off the table.
+/// block as long as the hand is wide. Every object ends in the bin, none off the table.
 #[test]
 fn a_block_grid_a_box_grid_and_objects_at_the_grip_limits_are_cleared() {
     let cases = [
         ("blocks 17", ClearSuite::Blocks, 17u64, 9usize),
-        // A lying prism 7.07 cm long beside two others: held across its length by the
-        // 7 cm hand, it left the open hand outside the bin (`TopGrasps::snug_room`).
+        // A lying prism 7.07 cm long beside two others: held by its ends in the 7 cm
+        // hand, it left the open hand outside the bin (`TopGrasps::snug_room`).
         ("blocks 105", ClearSuite::Blocks, 105, 5),
         ("grid 7", ClearSuite::Grid, 7, 9),
         ("limits 1", ClearSuite::Limits, 1, 8),
