@@ -14,6 +14,7 @@ pub mod plane;
 pub mod score;
 pub mod segment;
 pub mod selffilter;
+pub mod stray;
 pub mod support;
 pub mod surfaces;
 pub mod tabletop;

@@ -9,6 +9,7 @@ use tabula_geom::input::{Validate, check_count, check_non_negative, check_positi
 use tabula_geom::polygon::min_area_rectangle;
 use tabula_geom::{Vec2, Vec3};
 use tabula_perception::selffilter::{PlacedSolid, SelfFilterParams, self_filter};
+use tabula_perception::stray::{StrayParams, stray_returns};
 use tabula_robot::driver::CameraFrame;
 
 /// Parameters of looking at an object or a surface near a given position.
@@ -42,6 +43,8 @@ pub struct ObserveParams {
     /// ray (m), in the collision world: the side of a panel seen only by its front edge
     /// is there too.
     pub thickness: f64,
+    /// Which returns of a frame are strays, dropped before anything else sees them.
+    pub stray: StrayParams,
 }
 
 impl Default for ObserveParams {
@@ -59,6 +62,7 @@ impl Default for ObserveParams {
             leaf: 0.005,
             max_range: 2.5,
             thickness: 0.04,
+            stray: StrayParams::default(),
         }
     }
 }
@@ -106,14 +110,17 @@ pub fn world_points_unthinned(
     off_the_robot(in_range_world(frame, p), solids, p)
 }
 
-/// A frame's finite points within range, in the world frame.
+/// A frame's finite points within range, in the world frame, without its stray
+/// returns (a lone point in the air would stay in a sweep's scene for good).
 fn in_range_world(frame: &CameraFrame, p: &ObserveParams) -> Vec<Vec3> {
+    let stray = stray_returns(&frame.cloud, &p.stray);
     frame
         .cloud
         .points
         .iter()
-        .filter(|q| q.is_finite() && q.length() <= p.max_range)
-        .map(|q| frame.world_from_camera.transform_point(*q))
+        .zip(stray)
+        .filter(|(q, stray)| !stray && q.is_finite() && q.length() <= p.max_range)
+        .map(|(q, _)| frame.world_from_camera.transform_point(*q))
         .collect()
 }
 
@@ -303,6 +310,7 @@ pub fn voxel_keys(points: &[Vec3], voxel: f64) -> FxHashSet<[i64; 3]> {
 impl Validate for ObserveParams {
     fn check(&self, at: &str) -> Result<(), String> {
         self.self_filter.check(&nested(at, "self_filter"))?;
+        self.stray.check(&nested(at, "stray"))?;
         for (name, v) in [
             ("search_radius", self.search_radius),
             ("support_bin", self.support_bin),

@@ -56,6 +56,13 @@ pub(super) fn resting_faces(
             .map(|s| {
                 let flat =
                     s.topple_deg >= params.min_topple_deg && s.rocking(&vertices, com) >= 0.5;
+                tracing::debug!(
+                    "truth: pose {:?} (tool {:?}) topple {:.1}° hand margin {:.1} mm",
+                    s.support_normal,
+                    tool_from_object.rotation * s.normal(),
+                    s.topple_deg,
+                    s.hand_margin(&gripper) * 1e3
+                );
                 (
                     tool_from_object.rotation * s.normal(),
                     flat && s.clear_of(&gripper, params.gripper_clearance - params.release_height),

@@ -14,6 +14,20 @@ use tabula_geom::{Pose, Vec3};
 use tabula_motion::MoveGroup;
 use tabula_robot::driver::RobotDriver;
 
+/// What a view makes of the clusters near the hand (within `crop_radius`, beyond the
+/// protective sphere) that do not reach into it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum NearClusters {
+    /// They are the scene: the hand is not yet where the view looks, or this is the
+    /// first look at the object.
+    Scene,
+    /// They are dropped: a view of the held object, whose parts a finger's shadow cuts
+    /// off would stand in the air as obstacles (a drill's body 20 cm from the grip,
+    /// beyond a sphere sized from the first view's glimpse). The look taken before the
+    /// hand came has put what really is around the hand into the scene.
+    Dropped,
+}
+
 /// A stable pose the object can be set down in with the gripper where it holds it.
 #[derive(Debug, Clone)]
 pub(super) struct Resting {
@@ -63,7 +77,7 @@ impl Run<'_> {
             driver,
             &tool_link,
             tool_now.translation,
-            (&mut scene, f64::INFINITY),
+            (&mut scene, f64::INFINITY, NearClusters::Scene),
         )?;
         // The protective sphere (SPEC §1.1) around what this first view shows of the
         // object, a little larger than it: the seed's fixed 20 cm ball around the palm
@@ -92,7 +106,8 @@ impl Run<'_> {
         // A look where the hand will be held: that space enters the scene (occupancy)
         // before the arm moves there. What it sees of the object (still where it was)
         // is not kept: the scan proper starts at the observation pose.
-        self.scan_view(driver, &tool_link, target, (&mut scene, f64::INFINITY))?;
+        let sink = (&mut scene, f64::INFINITY, NearClusters::Scene);
+        self.scan_view(driver, &tool_link, target, sink)?;
         // The other arms out of the way (the seed's first step).
         self.decide(|r| r.occupy(&mut group, &scene, None));
         self.tuck_other_arms(driver, arm, &group, &scene)?;
@@ -193,13 +208,14 @@ impl Run<'_> {
     }
 
     /// Looks at `at`, captures, and returns the held object's points in the tool frame;
-    /// everything else seen within `keep_within` of `at` goes into `scene` (world frame).
+    /// everything else seen within `keep_within` of `at` goes into `scene` (world frame),
+    /// clusters near the hand as `near` says.
     pub(super) fn scan_view(
         &mut self,
         driver: &mut impl RobotDriver,
         tool_link: &str,
         at: Vec3,
-        (scene, keep_within): (&mut Vec<Vec3>, f64),
+        (scene, keep_within, near_clusters): (&mut Vec<Vec3>, f64, NearClusters),
     ) -> Result<Vec<Vec3>, PlaceError> {
         look_at(driver, at)?;
         let frame = driver.capture(&self.params.camera)?;
@@ -227,7 +243,7 @@ impl Run<'_> {
                     .fold(f64::INFINITY, f64::min);
                 if closest <= p.grip_reach {
                     object.extend(c.iter().map(|&i| near[i]));
-                } else if closest > p.protective_radius {
+                } else if closest > p.protective_radius && near_clusters == NearClusters::Scene {
                     r.add_scene(scene, c.iter().map(|&i| near[i]).collect());
                 }
                 // Between: pieces of the object the fingers' shadow cut off, or
@@ -300,10 +316,11 @@ impl Run<'_> {
         if self.trace {
             for s in &found.poses {
                 tracing::debug!(
-                    "place: found pose {:?} topple {:.1}° clear {}",
+                    "place: found pose {:?} topple {:.1}° hand margin {:.1} mm (needs {:.1})",
                     s.support_normal,
                     s.topple_deg,
-                    s.clear_of(&gripper, hand_clearance)
+                    s.hand_margin(&gripper) * 1e3,
+                    hand_clearance * 1e3
                 );
             }
         }

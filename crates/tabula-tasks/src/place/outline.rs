@@ -13,6 +13,15 @@ pub(super) fn footprint_of(pose: &StablePose, model: &[Vec3]) -> Vec<Vec2> {
     convex_hull_2d(&flat).into_iter().map(|i| flat[i]).collect()
 }
 
+/// How high over a surface what stands on it is looked for (m): above, it is not on
+/// the surface but over it (a shelf, the robot's own arm).
+pub(super) const CLUTTER_TOP: f64 = 0.5;
+
+/// The fewest scene points (one per search leaf) that make an object on a surface: a
+/// lone point or two over an empty table is a stray return or the range noise of a far
+/// view (a Kinect's σ = 1.5 mm·z² is 1.3 cm at 3 m) that no near view confirmed.
+pub(super) const MIN_OBJECT_POINTS: usize = 3;
+
 /// A surface's plane and outline seen from above (counter-clockwise), built once: the
 /// scene's points are tested against it one by one.
 pub(super) struct Outline {
@@ -43,6 +52,31 @@ impl Outline {
     /// Whether `q` is over the outline.
     pub(super) fn over(&self, q: Vec3) -> bool {
         inside_convex(&self.poly, q.truncate())
+    }
+
+    /// What stands on the surface: the points of `pts` over the outline between
+    /// `above` and [`CLUTTER_TOP`] over its plane, as clusters `gap` apart of at least
+    /// [`MIN_OBJECT_POINTS`]. Free space and the placement's collision world both take
+    /// the surface's clutter from here, so a spot the map calls free is not blocked by
+    /// what the map ignored.
+    pub(super) fn objects_on(&self, pts: &[Vec3], above: f64, gap: f64) -> Vec<Vec<Vec3>> {
+        let over: Vec<Vec3> = pts
+            .iter()
+            .copied()
+            .filter(|&q| self.holds(q, above))
+            .collect();
+        crate::observe::clusters(&over, gap)
+            .into_iter()
+            .filter(|c| c.len() >= MIN_OBJECT_POINTS)
+            .map(|c| c.into_iter().map(|i| over[i]).collect())
+            .collect()
+    }
+
+    /// Whether `q` is over the outline between `above` and [`CLUTTER_TOP`] over it:
+    /// where [`Self::objects_on`] looks.
+    pub(super) fn holds(&self, q: Vec3, above: f64) -> bool {
+        let h = self.height(q);
+        h > above && h < CLUTTER_TOP && self.over(q)
     }
 
     /// Horizontal distance from `q` to the outline (0 over it).
@@ -101,4 +135,37 @@ pub(super) fn path_blocked(from: Vec2, to: Vec2, half: f64, scene: &[Vec3]) -> b
         };
         (from + seg * t).distance(p) < radius
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_lone_point_over_a_table_is_no_object_and_three_together_are() {
+        let table = Outline {
+            normal: Vec3::Z,
+            offset: 0.7,
+            poly: vec![
+                Vec2::new(0.0, 0.0),
+                Vec2::new(1.0, 0.0),
+                Vec2::new(1.0, 1.0),
+                Vec2::new(0.0, 1.0),
+            ],
+        };
+        // A range-noise point 1.7 cm up, a small box's three points, something over
+        // the table but higher than clutter stands, and a point beside the table.
+        let noise = Vec3::new(0.3, 0.3, 0.717);
+        let small = [0.0, 0.01, 0.02].map(|d| Vec3::new(0.6 + d, 0.6, 0.73));
+        let high = Vec3::new(0.5, 0.5, 0.7 + CLUTTER_TOP + 0.1);
+        let beside = Vec3::new(1.2, 0.5, 0.75);
+        let mut pts = vec![noise, high, beside];
+        pts.extend(small);
+        let objects = table.objects_on(&pts, 0.015, 0.015);
+        assert_eq!(objects.len(), 1);
+        assert_eq!(objects[0].len(), 3);
+        assert!(objects[0].iter().all(|q| q.x >= 0.6));
+        assert!(table.holds(noise, 0.015) && !table.holds(noise, 0.02));
+        assert!(!table.holds(high, 0.015) && !table.holds(beside, 0.015));
+    }
 }

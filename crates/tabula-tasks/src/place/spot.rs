@@ -10,7 +10,6 @@ use super::outline::{Outline, footprint_of, nearest_edge, path_blocked};
 use super::run::{FreeSpot, Run, Spot, Target};
 use super::sequence::Sequence;
 use super::{PlaceError, PlaceTopView, pose_array};
-use crate::observe::clusters;
 use tabula_geom::polygon::convex_hull_2d;
 use tabula_geom::{Pose, Vec2, Vec3};
 use tabula_perception::freespace::FreeSpaceMap;
@@ -123,15 +122,22 @@ impl Run<'_> {
                 // The surface itself is an exact slab at its measured height (seed 000
                 // added the found surface to the planning scene), not occupancy voxels
                 // that would stand up to a voxel above it.
+                // What stands on it is what free space saw standing there: a lone noise
+                // point the map ignored would otherwise block the spot it chose.
                 let outline = Outline::of(surface);
-                let rest: Vec<Vec3> = scene
+                let on_top = 0.015;
+                let mut rest: Vec<Vec3> = scene
                     .iter()
                     .copied()
                     .filter(|q| {
                         let h = outline.height(*q);
-                        !(h > -0.025 && h < 0.015 && outline.distance(q.truncate()) < 0.02)
+                        let band =
+                            h > -0.025 && h < on_top && outline.distance(q.truncate()) < 0.02;
+                        !band && !outline.holds(*q, on_top)
                     })
                     .collect();
+                let gap = r.params.observe.cluster_gap;
+                rest.extend(outline.objects_on(scene, on_top, gap).into_iter().flatten());
                 r.occupy(&mut group, &rest, None);
                 if let Some(slab) = surface_slab(surface, 0.0) {
                     group.add_object("surface", slab, Pose::IDENTITY)?;
@@ -208,19 +214,8 @@ impl Run<'_> {
         let pts = scene;
         // Objects on the surface: what stands above it inside its outline.
         let outline = Outline::of(surface);
-        let above: Vec<Vec3> = pts
-            .iter()
-            .copied()
-            .filter(|q| {
-                let h = outline.height(*q);
-                h > p.observe.object_clearance + 0.004 && h < 0.5 && outline.over(*q)
-            })
-            .collect();
-        let objects: Vec<Vec<Vec3>> = clusters(&above, p.observe.cluster_gap)
-            .into_iter()
-            .filter(|c| c.len() >= 3)
-            .map(|c| c.into_iter().map(|i| above[i]).collect())
-            .collect();
+        let above = p.observe.object_clearance + 0.004;
+        let objects = outline.objects_on(pts, above, p.observe.cluster_gap);
         let mut fs = p.free_space.clone();
         fs.yaw_samples = p.roll_samples.max(1);
         // The surface's seen cells: its points in the merged scene (the search ran on

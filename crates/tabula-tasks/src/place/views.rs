@@ -2,6 +2,7 @@
 //! scan position and, for the views the arm cannot show there, with the hand held aside.
 
 use super::PlaceError;
+use super::model::NearClusters;
 use super::run::Run;
 use tabula_geom::{Pose, Quat, Vec3};
 use tabula_motion::MoveGroup;
@@ -55,7 +56,7 @@ impl Run<'_> {
                 driver,
                 &scan.tool_link,
                 target,
-                (&mut scan.scene, scan.keep_within),
+                (&mut scan.scene, scan.keep_within, NearClusters::Dropped),
             )?;
             self.mark(&format!(
                 "scan view {k} at {target:.2?}: {} points",
@@ -102,7 +103,7 @@ impl Run<'_> {
                 driver,
                 &scan.tool_link,
                 at,
-                (&mut scan.scene, scan.keep_within),
+                (&mut scan.scene, scan.keep_within, NearClusters::Scene),
             )?;
             let state = driver.joint_state()?;
             scan.group.set_state(robot, &state)?;
