@@ -69,10 +69,13 @@ fn judges_refuse_what_they_cannot_judge() {
     assert!(e.to_string().contains("r2d2"), "{e}");
 }
 
-/// Issue 32's holdable grips, one per suite: a drill held 20 cm from its origin, by an
-/// end (complex 16), and a 16 cm box held 9 cm off its middle (simple 47) — both turned
-/// at random in the hand — are each put down to rest as planned, and the grip leaves
-/// the true object a resting face (the suite's rule).
+/// Issue 32's holdable grips: a drill held 20 cm from its origin, by an end (complex
+/// 16), and a 16 cm box held 9 cm off its middle (simple 47) — both turned at random in
+/// the hand — are each put down to rest as planned, and the grip leaves the true object
+/// a resting face (the suite's rule). Two drills failed before: in complex 105 the parts
+/// a finger's shadow cut off the scan stood in the air as obstacles and blocked every
+/// path to the table; in complex 187 one stray range return 1.7 cm over the table was
+/// taken for an object and blocked every spot.
 #[test]
 fn objects_held_off_their_middle_are_placed_to_rest() {
     use rayon::prelude::*;
@@ -81,6 +84,8 @@ fn objects_held_off_their_middle_are_placed_to_rest() {
     let cases = [
         (Suite::ComplexGrips, 16, "drill"),
         (Suite::SimpleGrips, 47, "box"),
+        (Suite::ComplexGrips, 105, "drill"),
+        (Suite::ComplexGrips, 187, "drill"),
     ];
     let rows: Vec<_> = cases
         .par_iter()

@@ -55,8 +55,10 @@ impl Validate for StrayParams {
 }
 
 /// Which points of an organized cloud (camera frame: the range is a point's distance
-/// from the origin) are stray returns (`true`). An unorganized cloud has no pixel
-/// neighbours to compare with: none is marked.
+/// from the origin) are stray returns (`true`): fewer than `min_neighbors` of its 8
+/// pixels see a point within reach (a lone valid pixel among holes is one, as a
+/// flying pixel is). An unorganized cloud has no pixel neighbours to compare with:
+/// none is marked.
 pub fn stray_returns(cloud: &PointCloud, p: &StrayParams) -> Vec<bool> {
     let pts = &cloud.points;
     if !cloud.is_organized() || p.min_neighbors == 0 {
@@ -157,7 +159,8 @@ mod tests {
         cloud.points[5 * 20 + 9] = Vec3::NAN;
         let stray = stray_returns(&cloud, &StrayParams::default());
         assert!(stray.iter().all(|s| !s));
-        // A lone return in a cloud without a grid has no neighbours to be judged by.
+        // A pixel a metre before the wall is stray in the grid; the same points without
+        // a grid have no neighbours to be judged by.
         cloud.points[3 * 20 + 3].z = 1.5;
         assert!(stray_returns(&cloud, &StrayParams::default())[3 * 20 + 3]);
         let unorganized = PointCloud {

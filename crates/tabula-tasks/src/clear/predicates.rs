@@ -107,7 +107,9 @@ impl<'a> TableView<'a> {
     /// along), the fallback when the seed's actions cannot clear the table (packed
     /// objects).
     pub(super) fn predicates(&self, with_chain: bool) -> Geometry {
-        let on = on_pairs(self.objects, self.table.z);
+        let on = on_pairs(self.objects, self.table.z, &|o| {
+            !self.grasps_of(o).is_empty()
+        });
         let (grasps, block_grasp) = self.grasp_predicates(&on);
         // Which objects are graspable now (only needed for chain pushes).
         let mut graspable_now: Option<Vec<bool>> = None;

@@ -105,12 +105,27 @@ fn the_hand_model_comes_from_the_urdf() {
 }
 
 #[test]
+fn a_can_held_up_by_the_edge_of_a_box_is_on_that_box_only() {
+    let base = seen_box(0, Vec2::new(0.6, 0.0), Vec2::new(0.06, 0.06), 0.05, 0.72);
+    // Lying against the box, 1 cm of its 10 cm over the box's top: most of it is over
+    // the table, yet only the box holds it up.
+    let leaning = seen_box(1, Vec2::new(0.67, 0.0), Vec2::new(0.1, 0.05), 0.05, 0.77);
+    let beside = seen_box(2, Vec2::new(0.6, 0.1), Vec2::new(0.05, 0.05), 0.05, 0.72);
+    // In the air at the same height, 3 cm from the box: held by nothing seen.
+    let apart = seen_box(3, Vec2::new(0.5, -0.1), Vec2::new(0.04, 0.04), 0.04, 0.77);
+    let objects = vec![base, leaning, beside, apart];
+    assert_eq!(on_pairs(&objects, 0.72, &|_| true), vec![(1, 0)]);
+    // One no grasp fits is on nothing: what holds it up may still be taken.
+    assert!(on_pairs(&objects, 0.72, &|_| false).is_empty());
+}
+
+#[test]
 fn a_box_on_a_box_is_on_it_and_blocks_nothing_else() {
     let base = seen_box(0, Vec2::new(0.6, 0.0), Vec2::new(0.06, 0.06), 0.05, 0.72);
     let top = seen_box(1, Vec2::new(0.6, 0.0), Vec2::new(0.04, 0.04), 0.04, 0.77);
     let lone = seen_box(2, Vec2::new(0.6, 0.3), Vec2::new(0.05, 0.05), 0.08, 0.72);
     let objects = vec![base, top, lone];
-    assert_eq!(on_pairs(&objects, 0.72), vec![(1, 0)]);
+    assert_eq!(on_pairs(&objects, 0.72, &|_| false), vec![(1, 0)]);
     let g = predicates(&objects, &hand(), &ClearParams::default(), false);
     // The lone box is free in every way; nothing blocks grasping the top one.
     assert!(

@@ -4,12 +4,12 @@
 use super::{Failure, TidyError, TidyParams, TidyReport, TidyRequest};
 use crate::place::{PlaceRequest, place};
 use crate::scene::{Attempts, Observer, SeenObject, Table, on_pairs};
-use crate::skills::SkillError;
 use crate::skills::base::{drive_back, step_up_to, world_from_base};
 use crate::skills::hand::HandArm;
 use crate::skills::motion::arms_to;
 use crate::skills::pick::{PickMotion, Take};
 use crate::skills::reach::{Pick, Picker};
+use crate::skills::{GraspPlanner, SkillError};
 use tabula_geom::parry::shape::SharedShape;
 use tabula_geom::{Pose, Vec3};
 use tabula_motion::MoveGroup;
@@ -148,7 +148,15 @@ impl<'a, D: RobotDriver> Run<'a, D> {
     /// The nearest object nothing stands on and not given up on that either hand can
     /// pick (see [`Picker::choose`]).
     fn choose(&mut self, table: &Table, objects: &[SeenObject]) -> Option<Pick> {
-        let on = on_pairs(objects, table.z);
+        let p = self.params;
+        let takeable = |o: &SeenObject| {
+            self.takers.iter().any(|t| {
+                !p.grasp
+                    .candidates(&o.grasp_target(), &t.hand, table.up)
+                    .is_empty()
+            })
+        };
+        let on = on_pairs(objects, table.z, &takeable);
         let me = self.start.translation.truncate();
         let mut order: Vec<usize> = (0..objects.len())
             .filter(|&i| {
@@ -161,7 +169,6 @@ impl<'a, D: RobotDriver> Run<'a, D> {
             d(a).total_cmp(&d(b))
         });
         self.table_prism = table.prism();
-        let p = self.params;
         let picker = Picker {
             robot: self.robot,
             hands: &self.takers,
