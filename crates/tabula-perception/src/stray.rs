@@ -70,7 +70,7 @@ pub fn stray_returns(cloud: &PointCloud, p: &StrayParams) -> Vec<bool> {
         for (x, out) in row.iter_mut().enumerate() {
             let c = pts[y * w + x];
             if c.is_finite() {
-                *out = neighbours_within(pts, (w, h), (x, y), reach(c, p)) < p.min_neighbors;
+                *out = !has_neighbours(pts, (w, h), (x, y), (reach(c, p), p.min_neighbors));
             }
         }
     });
@@ -82,13 +82,14 @@ fn reach(c: Vec3, p: &StrayParams) -> f64 {
     p.radius + p.sigmas * p.depth_noise * c.length_squared()
 }
 
-/// How many of pixel `(x, y)`'s 8 neighbours lie within `r` of it.
-fn neighbours_within(
+/// Whether at least `enough` of pixel `(x, y)`'s 8 neighbours lie within `r` of it
+/// (stopping at the `enough`-th: most pixels of a surface end at the first).
+fn has_neighbours(
     pts: &[Vec3],
     (w, h): (usize, usize),
     (x, y): (usize, usize),
-    r: f64,
-) -> usize {
+    (r, enough): (f64, usize),
+) -> bool {
     let c = pts[y * w + x];
     let r2 = r * r;
     let mut n = 0;
@@ -98,11 +99,14 @@ fn neighbours_within(
                 let q = pts[yy * w + xx];
                 if q.is_finite() && q.distance_squared(c) <= r2 {
                     n += 1;
+                    if n >= enough {
+                        return true;
+                    }
                 }
             }
         }
     }
-    n
+    false
 }
 
 #[cfg(test)]
