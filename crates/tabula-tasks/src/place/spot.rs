@@ -122,8 +122,9 @@ impl Run<'_> {
                 // The surface itself is an exact slab at its measured height (seed 000
                 // added the found surface to the planning scene), not occupancy voxels
                 // that would stand up to a voxel above it.
-                // What stands on it is what free space saw standing there: a lone noise
-                // point the map ignored would otherwise block the spot it chose.
+                // What stands on it comes from `Outline::objects_on`, as free space's
+                // does (from the band's top here, 1.2 cm up there): a lone noise point
+                // the map ignored would otherwise block the spot it chose.
                 let outline = Outline::of(surface);
                 let on_top = 0.015;
                 let mut rest: Vec<Vec3> = scene
