@@ -70,10 +70,19 @@ impl<D: RobotDriver> Run<'_, D> {
                     self.report.removed += 1;
                     // It is in the bin: whatever is seen there next is something else.
                     self.tracks.remove(t);
+                    // What lay on an object put back may have been this one.
+                    for tr in &mut self.tracks {
+                        tr.carried_along = false;
+                    }
                 }
             }
             Err(e) => {
                 record.error = Some(e.to_string());
+                if matches!(e, SkillError::CarriedAlong(_)) {
+                    // Not a failed grasp of it: tried again once something else is gone.
+                    self.tracks[t].grasp_attempts = self.tracks[t].grasp_attempts.saturating_sub(1);
+                    self.tracks[t].carried_along = true;
+                }
                 self.recover(step, i, kind);
                 if matches!(e, SkillError::Driver(_)) {
                     self.report.log.push(record.clone());

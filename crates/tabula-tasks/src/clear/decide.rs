@@ -206,9 +206,7 @@ impl Decider<'_> {
             let mut set = |kind: ActionKind| {
                 let _ = planner.set_fact(&infeasible_atom(kind, o.id), true);
             };
-            if g.grasps[i].is_none()
-                || track.is_some_and(|t| t.grasp_attempts >= params.max_grasp_attempts)
-            {
+            if g.grasps[i].is_none() || track.is_some_and(|t| t.grasp_ruled_out(params)) {
                 set(ActionKind::Grasp);
             }
             for k in 0..4 {

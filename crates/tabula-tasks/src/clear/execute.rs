@@ -4,6 +4,7 @@
 
 use super::push::Push;
 use super::{ClearParams, SeenObject};
+use crate::skills::carried::{Lifted, points_carried_along};
 use crate::skills::motion::{current_arm, go_home, run_phase};
 use crate::skills::pick::{Manipulator, PickMotion, Take, object_name};
 use crate::skills::{GraspCandidate, SkillError};
@@ -69,6 +70,7 @@ impl<D: RobotDriver> Executor<'_, D> {
             open_at_pregrasp: false,
         };
         let g = self.arm.take(&take, motion)?;
+        self.nothing_carried_along(&take, &g)?;
         // Over the bin, the object's bottom `drop_clearance` above the drop point.
         let up = self.arm.up;
         let hang = g.translation.dot(up) - o.bottom;
@@ -77,6 +79,39 @@ impl<D: RobotDriver> Executor<'_, D> {
         self.arm.driver.open(&self.arm.gripper.name)?;
         self.arm.group.remove_object(&object_name(o))?;
         self.home()
+    }
+
+    /// After the lift, a look: an object that came up with the held one (resting on
+    /// it, leaning on it) would fall on the way to the bin, off the table. Then both
+    /// are put back down where they were taken and the grasp fails
+    /// ([`SkillError::CarriedAlong`]); the next frame sees how they lie.
+    fn nothing_carried_along(&mut self, take: &Take<'_>, g: &Pose) -> Result<(), SkillError> {
+        let observer = self.params.observer();
+        let captured = observer.capture(self.arm.driver)?;
+        let cloud = observer.world_cloud(self.arm.robot, &captured);
+        let up = self.arm.up;
+        let others: Vec<SeenObject> = (0..take.objects.len())
+            .filter(|&k| k != take.i && !take.nudged.contains(&k))
+            .map(|k| take.objects[k].clone())
+            .collect();
+        let lifted = Lifted {
+            held: &take.objects[take.i],
+            others: &others,
+            lift: up * self.params.lift,
+            tool: g.translation + up * self.params.lift,
+            up,
+        };
+        let n = points_carried_along(&cloud, &lifted, &self.params.carried);
+        if n < self.params.carried.min_points {
+            return Ok(());
+        }
+        tracing::info!(
+            object = take.objects[take.i].id,
+            points = n,
+            "clear: lifted another object with it; putting both back"
+        );
+        self.arm.put_back(take, g, self.params.pregrasp)?;
+        Err(SkillError::CarriedAlong(n))
     }
 
     /// Pushes object `i` of `objects` with the closed fingers, backs off, rises and

@@ -114,7 +114,7 @@ impl Decider<'_> {
                 .tracks
                 .iter()
                 .find(|t| t.id == o.id)
-                .is_some_and(|t| t.grasp_attempts >= params.max_grasp_attempts);
+                .is_some_and(|t| t.grasp_ruled_out(params));
             if tried_enough || g.on.iter().any(|&(_, under)| under == i) {
                 continue;
             }

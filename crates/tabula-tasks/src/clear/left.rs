@@ -53,6 +53,8 @@ fn why_left(i: usize, g: &Geometry, track: Option<&Track>, params: &ClearParams)
     let attempts = track.map_or(0, |t| t.grasp_attempts);
     let grasp = if g.grasps[i].is_none() {
         "no grasp of the gripper fits it"
+    } else if track.is_some_and(|t| t.carried_along) {
+        "its grasp lifted another object along with it"
     } else if attempts >= params.max_grasp_attempts {
         "its grasp failed every time it was tried"
     } else {

@@ -2,6 +2,7 @@
 //! loadable from TOML with the seed's defaults for what a file leaves out.
 
 use super::ClearError;
+use crate::skills::carried::CarriedCheck;
 use crate::skills::grasp::{Fallback, NarrowPartGrasps, TopGrasps};
 use tabula_geom::input::{Validate, check_count, nested};
 use tabula_motion::MoveGroupParams;
@@ -88,6 +89,11 @@ pub struct ClearParams {
     /// down — VPG's grasps do. The neighbours it moves are handled by the action, as a
     /// chain push's are. Not in the seed; 0 gives up instead.
     pub nudge_depth: f64,
+    /// After a lift, what the camera must see hanging with the hand, outside the held
+    /// object, for the grasp to count as carrying another object along. Not in the
+    /// seed (its bin stood away from the table's objects, nothing was lifted with
+    /// another).
+    pub carried: CarriedCheck,
     /// Pushes allowed per tracked object.
     pub max_pushes_per_object: usize,
     /// A push that moved its object less than this share of its length was jammed: it
@@ -146,6 +152,8 @@ impl ClearParams {
             ("sweep_tolerance", self.sweep_tolerance),
             ("push_jam_share", self.push_jam_share),
             ("nudge_depth", self.nudge_depth),
+            ("carried.margin", self.carried.margin),
+            ("carried.reach", self.carried.reach),
         ];
         for (name, v) in positive {
             if !(v.is_finite() && v > 0.0 && v <= 100.0) {
@@ -165,6 +173,12 @@ impl ClearParams {
             return Err(ClearError::Params(
                 "`push_max_length` / `push_resolution` over 10,000 steps".into(),
             ));
+        }
+        if !(1..=100_000).contains(&self.carried.min_points) {
+            return Err(ClearError::Params(format!(
+                "`carried.min_points` = {}: must be 1 to 100,000",
+                self.carried.min_points
+            )));
         }
         if !(1..=16).contains(&self.decimate) {
             return Err(ClearError::Params(format!(
@@ -229,6 +243,7 @@ impl Default for ClearParams {
             max_chain: 4,
             chain_push_factors: vec![1.0, 1.6, 2.2],
             nudge_depth: 0.008,
+            carried: CarriedCheck::default(),
             max_pushes_per_object: 3,
             push_jam_share: 0.35,
             max_grasp_attempts: 2,

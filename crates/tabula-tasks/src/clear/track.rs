@@ -20,6 +20,9 @@ pub(super) struct Track {
     /// where the object was.
     pub(super) pending: Option<(Vec2, f64, Vec2)>,
     pub(super) grasp_attempts: usize,
+    /// Its last grasp lifted another object along and was put back: not grasped
+    /// again until something else is taken away (what lies on it may be).
+    pub(super) carried_along: bool,
     /// Seen in the last frame and not taken away since (a grasp ends it until the
     /// object is seen again).
     pub(super) live: bool,
@@ -29,6 +32,12 @@ pub(super) struct Track {
 }
 
 impl Track {
+    /// Whether its grasp is not to be tried now: tried enough, or it carried another
+    /// object along and nothing was taken away since.
+    pub(super) fn grasp_ruled_out(&self, params: &ClearParams) -> bool {
+        self.grasp_attempts >= params.max_grasp_attempts || self.carried_along
+    }
+
     /// Whether a push along `direction` is ruled out: too many pushes already, back
     /// against an earlier push (no pushing to and fro), or the way one failed.
     pub(super) fn rules_out(&self, direction: Vec2, params: &ClearParams) -> bool {
@@ -94,6 +103,7 @@ pub(super) fn track(
                 failed_pushes: Vec::new(),
                 pending: None,
                 grasp_attempts: 0,
+                carried_along: false,
                 live: true,
                 pushed_together: false,
             });

@@ -74,18 +74,24 @@ impl<'p> Observer<'p> {
         self.perceive(robot, &captured)
     }
 
-    /// Perceives the table and its objects in a captured frame; ids numbered in order
-    /// (a tracker may renumber them).
-    pub fn perceive(&self, robot: &NamedRobot, c: &Captured) -> Result<Observation, SceneError> {
-        let c0 = thread_cpu();
-        let cloud = filtered_cloud(
+    /// A captured frame's points (world), the robot's own body (padded) blanked out:
+    /// what a check of the hand's surroundings looks at without the tabletop pipeline.
+    pub fn world_cloud(&self, robot: &NamedRobot, c: &Captured) -> tabula_geom::PointCloud {
+        filtered_cloud(
             &c.frame,
             robot,
             &c.state,
             c.world_from_root,
             self.decimate,
             self.self_filter_padding,
-        );
+        )
+    }
+
+    /// Perceives the table and its objects in a captured frame; ids numbered in order
+    /// (a tracker may renumber them).
+    pub fn perceive(&self, robot: &NamedRobot, c: &Captured) -> Result<Observation, SceneError> {
+        let c0 = thread_cpu();
+        let cloud = self.world_cloud(robot, c);
         let filter_cpu_s = thread_cpu() - c0;
         let viewpoint = c.frame.world_from_camera.translation;
         let (table, mut objects) = perceive(&cloud, viewpoint, &self.tabletop)?;

@@ -18,6 +18,7 @@ pub const NO_GRIPPER: &str = "no arm with a gripper (an SRDF end effector counts
     a TOML beside the URDF: `tabula robot describe` prints a template)";
 
 pub mod base;
+pub mod carried;
 pub mod grasp;
 pub mod hand;
 pub mod jog;
@@ -76,6 +77,10 @@ pub enum SkillError {
     /// The gripper closed and holds nothing.
     #[error("the gripper closed on nothing")]
     Slipped,
+    /// After the lift the camera saw this many points hanging with the hand outside
+    /// the held object: another object came up with it. It was put back down.
+    #[error("lifted another object with it ({0} points seen hanging with the hand); put back")]
+    CarriedAlong(usize),
     /// The robot (driver) refused or failed a command.
     #[error("driver: {0}")]
     Driver(String),

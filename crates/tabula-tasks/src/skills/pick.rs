@@ -224,6 +224,40 @@ impl<D: RobotDriver> Manipulator<'_, D> {
     /// world while the lift is planned; what a nudge grasp pushed aside comes back
     /// after it.
     fn lift(&mut self, a: &Take<'_>, g: &Pose, height: f64) -> Result<(), SkillError> {
+        let lifted = Pose::from_parts(g.translation + self.up * height, g.rotation);
+        self.line_beside_neighbours(a, &lifted, "lift")?;
+        let o = &a.objects[a.i];
+        for &k in a.nudged {
+            let n = &a.objects[k];
+            if !hulls_touch(o, n, 0.02) {
+                self.add(n)?;
+            }
+        }
+        Ok(())
+    }
+
+    /// Puts the held object back where it was taken (grasp pose `g`, from straight
+    /// above it), lets go and rises `rise` again: the way the lift came, planned the
+    /// same way.
+    pub fn put_back(&mut self, a: &Take<'_>, g: &Pose, rise: f64) -> Result<(), SkillError> {
+        let release = Pose::from_parts(g.translation + self.up * 0.005, g.rotation);
+        self.line_beside_neighbours(a, &release, "put back")?;
+        self.driver.open(&self.gripper.name)?;
+        // Let go of: the next frame sees where it lies.
+        self.group.remove_object(&object_name(&a.objects[a.i]))?;
+        let above = Pose::from_parts(g.translation + self.up * rise, g.rotation);
+        self.line_to(&above, "up from putting back")
+    }
+
+    /// A straight line of the tool to `to`, planned with the held object's neighbours
+    /// (within 2 cm of its hull) out of the world: a line straight up or down beside
+    /// them cannot hit them, and seen hulls of touching objects overlap by noise.
+    fn line_beside_neighbours(
+        &mut self,
+        a: &Take<'_>,
+        to: &Pose,
+        phase: &str,
+    ) -> Result<(), SkillError> {
         let o = &a.objects[a.i];
         let neighbours: Vec<&SeenObject> = a
             .objects
@@ -233,23 +267,15 @@ impl<D: RobotDriver> Manipulator<'_, D> {
             .map(|(_, n)| n)
             .collect();
         for n in &neighbours {
-            // (What a nudge grasp pushed aside is out already.)
+            // (What a nudge grasp pushed aside may be out already.)
             let _ = self.group.remove_object(&object_name(n));
         }
-        let lifted = Pose::from_parts(g.translation + self.up * height, g.rotation);
         let q = current_arm(self.driver, self.group)?;
-        let lift = self.group.cartesian(&q, &lifted);
+        let line = self.group.cartesian(&q, to);
         for n in &neighbours {
             self.add(n)?;
         }
-        run_phase(self.driver, &lift?, "lift")?;
-        for &k in a.nudged {
-            let n = &a.objects[k];
-            if !neighbours.iter().any(|x| x.id == n.id) {
-                self.add(n)?;
-            }
-        }
-        Ok(())
+        run_phase(self.driver, &line?, phase)
     }
 
     /// Puts the held object down with the tool at `at` (world; where it was taken):
