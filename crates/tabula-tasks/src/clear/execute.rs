@@ -90,13 +90,10 @@ impl<D: RobotDriver> Executor<'_, D> {
         let captured = observer.capture(self.arm.driver)?;
         let cloud = observer.world_cloud(self.arm.robot, &captured);
         let up = self.arm.up;
-        let others: Vec<SeenObject> = (0..take.objects.len())
-            .filter(|&k| k != take.i && !take.nudged.contains(&k))
-            .map(|k| take.objects[k].clone())
-            .collect();
         let lifted = Lifted {
-            held: &take.objects[take.i],
-            others: &others,
+            objects: take.objects,
+            held: take.i,
+            moved: take.nudged,
             lift: up * self.params.lift,
             tool: g.translation + up * self.params.lift,
             up,

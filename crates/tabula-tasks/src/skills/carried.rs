@@ -3,6 +3,7 @@
 //! table, where a bin is beside it); the camera sees it hanging with the hand.
 
 use crate::scene::SeenObject;
+use tabula_geom::parry::bounding_volume::BoundingVolume;
 use tabula_geom::{PointCloud, Pose, Quat, Vec3};
 
 /// What counts as carried along (see [`points_carried_along`]).
@@ -31,11 +32,13 @@ impl Default for CarriedCheck {
     }
 }
 
-/// The held object and where the lift took it: `held` as it was seen, raised by
-/// `lift` (world) with the tool at `tool` (world); the other objects as they were seen.
+/// The held object and where the lift took it: `objects[held]` as it was seen, raised
+/// by `lift` (world) with the tool at `tool` (world); the others as they were seen,
+/// but those `moved` names (pushed aside by the fingers).
 pub struct Lifted<'a> {
-    pub held: &'a SeenObject,
-    pub others: &'a [SeenObject],
+    pub objects: &'a [SeenObject],
+    pub held: usize,
+    pub moved: &'a [usize],
     pub lift: Vec3,
     pub tool: Vec3,
     pub up: Vec3,
@@ -48,10 +51,15 @@ pub struct Lifted<'a> {
 pub fn points_carried_along(cloud: &PointCloud, at: &Lifted<'_>, check: &CarriedCheck) -> usize {
     let up = at.up;
     // Above half the lift over the held object's bottom: in the air, not on the table.
-    let floor = at.held.bottom + 0.5 * at.lift.dot(up);
+    let held = &at.objects[at.held];
+    let floor = held.bottom + 0.5 * at.lift.dot(up);
     let held_pose = Pose::from_parts(at.lift, Quat::IDENTITY);
     let near = |o: &SeenObject, pose: &Pose, p: Vec3| {
         o.hull.distance_to_point(pose, p, true) <= check.margin
+    };
+    // The box test first: most objects are far from most points.
+    let near_seen = |o: &SeenObject, p: Vec3| {
+        o.aabb.loosened(check.margin).contains_local_point(p) && near(o, &Pose::IDENTITY, p)
     };
     cloud
         .points
@@ -61,8 +69,13 @@ pub fn points_carried_along(cloud: &PointCloud, at: &Lifted<'_>, check: &Carried
             let across = (p - at.tool) - up * (p - at.tool).dot(up);
             across.length() <= check.reach
         })
-        .filter(|&&p| !near(at.held, &held_pose, p))
-        .filter(|&&p| !at.others.iter().any(|o| near(o, &Pose::IDENTITY, p)))
+        .filter(|&&p| !near(held, &held_pose, p))
+        .filter(|&&p| {
+            !at.objects
+                .iter()
+                .enumerate()
+                .any(|(k, o)| k != at.held && !at.moved.contains(&k) && near_seen(o, p))
+        })
         .count()
 }
 
@@ -96,10 +109,11 @@ mod tests {
         let held = seen_standing(box_points(Vec3::new(0.6, 0.0, 0.75), size), 0.75).unwrap();
         let beside = seen_standing(box_points(Vec3::new(0.6, 0.1, 0.75), size), 0.75).unwrap();
         let (up, lift) = (Vec3::Z, Vec3::Z * 0.2);
-        let others = [beside];
+        let objects = [held, beside];
         let at = Lifted {
-            held: &held,
-            others: &others,
+            objects: &objects,
+            held: 0,
+            moved: &[],
             lift,
             tool: Vec3::new(0.6, 0.0, 0.78) + lift,
             up,
