@@ -168,7 +168,7 @@ fn clearing_through_zenoh_ends_as_in_one_process() {
 
 #[test]
 fn tidying_through_zenoh_ends_as_in_one_process() {
-    let file = scene("tidy.toml");
+    let file = one_item_tidy();
     let served = Served::start(&file, &tmp("tidy_served_end.toml"));
     let (status, remote) = run_json(&["tidy", "--scene", &file, "--connect", &served.endpoint]);
     assert_eq!(status, Some(0), "{remote}");
@@ -178,6 +178,22 @@ fn tidying_through_zenoh_ends_as_in_one_process() {
     }
     assert_eq!(remote["objects"], remote["moved"]);
     assert_eq!(remote["verdict"]["knocked"], serde_json::json!([]));
+}
+
+/// The shipped tidy task with one of its four items (and the other table's resident,
+/// which must stay standing): the transport is what is compared; tidying all four runs
+/// a minute and a half twice, and the tasks' own tests tidy whole tables.
+fn one_item_tidy() -> String {
+    let text = std::fs::read_to_string(scene("tidy.toml")).unwrap();
+    let mut world: toml::Table = toml::from_str(&text).unwrap();
+    let Some(toml::Value::Array(objects)) = world.get_mut("object") else {
+        panic!("tidy.toml has no objects");
+    };
+    objects.retain(|o| matches!(o["name"].as_str(), Some("item0" | "resident0")));
+    assert_eq!(objects.len(), 2);
+    let file = tmp("tidy_one_item.toml");
+    std::fs::write(&file, toml::to_string(&world).unwrap()).unwrap();
+    file.display().to_string()
 }
 
 #[test]

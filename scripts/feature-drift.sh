@@ -1,0 +1,28 @@
+#!/usr/bin/env bash
+# Which shared dependencies the demo's (tabula-cli) or the Python package's (tabula-py)
+# own build resolves with other features than `cargo test --workspace` does: each such
+# crate, and everything above it, is compiled twice. crates/tabula-unify turns those
+# features on; no output means it is in step. Run after a dependency update.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+tree() { cargo tree "$@" -f '{p} [{f}]' --prefix none --no-dedupe 2>/dev/null | sort -u; }
+dir=$(mktemp -d)
+trap 'rm -rf "$dir"' EXIT
+tree --workspace >"$dir/workspace"
+tree -p tabula-cli -e normal,build >"$dir/tabula-cli"
+tree -p tabula-py -e normal,build >"$dir/tabula-py"
+python3 - "$dir" <<'PY'
+import re, sys
+def features(path):
+    out = {}
+    for line in open(path):
+        m = re.match(r'(\S+ v\S+)(?: \([^)]*\))? \[(.*)\]', line.strip())
+        if m:
+            out.setdefault(m.group(1), set()).update(f for f in m.group(2).split(',') if f)
+    return out
+workspace = features(f"{sys.argv[1]}/workspace")
+for build in ("tabula-cli", "tabula-py"):
+    for crate, fs in sorted(features(f"{sys.argv[1]}/{build}").items()):
+        if crate in workspace and fs != workspace[crate]:
+            print(f"{build}: {crate} lacks {sorted(workspace[crate] - fs)}")
+PY
