@@ -5,12 +5,12 @@
 # features on; no output means it is in step. Run after a dependency update.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-tree() { cargo tree "$@" -f '{p} [{f}]' --prefix none --no-dedupe 2>/dev/null | sort -u; }
+features_of() { cargo tree "$@" -f '{p} [{f}]' --prefix none --no-dedupe | sort -u; }
 dir=$(mktemp -d)
 trap 'rm -rf "$dir"' EXIT
-tree --workspace >"$dir/workspace"
-tree -p tabula-cli -e normal,build >"$dir/tabula-cli"
-tree -p tabula-py -e normal,build >"$dir/tabula-py"
+features_of --workspace >"$dir/workspace"
+features_of -p tabula-cli -e normal,build >"$dir/tabula-cli"
+features_of -p tabula-py -e normal,build >"$dir/tabula-py"
 python3 - "$dir" <<'PY'
 import re, sys
 def features(path):
