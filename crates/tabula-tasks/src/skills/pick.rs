@@ -8,7 +8,11 @@ use super::{GraspCandidate, Hand, SkillError};
 use crate::scene::{SeenObject, hits, hull_vertices, hulls_touch};
 use tabula_geom::parry::shape::SharedShape;
 use tabula_geom::{Pose, Quat, Vec3};
-use tabula_motion::MoveGroup;
+use tabula_motion::{MoveGroup, Plan};
+
+/// How many IK solutions of each yaw's pre-grasp [`Manipulator::take`] tries when the
+/// decision's cannot follow the lines down and up.
+const LINE_STARTS: usize = 3;
 use tabula_robot::description::Gripper;
 use tabula_robot::driver::RobotDriver;
 use tabula_robot::robots::NamedRobot;
@@ -179,19 +183,14 @@ impl<D: RobotDriver> Manipulator<'_, D> {
             self.driver.open_to(&self.gripper.name, a.grasp.width)?;
         }
         let q = self.sync()?;
-        let g = self.solved_yaw(a.grasp, &a.ik);
+        let (g, start) = self.followable_start(a, motion)?;
         let pre = Pose::from_parts(g.translation + self.up * motion.pregrasp, g.rotation);
-        self.approach_start(&q, a.ik.clone(), &pre, "to pre-grasp")?;
+        self.approach_start(&q, start, &pre, "to pre-grasp")?;
         if motion.open_at_pregrasp {
             self.driver.open_to(&self.gripper.name, a.grasp.width)?;
             self.sync()?;
         }
-        self.group.remove_object(&object_name(o))?;
-        // A nudge grasp's fingers push these aside on the way down: out of the world
-        // until the object is lifted.
-        for &n in a.nudged {
-            self.group.remove_object(&object_name(&a.objects[n]))?;
-        }
+        self.moving_out(a)?;
         self.line_to(&g, "descend")?;
         let held = self.driver.close(&self.gripper.name)?;
         if !held.holding {
@@ -202,6 +201,73 @@ impl<D: RobotDriver> Manipulator<'_, D> {
         self.attach_held(o)?;
         self.lift(a, &g, motion.lift)?;
         Ok(g)
+    }
+
+    /// The target and what a nudge grasp's fingers push aside on the way down: out of
+    /// the world (until the object is lifted).
+    fn moving_out(&mut self, a: &Take<'_>) -> Result<(), SkillError> {
+        self.group.remove_object(&object_name(&a.objects[a.i]))?;
+        for &n in a.nudged {
+            self.group.remove_object(&object_name(&a.objects[n]))?;
+        }
+        Ok(())
+    }
+
+    /// The grasp pose and the pre-grasp joint values to take it from: the decision's
+    /// IK solution first, then up to [`LINE_STARTS`] other solutions of either yaw's
+    /// pre-grasp — the first from which the lines down to the grasp and up to the lift
+    /// can be followed. An IK solution at each end is not enough: near a wrist
+    /// singularity the line between them makes a joint jump, and every try of the grasp
+    /// would fail the same way, the arm already over the object. `Err` (the first
+    /// candidate's) when none can, before anything moves.
+    fn followable_start(
+        &mut self,
+        a: &Take<'_>,
+        motion: PickMotion,
+    ) -> Result<(Pose, Vec<f64>), SkillError> {
+        let up = self.up;
+        let shifted = |g: &Pose, h: f64| Pose::from_parts(g.translation + up * h, g.rotation);
+        let solved = self.solved_yaw(a.grasp, &a.ik);
+        let other = a.grasp.poses.iter().copied().find(|p| *p != solved);
+        let mut candidates = vec![(solved, a.ik.clone())];
+        for g in std::iter::once(solved).chain(other) {
+            if let Ok(sols) = self.group.valid_ik(&shifted(&g, motion.pregrasp), &a.ik) {
+                candidates.extend(sols.into_iter().take(LINE_STARTS).map(|q| (g, q)));
+            }
+        }
+        let moving: Vec<&SeenObject> = std::iter::once(a.i)
+            .chain(a.nudged.iter().copied())
+            .map(|k| &a.objects[k])
+            .collect();
+        let mut first_error = None;
+        let mut chosen = None;
+        for (g, q) in candidates {
+            // (The lift's check puts touching neighbours back, a nudged one among them.)
+            for o in &moving {
+                let _ = self.group.remove_object(&object_name(o));
+            }
+            let lines = self.group.cartesian(&q, &g).map_err(SkillError::from).and_then(|down| {
+                self.line_beside(a, down.end(), &shifted(&g, motion.lift))
+            });
+            match lines {
+                Ok(_) => {
+                    chosen = Some((g, q));
+                    break;
+                }
+                Err(e) => {
+                    first_error.get_or_insert(e);
+                }
+            }
+        }
+        for o in &moving {
+            let _ = self.group.remove_object(&object_name(o));
+            self.add(o)?;
+        }
+        match (chosen, first_error) {
+            (Some(c), _) => Ok(c),
+            (None, Some(e)) => Err(e),
+            (None, None) => Err(SkillError::Motion("no pre-grasp to take it from".into())),
+        }
     }
 
     /// Attaches the held object's hull to the tool, its bottom taken off (it touches
@@ -258,6 +324,14 @@ impl<D: RobotDriver> Manipulator<'_, D> {
         to: &Pose,
         phase: &str,
     ) -> Result<(), SkillError> {
+        let q = current_arm(self.driver, self.group)?;
+        let line = self.line_beside(a, &q, to)?;
+        run_phase(self.driver, &line, phase)
+    }
+
+    /// The straight line from `q` to `to` planned with the held object's neighbours
+    /// (within 2 cm of its hull) out of the world (see [`Self::line_beside_neighbours`]).
+    fn line_beside(&mut self, a: &Take<'_>, q: &[f64], to: &Pose) -> Result<Plan, SkillError> {
         let o = &a.objects[a.i];
         let neighbours: Vec<&SeenObject> = a
             .objects
@@ -270,12 +344,11 @@ impl<D: RobotDriver> Manipulator<'_, D> {
             // (What a nudge grasp pushed aside may be out already.)
             let _ = self.group.remove_object(&object_name(n));
         }
-        let q = current_arm(self.driver, self.group)?;
-        let line = self.group.cartesian(&q, to);
+        let line = self.group.cartesian(q, to);
         for n in &neighbours {
             self.add(n)?;
         }
-        run_phase(self.driver, &line?, phase)
+        Ok(line?)
     }
 
     /// Puts the held object down with the tool at `at` (world; where it was taken):
