@@ -87,7 +87,10 @@ pub struct ClearParams {
     /// (pairs blocking each other's grasp in a pile): a grasp whose open fingers reach
     /// at most this far (m) into neighbours' hulls, pushing them aside as they come
     /// down — VPG's grasps do. The neighbours it moves are handled by the action, as a
-    /// chain push's are. Not in the seed; 0 gives up instead.
+    /// chain push's are. Shallowest first, so a deeper one is taken only where no
+    /// shallower one has IK. 8 mm left pile cores of 9–23 objects each blocking the
+    /// next on the table (pile seeds 82, 98); 2 cm clears them. Not in the seed; 0
+    /// gives up instead.
     pub nudge_depth: f64,
     /// After a lift, what the camera must see hanging with the hand, outside the held
     /// object, for the grasp to count as carrying another object along. Not in the
@@ -242,7 +245,7 @@ impl Default for ClearParams {
             track_radius: 0.06,
             max_chain: 4,
             chain_push_factors: vec![1.0, 1.6, 2.2],
-            nudge_depth: 0.008,
+            nudge_depth: 0.02,
             carried: CarriedCheck::default(),
             max_pushes_per_object: 3,
             push_jam_share: 0.35,
