@@ -8,7 +8,7 @@ use crate::skills::Hand;
 use tabula_geom::parry::bounding_volume::BoundingVolume;
 use tabula_geom::parry::query;
 use tabula_geom::parry::shape::SharedShape;
-use tabula_geom::{Pose, Vec3};
+use tabula_geom::{Pose, Vec2, Vec3};
 
 /// How deep (m) `shapes` at any of `poses` reach into `other`'s hull (0 when apart).
 pub(super) fn penetration(
@@ -52,9 +52,24 @@ impl Decider<'_> {
                 }
             }
         }
-        candidates.sort_by_key(|&(i, k)| {
+        // Of pushes equally worth it, the one that leaves the pushed object nearest the
+        // arm: a push whose good is unknown (a cluster seen as one object) must not walk
+        // it out of the arm's reach at the table's far edge.
+        let arm_xy = self
+            .group
+            .world
+            .world_from_chain_base()
+            .map(|b| Vec2::new(b.translation.x, b.translation.y))
+            .unwrap_or(Vec2::ZERO);
+        let from_arm = |i: usize, k: usize| {
             let p = &g.pushes[i][k];
+            (self.objects[i].rect.center + p.direction * p.length).distance(arm_xy)
+        };
+        candidates.sort_by(|&(i, k), &(j, l)| {
+            let (p, q) = (&g.pushes[i][k], &g.pushes[j][l]);
             (std::cmp::Reverse(p.gain), p.chain.len())
+                .cmp(&(std::cmp::Reverse(q.gain), q.chain.len()))
+                .then(from_arm(i, k).total_cmp(&from_arm(j, l)))
         });
         let _ = self.group.set_state(self.robot, self.state);
         let seed = self.group.arm_values(self.state);

@@ -144,26 +144,38 @@ impl GraspPlanner for TopGrasps {
         }
         let deep = self.tip_z(target, hand, target.top);
         let at_height = |z: f64| {
+            // The fingers stop on the widest of what is between them anywhere from
+            // their tips up; they hold where the pads overlap it.
+            let from_tips = Between::pads(target, z);
             let between = Between::pads(target, z + PAD_OVERLAP);
-            fits.iter().filter_map(move |&c| {
-                let centre = match &between {
-                    Some(b) => {
-                        // What is between the pads there is too narrow to hold: the
-                        // fingers would close past it.
-                        if b.extent_along(c) < hand.closed_width + MIN_SQUEEZE {
-                            return None;
-                        }
-                        b.centre
-                    }
-                    None => rect.center,
+            fits.iter().flat_map(move |&c| {
+                let (Some(t), Some(b)) = (&from_tips, &between) else {
+                    return vec![self.at(hand, up, rect.center.extend(z), c, rect.extent_along(c))];
                 };
-                // Open enough to pass the whole footprint on both sides of that centre.
-                let across = rect.extent_along(c) + 2.0 * (centre - rect.center).dot(c).abs();
-                if !hand.holds(across, self.margin) {
-                    return None;
+                // What is between the fingers is too narrow to hold: they would close
+                // past it.
+                if t.extent_along(c) < hand.closed_width + MIN_SQUEEZE {
+                    return Vec::new();
                 }
-                let tips = Vec3::new(centre.x, centre.y, z);
-                Some(self.at(hand, up, tips, c, across))
+                // Along the pads the fingers must be where the points are (they are a
+                // finger wide). Across, fingers centred on the points meet them at once
+                // (a leaning object is not shoved over), but must open wider to pass the
+                // whole footprint; closing over the footprint's middle centres the object
+                // between them with a narrower hand — the one to take beside close
+                // neighbours.
+                let along_pads = c.perp();
+                let pads_middle =
+                    rect.center + along_pads * (b.centre - rect.center).dot(along_pads);
+                let off_centre = (b.centre - rect.center).dot(c).abs();
+                let mut out = Vec::with_capacity(2);
+                let across = rect.extent_along(c) + 2.0 * off_centre;
+                if hand.holds(across, self.margin) {
+                    out.push(self.at(hand, up, b.centre.extend(z), c, across));
+                }
+                if off_centre > SELF_CENTRING || out.is_empty() {
+                    out.push(self.at(hand, up, pads_middle.extend(z), c, rect.extent_along(c)));
+                }
+                out
             })
         };
         let mut out: Vec<GraspCandidate> = at_height(deep).collect();
@@ -177,6 +189,9 @@ impl GraspPlanner for TopGrasps {
 
 /// The pads hold what lies at least this far (m) above their tips.
 const PAD_OVERLAP: f64 = 0.005;
+/// Points this far (m) off the footprint's middle across the fingers are held where
+/// they are, and also where closing centres them: below it the two grasps are one.
+const SELF_CENTRING: f64 = 0.002;
 /// Fewer points than this between the pads say nothing of where the object is there.
 const MIN_POINTS_BETWEEN: usize = 10;
 
@@ -195,7 +210,10 @@ impl Between {
     /// `None` when too few points lie above `z` to tell.
     fn pads(target: &GraspTarget<'_>, z: f64) -> Option<Self> {
         let rect = &target.rect;
-        let axes = [rect.axis.normalize_or(Vec2::X), rect.axis.normalize_or(Vec2::X).perp()];
+        let axes = [
+            rect.axis.normalize_or(Vec2::X),
+            rect.axis.normalize_or(Vec2::X).perp(),
+        ];
         let mut lo = [f64::INFINITY; 2];
         let mut hi = [f64::NEG_INFINITY; 2];
         let mut n = 0;
@@ -591,6 +609,106 @@ mod tests {
         }
         let first = (grasps[0].poses[0].rotation * h.closing).truncate();
         assert!(first.y.abs() > 0.99, "across the 4 cm side: {first}");
+    }
+
+    /// Points of a 10 × 5 cm footprint centred at (0.6, 0.1) from z 0.7 to 0.8: a slab
+    /// 5 cm across leaning from x 0.55 at the bottom to 0.65 at the top, `width(z)`
+    /// across y at height z.
+    fn leaning(width: impl Fn(f64) -> f64) -> Vec<Vec3> {
+        let mut points = Vec::new();
+        for i in 0..=40 {
+            let t = i as f64 / 40.0;
+            let z = 0.7 + 0.1 * t;
+            for j in 0..=10 {
+                let y = 0.1 + width(z) * (j as f64 / 10.0 - 0.5);
+                points.push(Vec3::new(0.55 + 0.1 * t, y, z));
+            }
+        }
+        points
+    }
+
+    /// Pile seed 65: fingers closed over the middle of a leaning box's footprint met
+    /// nothing; they close where its points are above the fingertips.
+    #[test]
+    fn a_leaning_object_is_held_where_it_is_between_the_pads() {
+        let h = hand();
+        let outline = box_outline(Vec2::new(0.6, 0.1), Vec2::new(0.1, 0.05));
+        let points = leaning(|_| 0.05);
+        let t = GraspTarget {
+            points: &points,
+            ..target(&outline, 0.1, None)
+        };
+        let params = TopGrasps::default();
+        let grasps = params.candidates(&t, &h, Vec3::Z);
+        assert_eq!(grasps.len(), 2, "across y, deep then shallow");
+        for g in &grasps {
+            check_candidate(g, &h, &t, 0.0);
+            let tool = g.poses[0].translation;
+            // The tool is straight above the fingertips; the points above them span x
+            // from the slab's height there up to 0.65.
+            let tips_z = tool.z - h.tip;
+            let from = 0.55 + (tips_z + PAD_OVERLAP - 0.7).max(0.0);
+            assert!(
+                (tool.x - (from + 0.65) / 2.0).abs() < 3e-3 && (tool.y - 0.1).abs() < 1e-6,
+                "tips at {tool} for points above {tips_z:.3}"
+            );
+        }
+        // The upright object of the same footprint is held at its middle.
+        let grasps = params.candidates(&target(&outline, 0.1, None), &h, Vec3::Z);
+        assert!((grasps[0].poses[0].translation.x - 0.6).abs() < 1e-9);
+    }
+
+    /// What is between the pads at a shallow grasp's height is 1 cm wide, under the
+    /// closed gap: only the deep grasp is offered.
+    #[test]
+    fn no_grasp_closes_where_too_little_is_between_the_pads() {
+        let h = hand();
+        let outline = box_outline(Vec2::new(0.6, 0.1), Vec2::new(0.1, 0.05));
+        let points = leaning(|z| if z >= 0.78 { 0.01 } else { 0.05 });
+        let t = GraspTarget {
+            points: &points,
+            ..target(&outline, 0.1, None)
+        };
+        let grasps = TopGrasps::default().candidates(&t, &h, Vec3::Z);
+        assert_eq!(grasps.len(), 1);
+        assert!(
+            grasps[0].poses[0].translation.z - h.tip < 0.76,
+            "the deep one"
+        );
+    }
+
+    /// Blocks 17: a triangular prism lying on a face, apex up (4.6 cm base, 4.4 cm
+    /// tall, 7.5 cm long), is under 3.2 cm wide 5 mm above a deep grasp's tips but
+    /// wider at the tips, where the fingers closing to 3 cm stop on it: it is held
+    /// across. At the shallow grasp's height only its 1.5 cm ridge is there: not.
+    #[test]
+    fn a_wedge_is_held_where_it_is_wide_at_the_fingertips() {
+        let h = hand();
+        let (half_base, height) = (0.023, 0.044);
+        let mut points = Vec::new();
+        for i in 0..=40 {
+            let z = 0.7 + height * i as f64 / 40.0;
+            let half = half_base * (1.0 - (z - 0.7) / height);
+            for j in 0..=20 {
+                let x = 0.6 - 0.0375 + 0.075 * j as f64 / 20.0;
+                points.push(Vec3::new(x, 0.1 - half, z));
+                points.push(Vec3::new(x, 0.1 + half, z));
+            }
+        }
+        let outline = box_outline(Vec2::new(0.6, 0.1), Vec2::new(0.075, 2.0 * half_base));
+        let t = GraspTarget {
+            points: &points,
+            ..target(&outline, height, None)
+        };
+        let grasps = TopGrasps::default().candidates(&t, &h, Vec3::Z);
+        assert!(!grasps.is_empty(), "a grasp across the wedge");
+        for g in &grasps {
+            check_candidate(g, &h, &t, 0.0);
+            let tips_z = g.poses[0].translation.z - h.tip;
+            assert!(tips_z < 0.72, "only the deep grasp: tips at {tips_z:.3}");
+            let closing = g.poses[0].rotation * h.closing;
+            assert!(closing.y.abs() > 0.99, "across the wedge: {closing}");
+        }
     }
 
     /// Blocks 105: a lying prism seen 6.9 × 3.7 cm, 7.07 cm long, held along its length

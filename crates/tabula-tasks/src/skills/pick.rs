@@ -9,13 +9,13 @@ use crate::scene::{SeenObject, hits, hull_vertices, hulls_touch};
 use tabula_geom::parry::shape::SharedShape;
 use tabula_geom::{Pose, Quat, Vec3};
 use tabula_motion::{MoveGroup, Plan};
+use tabula_robot::description::Gripper;
+use tabula_robot::driver::RobotDriver;
+use tabula_robot::robots::NamedRobot;
 
 /// How many IK solutions of each yaw's pre-grasp [`Manipulator::take`] tries when the
 /// decision's cannot follow the lines down and up.
 const LINE_STARTS: usize = 3;
-use tabula_robot::description::Gripper;
-use tabula_robot::driver::RobotDriver;
-use tabula_robot::robots::NamedRobot;
 
 /// The name an object's hull has in the planning world.
 pub fn object_name(o: &SeenObject) -> String {
@@ -246,9 +246,11 @@ impl<D: RobotDriver> Manipulator<'_, D> {
             for o in &moving {
                 let _ = self.group.remove_object(&object_name(o));
             }
-            let lines = self.group.cartesian(&q, &g).map_err(SkillError::from).and_then(|down| {
-                self.line_beside(a, down.end(), &shifted(&g, motion.lift))
-            });
+            let lines = self
+                .group
+                .cartesian(&q, &g)
+                .map_err(SkillError::from)
+                .and_then(|down| self.line_beside(a, down.end(), &shifted(&g, motion.lift)));
             match lines {
                 Ok(_) => {
                     chosen = Some((g, q));
