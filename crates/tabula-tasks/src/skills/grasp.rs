@@ -146,8 +146,7 @@ impl GraspPlanner for TopGrasps {
         let at_height = |z: f64| {
             // The fingers stop on the widest of what is between them anywhere from
             // their tips up; they hold where the pads overlap it.
-            let from_tips = Between::pads(target, z);
-            let between = Between::pads(target, z + PAD_OVERLAP);
+            let [from_tips, between] = Between::above(target, [z, z + PAD_OVERLAP]);
             fits.iter().flat_map(move |&c| {
                 let (Some(t), Some(b)) = (&from_tips, &between) else {
                     return vec![self.at(hand, up, rect.center.extend(z), c, rect.extent_along(c))];
@@ -207,32 +206,35 @@ struct Between {
 }
 
 impl Between {
-    /// `None` when too few points lie above `z` to tell.
-    fn pads(target: &GraspTarget<'_>, z: f64) -> Option<Self> {
+    /// The points above each of `heights`, in one pass over them (the decision asks
+    /// for every grasp of every pushed copy of an object); `None` where too few lie
+    /// above to tell.
+    fn above<const N: usize>(target: &GraspTarget<'_>, heights: [f64; N]) -> [Option<Self>; N] {
         let rect = &target.rect;
         let axes = [
             rect.axis.normalize_or(Vec2::X),
             rect.axis.normalize_or(Vec2::X).perp(),
         ];
-        let mut lo = [f64::INFINITY; 2];
-        let mut hi = [f64::NEG_INFINITY; 2];
-        let mut n = 0;
-        for p in target.points.iter().filter(|p| p.z >= z && p.z.is_finite()) {
-            n += 1;
-            for k in 0..2 {
-                let t = axes[k].dot(p.truncate());
-                lo[k] = lo[k].min(t);
-                hi[k] = hi[k].max(t);
+        let mut lo = [[f64::INFINITY; 2]; N];
+        let mut hi = [[f64::NEG_INFINITY; 2]; N];
+        let mut n = [0usize; N];
+        for p in target.points.iter().filter(|p| p.z.is_finite()) {
+            let t = [axes[0].dot(p.truncate()), axes[1].dot(p.truncate())];
+            for h in (0..N).filter(|&h| p.z >= heights[h]) {
+                n[h] += 1;
+                for k in 0..2 {
+                    lo[h][k] = lo[h][k].min(t[k]);
+                    hi[h][k] = hi[h][k].max(t[k]);
+                }
             }
         }
-        if n < MIN_POINTS_BETWEEN {
-            return None;
-        }
-        let mid = |k: usize| (lo[k] + hi[k]) / 2.0;
-        Some(Self {
-            centre: axes[0] * mid(0) + axes[1] * mid(1),
-            axes,
-            size: [hi[0] - lo[0], hi[1] - lo[1]],
+        std::array::from_fn(|h| {
+            let (lo, hi) = (lo[h], hi[h]);
+            (n[h] >= MIN_POINTS_BETWEEN).then(|| Self {
+                centre: axes[0] * (lo[0] + hi[0]) / 2.0 + axes[1] * (lo[1] + hi[1]) / 2.0,
+                axes,
+                size: [hi[0] - lo[0], hi[1] - lo[1]],
+            })
         })
     }
 
