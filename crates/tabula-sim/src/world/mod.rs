@@ -365,7 +365,7 @@ impl SimWorld {
                     world_from_tool * tool_from_object.unwrap_or(Pose::IDENTITY),
                 )?;
                 let fingers = [h.fingers[0].as_str(), h.fingers[1].as_str()];
-                if w.close_gripper(robot, &h.finger_joint, fingers, &h.palm)?
+                if w.close_fingers(robot, &h.finger_joint, fingers, &h.palm, None, false)?
                     .as_deref()
                     != Some(h.object.as_str())
                 {

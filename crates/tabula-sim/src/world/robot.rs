@@ -255,6 +255,22 @@ impl SimWorld {
         palm: &str,
         effort: Option<f64>,
     ) -> Result<Option<String>, SimError> {
+        let physical = !self.kinematic_only;
+        self.close_fingers(robot, finger_joint, fingers, palm, effort, physical)
+    }
+
+    /// [`Self::close_gripper_with_effort`], the fingers closing `through_physics` (the
+    /// first to touch pushes the object towards the other, as a real gripper centres
+    /// what it closes on) or placed at once, as for a scene's initial grip.
+    pub(super) fn close_fingers(
+        &mut self,
+        robot: &str,
+        finger_joint: &str,
+        fingers: [&str; 2],
+        palm: &str,
+        effort: Option<f64>,
+        through_physics: bool,
+    ) -> Result<Option<String>, SimError> {
         if effort.is_some_and(|e| !(e.is_finite() && e >= 0.0)) {
             return Err(SimError::NonFinite);
         }
@@ -268,7 +284,10 @@ impl SimWorld {
         for k in 1..=steps {
             let q = start + (lower - start) * k as f64 / steps as f64;
             self.write_joints(ri, &[(finger_joint, q)])?;
-            self.place_robot(ri, false)?;
+            self.place_robot(ri, through_physics)?;
+            if through_physics {
+                self.step();
+            }
             let touched: Vec<Option<String>> = fingers
                 .iter()
                 .map(|f| self.touching_object(&format!("{robot}/{f}")))

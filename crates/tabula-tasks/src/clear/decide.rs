@@ -182,10 +182,15 @@ impl Decider<'_> {
                 o.rect.size.y,
                 o.bottom,
                 o.top,
-                if g.grasps[i].is_some() {
-                    "fits"
-                } else {
-                    "too wide"
+                match &g.grasps[i] {
+                    Some(c) => {
+                        let t = c.world_from_tool().translation;
+                        format!(
+                            "at ({:.4}, {:.4}, {:.4}) opening {:.4}",
+                            t.x, t.y, t.z, c.width
+                        )
+                    }
+                    None => "too wide".into(),
                 }
             );
         }

@@ -9,7 +9,7 @@
 //!   from above after them) — what a shelf leaves.
 //! * [`Fallback`]: one planner's grasps, or another's when it has none.
 
-use super::hand::{Hand, MIN_SQUEEZE, extent_along, tool_rotation};
+use super::hand::{Hand, extent_along, tool_rotation};
 use tabula_geom::parry::query;
 use tabula_geom::parry::shape::SharedShape;
 use tabula_geom::{Pose, Vec2, Vec3};
@@ -153,7 +153,7 @@ impl GraspPlanner for TopGrasps {
                 };
                 // What is between the fingers is too narrow to hold: they would close
                 // past it.
-                if t.extent_along(c) < hand.closed_width + MIN_SQUEEZE {
+                if hand.passes(t.extent_along(c)) {
                     return Vec::new();
                 }
                 // Along the pads the fingers must be where the points are (they are a

@@ -100,6 +100,13 @@ pub struct Hand {
 /// 3 cm is never held.
 pub const MIN_SQUEEZE: f64 = 0.002;
 
+/// How much narrower than it is the camera may see an object (m): each silhouette edge
+/// can lie up to a pixel's footprint past the last point seen (1.7 mm at 1 m for the
+/// 640-pixel, 57° Kinect-like camera of SPEC §5), so a standing cylinder 3.24 cm
+/// across is seen 3.1 cm wide and would otherwise be taken for one the closed fingers
+/// pass.
+pub const SEEN_SHORT: f64 = 0.002;
+
 impl Hand {
     /// The hand of `gripper` on `robot`: its palm and finger links posed by forward
     /// kinematics at every opening.
@@ -177,10 +184,16 @@ impl Hand {
         })
     }
 
-    /// Whether something `width` across (m) fits between the open fingers with
-    /// `margin` on each side and is wide enough for the closing fingers to hold.
+    /// Whether something seen `width` across (m) fits between the open fingers with
+    /// `margin` on each side and may be wide enough for the closing fingers to hold.
     pub fn holds(&self, width: f64, margin: f64) -> bool {
-        width + 2.0 * margin <= self.open_width && width >= self.closed_width + MIN_SQUEEZE
+        width + 2.0 * margin <= self.open_width && !self.passes(width)
+    }
+
+    /// Whether the closing fingers pass something seen `width` across (m) without
+    /// squeezing it, even allowing for what the camera misses ([`SEEN_SHORT`]).
+    pub fn passes(&self, width: f64) -> bool {
+        width + SEEN_SHORT < self.closed_width + MIN_SQUEEZE
     }
 
     /// The narrowest opening at least `width` wide (fully open when none is): its gap
