@@ -1,6 +1,7 @@
 //! Deciding the next action of a frame: plan with the seed's domain, check IK for the
 //! first action only, backtrack by `ik_unfeasible_*` facts (SPEC §3.5).
 
+use super::first::first_step;
 use super::predicates::Geometry;
 use super::problem::{action_of, infeasible_atom, planner, problem};
 use super::push::Push;
@@ -33,6 +34,8 @@ pub(super) struct Decider<'a> {
     pub(super) group: &'a mut MoveGroup,
     pub(super) robot: &'a NamedRobot,
     pub(super) state: &'a JointState,
+    /// The table's height (world z).
+    pub(super) table_z: f64,
     pub(super) params: &'a ClearParams,
     pub(super) frame: &'a mut FrameReport,
 }
@@ -93,7 +96,8 @@ impl Decider<'_> {
         else {
             return Decision::NoPlan;
         };
-        self.known_infeasible(&mut planner, g);
+        // Which objects' grasps are `ik_unfeasible` now (a push first clears it).
+        let mut no_grasp = self.known_infeasible(&mut planner, g);
         self.load_objects();
         let seed = self.group.arm_values(self.state);
         for _ in 0..(5 * n + 5) {
@@ -116,10 +120,18 @@ impl Decider<'_> {
                 }
                 Err(_) => return Decision::NoPlan,
             };
-            self.frame.plan = plan.steps.iter().map(|s| s.to_string()).collect();
-            let Some(first) = plan.steps.first() else {
+            if plan.steps.is_empty() {
                 return Decision::NothingRemovable;
-            };
+            }
+            let mut steps = plan.steps;
+            let k = first_step(&steps, self.objects, g, self.table_z, |s| {
+                action_of(s, self.objects)
+                    .map(|(i, _)| i)
+                    .filter(|&i| !no_grasp[i])
+            });
+            steps[..=k].rotate_right(1);
+            self.frame.plan = steps.iter().map(|s| s.to_string()).collect();
+            let first = &steps[0];
             let Some((i, kind)) = action_of(first, self.objects) else {
                 return Decision::NoPlan;
             };
@@ -127,6 +139,9 @@ impl Decider<'_> {
                 Some(q) => return Decision::Act(i, kind, q, Vec::new()),
                 None => {
                     self.frame.ik_backtracks += 1;
+                    if kind == ActionKind::Grasp {
+                        no_grasp[i] = true;
+                    }
                     let _ = planner.set_fact(&infeasible_atom(kind, self.objects[i].id), true);
                 }
             }
@@ -203,9 +218,11 @@ impl Decider<'_> {
     }
 
     /// Sets the `ik_unfeasible_*` facts known before planning: no grasp fits, grasps
-    /// tried enough, pushes off the table or ruled out by the track.
-    fn known_infeasible(&self, planner: &mut Planner, g: &Geometry) {
+    /// tried enough, pushes off the table or ruled out by the track. Returns which
+    /// objects' grasps are set so.
+    fn known_infeasible(&self, planner: &mut Planner, g: &Geometry) -> Vec<bool> {
         let params = self.params;
+        let mut no_grasp = vec![false; self.objects.len()];
         for (i, o) in self.objects.iter().enumerate() {
             let track = self.tracks.iter().find(|t| t.id == o.id);
             let mut set = |kind: ActionKind| {
@@ -213,6 +230,7 @@ impl Decider<'_> {
             };
             if g.grasps[i].is_none() || track.is_some_and(|t| t.grasp_ruled_out(params)) {
                 set(ActionKind::Grasp);
+                no_grasp[i] = true;
             }
             for k in 0..4 {
                 let p = &g.pushes[i][k];
@@ -221,6 +239,7 @@ impl Decider<'_> {
                 }
             }
         }
+        no_grasp
     }
 
     /// The group at the arm's state with this frame's objects' hulls in its world (the

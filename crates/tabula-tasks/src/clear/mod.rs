@@ -17,6 +17,7 @@ mod act;
 mod decide;
 mod execute;
 mod fallback;
+mod first;
 mod left;
 mod params;
 mod predicates;

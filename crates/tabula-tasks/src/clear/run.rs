@@ -302,6 +302,7 @@ impl<'a, D: RobotDriver> Run<'a, D> {
             group: &mut self.group,
             robot: self.robot,
             state,
+            table_z: table.z,
             params: self.params,
             frame: fr,
         };

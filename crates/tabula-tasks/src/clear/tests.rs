@@ -356,3 +356,78 @@ fn params_load_from_toml_with_the_seed_defaults_elsewhere() {
         assert_eq!(q.validate().unwrap_err().kind(), "params", "{bad}");
     }
 }
+
+/// A can of radius 2 cm lying along x from `x0` to `x1` (world), its axis rising from
+/// `z0` to `z1` (world z of the axis), seen as points on its upper half every 5 mm.
+fn seen_lying_can(id: usize, (x0, x1): (f64, f64), (z0, z1): (f64, f64)) -> SeenObject {
+    let r = 0.02;
+    let mut points = Vec::new();
+    let n = ((x1 - x0) / 0.005) as i32;
+    for i in 0..=n {
+        let s = i as f64 / n as f64;
+        let (x, z) = (x0 + s * (x1 - x0), z0 + s * (z1 - z0));
+        for k in 0..=8 {
+            let a = std::f64::consts::PI * k as f64 / 8.0;
+            points.push(Vec3::new(x, 0.3 + r * a.cos(), z + r * a.sin()));
+        }
+    }
+    let flat: Vec<Vec2> = points.iter().map(|q| q.truncate()).collect();
+    let footprint: Vec<Vec2> = convex_hull_2d(&flat).iter().map(|&i| flat[i]).collect();
+    let rect = min_area_rectangle(&footprint).unwrap();
+    let mut hull_points = points.clone();
+    hull_points.extend(footprint.iter().map(|p| Vec3::new(p.x, p.y, 0.72)));
+    let hull = SharedShape::convex_hull(&hull_points).unwrap();
+    let aabb = hull.compute_aabb(&Pose::IDENTITY);
+    let top = points.iter().map(|p| p.z).fold(f64::MIN, f64::max);
+    SeenObject {
+        id,
+        points,
+        footprint,
+        rect,
+        bottom: 0.72,
+        top,
+        hull,
+        aabb,
+    }
+}
+
+#[test]
+fn objects_held_up_or_leaning_are_at_risk_and_flat_ones_are_not() {
+    use super::first::at_risk;
+    let flat_box = seen_box(0, Vec2::new(0.6, 0.0), Vec2::new(0.05, 0.1), 0.05, 0.72);
+    let on_top = seen_box(1, Vec2::new(0.6, 0.0), Vec2::new(0.04, 0.04), 0.04, 0.77);
+    let lying = seen_lying_can(2, (0.5, 0.6), (0.74, 0.74));
+    // One end on the table, the other on a 4 cm box: 22° up.
+    let leaning = seen_lying_can(3, (0.5, 0.6), (0.74, 0.78));
+    // A 4 mm rise over 10 cm is a can on an uneven pile, not a lean.
+    let nearly = seen_lying_can(4, (0.5, 0.6), (0.74, 0.744));
+    assert_eq!(at_risk(&flat_box, 0.72), 0.0);
+    assert!((at_risk(&on_top, 0.72) - 0.05).abs() < 1e-9);
+    assert_eq!(at_risk(&lying, 0.72), 0.0);
+    assert!(at_risk(&leaning, 0.72) > 0.02);
+    assert_eq!(at_risk(&nearly, 0.72), 0.0);
+}
+
+#[test]
+fn the_plan_takes_what_is_held_up_first_where_it_can_go_now() {
+    use super::first::first_step;
+    use tabula_pddl::PlanStep;
+    let base = seen_box(0, Vec2::new(0.6, 0.0), Vec2::new(0.06, 0.06), 0.05, 0.72);
+    let top = seen_box(1, Vec2::new(0.6, 0.0), Vec2::new(0.04, 0.04), 0.04, 0.77);
+    let lone = seen_box(2, Vec2::new(0.6, 0.3), Vec2::new(0.05, 0.05), 0.08, 0.72);
+    let objects = vec![base, top, lone];
+    let g = predicates(&objects, &hand(), &ClearParams::default(), false);
+    let step = |a: &str, i: usize| PlanStep {
+        action: a.into(),
+        args: vec![format!("o{i}")],
+    };
+    let index_of = |s: &PlanStep| s.args[0][1..].parse::<usize>().ok();
+    // The planner's order took the lone box first: the box held up goes before it.
+    let plan = [step("grasp", 2), step("grasp", 1), step("grasp", 0)];
+    assert_eq!(first_step(&plan, &objects, &g, 0.72, index_of), 1);
+    // Nothing at risk that can go now: the plan's own order.
+    let plan = [step("grasp", 2), step("grasp", 0)];
+    assert_eq!(first_step(&plan, &objects, &g, 0.72, index_of), 0);
+    let plan = [step("push_dir1", 2), step("grasp", 2)];
+    assert_eq!(first_step(&plan, &objects, &g, 0.72, index_of), 0);
+}
