@@ -28,6 +28,11 @@ fn seen_box(id: usize, center: Vec2, size: Vec2, height: f64, bottom: f64) -> Se
             }
         }
     }
+    seen_points(id, points, bottom)
+}
+
+/// The object `points` (world) make standing at `bottom`, as the predicates see it.
+fn seen_points(id: usize, points: Vec<Vec3>, bottom: f64) -> SeenObject {
     let flat: Vec<Vec2> = points.iter().map(|q| q.truncate()).collect();
     let footprint: Vec<Vec2> = convex_hull_2d(&flat).iter().map(|&i| flat[i]).collect();
     let rect = min_area_rectangle(&footprint).unwrap();
@@ -35,16 +40,26 @@ fn seen_box(id: usize, center: Vec2, size: Vec2, height: f64, bottom: f64) -> Se
     hull_points.extend(footprint.iter().map(|p| Vec3::new(p.x, p.y, bottom)));
     let hull = SharedShape::convex_hull(&hull_points).unwrap();
     let aabb = hull.compute_aabb(&Pose::IDENTITY);
+    let top = points.iter().map(|p| p.z).fold(bottom, f64::max);
     SeenObject {
         id,
         points,
         footprint,
         rect,
         bottom,
-        top: bottom + height,
+        top,
         hull,
         aabb,
     }
+}
+
+/// A 6 cm box, a 4 cm box on it, and a tall box 30 cm away on its own.
+fn box_on_box_and_lone() -> Vec<SeenObject> {
+    vec![
+        seen_box(0, Vec2::new(0.6, 0.0), Vec2::new(0.06, 0.06), 0.05, 0.72),
+        seen_box(1, Vec2::new(0.6, 0.0), Vec2::new(0.04, 0.04), 0.04, 0.77),
+        seen_box(2, Vec2::new(0.6, 0.3), Vec2::new(0.05, 0.05), 0.08, 0.72),
+    ]
 }
 
 fn table() -> Table {
@@ -121,10 +136,7 @@ fn a_can_held_up_by_the_edge_of_a_box_is_on_that_box_only() {
 
 #[test]
 fn a_box_on_a_box_is_on_it_and_blocks_nothing_else() {
-    let base = seen_box(0, Vec2::new(0.6, 0.0), Vec2::new(0.06, 0.06), 0.05, 0.72);
-    let top = seen_box(1, Vec2::new(0.6, 0.0), Vec2::new(0.04, 0.04), 0.04, 0.77);
-    let lone = seen_box(2, Vec2::new(0.6, 0.3), Vec2::new(0.05, 0.05), 0.08, 0.72);
-    let objects = vec![base, top, lone];
+    let objects = box_on_box_and_lone();
     assert_eq!(on_pairs(&objects, 0.72, &|_| false), vec![(1, 0)]);
     let g = predicates(&objects, &hand(), &ClearParams::default(), false);
     // The lone box is free in every way; nothing blocks grasping the top one.
@@ -371,24 +383,7 @@ fn seen_lying_can(id: usize, (x0, x1): (f64, f64), (z0, z1): (f64, f64)) -> Seen
             points.push(Vec3::new(x, 0.3 + r * a.cos(), z + r * a.sin()));
         }
     }
-    let flat: Vec<Vec2> = points.iter().map(|q| q.truncate()).collect();
-    let footprint: Vec<Vec2> = convex_hull_2d(&flat).iter().map(|&i| flat[i]).collect();
-    let rect = min_area_rectangle(&footprint).unwrap();
-    let mut hull_points = points.clone();
-    hull_points.extend(footprint.iter().map(|p| Vec3::new(p.x, p.y, 0.72)));
-    let hull = SharedShape::convex_hull(&hull_points).unwrap();
-    let aabb = hull.compute_aabb(&Pose::IDENTITY);
-    let top = points.iter().map(|p| p.z).fold(f64::MIN, f64::max);
-    SeenObject {
-        id,
-        points,
-        footprint,
-        rect,
-        bottom: 0.72,
-        top,
-        hull,
-        aabb,
-    }
+    seen_points(id, points, 0.72)
 }
 
 #[test]
@@ -412,10 +407,7 @@ fn objects_held_up_or_leaning_are_at_risk_and_flat_ones_are_not() {
 fn the_plan_takes_what_is_held_up_first_where_it_can_go_now() {
     use super::first::first_step;
     use tabula_pddl::PlanStep;
-    let base = seen_box(0, Vec2::new(0.6, 0.0), Vec2::new(0.06, 0.06), 0.05, 0.72);
-    let top = seen_box(1, Vec2::new(0.6, 0.0), Vec2::new(0.04, 0.04), 0.04, 0.77);
-    let lone = seen_box(2, Vec2::new(0.6, 0.3), Vec2::new(0.05, 0.05), 0.08, 0.72);
-    let objects = vec![base, top, lone];
+    let objects = box_on_box_and_lone();
     let g = predicates(&objects, &hand(), &ClearParams::default(), false);
     let step = |a: &str, i: usize| PlanStep {
         action: a.into(),
