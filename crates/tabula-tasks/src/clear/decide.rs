@@ -124,7 +124,8 @@ impl Decider<'_> {
                 return Decision::NothingRemovable;
             }
             let mut steps = plan.steps;
-            let k = first_step(&steps, self.objects, g, self.table_z, |s| {
+            let risk = &self.params.at_risk;
+            let k = first_step(&steps, self.objects, g, self.table_z, risk, |s| {
                 action_of(s, self.objects)
                     .map(|(i, _)| i)
                     .filter(|&i| !no_grasp[i])

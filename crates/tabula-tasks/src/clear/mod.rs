@@ -30,6 +30,7 @@ mod tests;
 mod track;
 
 pub use crate::scene::SeenObject;
+pub use first::AtRisk;
 pub use left::LeftObject;
 pub use params::ClearParams;
 pub use report::{ActionRecord, ClearReport, FrameReport, Stats};

@@ -1,7 +1,7 @@
 //! Clearing's parameters (SPEC §3.2 and §6, seed 002's repository, where it gives them),
 //! loadable from TOML with the seed's defaults for what a file leaves out.
 
-use super::ClearError;
+use super::{AtRisk, ClearError};
 use crate::skills::carried::CarriedCheck;
 use crate::skills::grasp::{Fallback, NarrowPartGrasps, TopGrasps};
 use tabula_geom::input::{Validate, check_count, nested};
@@ -97,6 +97,8 @@ pub struct ClearParams {
     /// seed (its bin stood away from the table's objects, nothing was lifted with
     /// another).
     pub carried: CarriedCheck,
+    /// Which objects a plan's grasps take first: those held up or leaning.
+    pub at_risk: AtRisk,
     /// Pushes allowed per tracked object.
     pub max_pushes_per_object: usize,
     /// A push that moved its object less than this share of its length was jammed: it
@@ -157,6 +159,9 @@ impl ClearParams {
             ("nudge_depth", self.nudge_depth),
             ("carried.margin", self.carried.margin),
             ("carried.reach", self.carried.reach),
+            ("at_risk.held_up", self.at_risk.held_up),
+            ("at_risk.lean_rise", self.at_risk.lean_rise),
+            ("at_risk.lean_slope", self.at_risk.lean_slope),
         ];
         for (name, v) in positive {
             if !(v.is_finite() && v > 0.0 && v <= 100.0) {
@@ -247,6 +252,7 @@ impl Default for ClearParams {
             chain_push_factors: vec![1.0, 1.6, 2.2],
             nudge_depth: 0.02,
             carried: CarriedCheck::default(),
+            at_risk: AtRisk::default(),
             max_pushes_per_object: 3,
             push_jam_share: 0.35,
             max_grasp_attempts: 2,

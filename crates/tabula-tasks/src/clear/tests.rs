@@ -356,6 +356,8 @@ fn params_load_from_toml_with_the_seed_defaults_elsewhere() {
     assert_eq!(p.pregrasp, 0.10);
     assert_eq!(p.lift, 0.20);
     assert!(toml::from_str::<ClearParams>("nope = 1").is_err());
+    let q: ClearParams = toml::from_str("[at_risk]\nheld_up = 0.02\n").unwrap();
+    assert_eq!((q.at_risk.held_up, q.at_risk.lean_slope), (0.02, 0.18));
     assert!(p.validate().is_ok());
     for bad in [
         "push_resolution = 0.0",
@@ -363,6 +365,7 @@ fn params_load_from_toml_with_the_seed_defaults_elsewhere() {
         "clearance = nan",
         "decimate = 0",
         "chain_push_factors = [-1.0]",
+        "[at_risk]\nlean_slope = -0.1",
     ] {
         let q: ClearParams = toml::from_str(bad).unwrap();
         assert_eq!(q.validate().unwrap_err().kind(), "params", "{bad}");
@@ -388,7 +391,7 @@ fn seen_lying_can(id: usize, (x0, x1): (f64, f64), (z0, z1): (f64, f64)) -> Seen
 
 #[test]
 fn objects_held_up_or_leaning_are_at_risk_and_flat_ones_are_not() {
-    use super::first::at_risk;
+    let at_risk = |o: &SeenObject, z| super::AtRisk::default().of(o, z);
     let flat_box = seen_box(0, Vec2::new(0.6, 0.0), Vec2::new(0.05, 0.1), 0.05, 0.72);
     let on_top = seen_box(1, Vec2::new(0.6, 0.0), Vec2::new(0.04, 0.04), 0.04, 0.77);
     let lying = seen_lying_can(2, (0.5, 0.6), (0.74, 0.74));
@@ -414,12 +417,13 @@ fn the_plan_takes_what_is_held_up_first_where_it_can_go_now() {
         args: vec![format!("o{i}")],
     };
     let index_of = |s: &PlanStep| s.args[0][1..].parse::<usize>().ok();
+    let risk = super::AtRisk::default();
     // The planner's order took the lone box first: the box held up goes before it.
     let plan = [step("grasp", 2), step("grasp", 1), step("grasp", 0)];
-    assert_eq!(first_step(&plan, &objects, &g, 0.72, index_of), 1);
+    assert_eq!(first_step(&plan, &objects, &g, 0.72, &risk, index_of), 1);
     // Nothing at risk that can go now: the plan's own order.
     let plan = [step("grasp", 2), step("grasp", 0)];
-    assert_eq!(first_step(&plan, &objects, &g, 0.72, index_of), 0);
+    assert_eq!(first_step(&plan, &objects, &g, 0.72, &risk, index_of), 0);
     let plan = [step("push_dir1", 2), step("grasp", 2)];
-    assert_eq!(first_step(&plan, &objects, &g, 0.72, index_of), 0);
+    assert_eq!(first_step(&plan, &objects, &g, 0.72, &risk, index_of), 0);
 }
