@@ -190,7 +190,7 @@ impl Decider<'_> {
         }
         for (i, o) in self.objects.iter().enumerate() {
             tracing::debug!(
-                "o{}: centre ({:.3}, {:.3}) rect {:.3} × {:.3}, bottom {:.3} top {:.3}, grasp {}",
+                "o{}: centre ({:.3}, {:.3}) rect {:.3} × {:.3}, bottom {:.3} top {:.3}, risk {:.3}, grasp {}",
                 o.id,
                 o.rect.center.x,
                 o.rect.center.y,
@@ -198,6 +198,7 @@ impl Decider<'_> {
                 o.rect.size.y,
                 o.bottom,
                 o.top,
+                self.params.at_risk.of(o, self.table_z),
                 match &g.grasps[i] {
                     Some(c) => {
                         let t = c.world_from_tool().translation;
