@@ -124,8 +124,8 @@ impl Decider<'_> {
                 return Decision::NothingRemovable;
             }
             let mut steps = plan.steps;
-            let risk = &self.params.at_risk;
-            let k = first_step(&steps, self.objects, g, self.table_z, risk, |s| {
+            let risk_of = |i: usize| self.params.at_risk.of(&self.objects[i], self.table_z);
+            let k = first_step(&steps, g, risk_of, |s| {
                 action_of(s, self.objects)
                     .map(|(i, _)| i)
                     .filter(|&i| !no_grasp[i])

@@ -83,13 +83,12 @@ fn end_rise(o: &SeenObject) -> f64 {
 }
 
 /// The index into `steps` of the step to take first: the grasp that can go now of the
-/// object most at risk, else the plan's own first step.
+/// object most at risk (`risk_of` an object's index, as [`AtRisk::of`]), else the
+/// plan's own first step.
 pub(super) fn first_step(
     steps: &[PlanStep],
-    objects: &[SeenObject],
     g: &Geometry,
-    table_z: f64,
-    risk: &AtRisk,
+    risk_of: impl Fn(usize) -> f64,
     index_of: impl Fn(&PlanStep) -> Option<usize>,
 ) -> usize {
     let free = |i: usize| {
@@ -104,7 +103,7 @@ pub(super) fn first_step(
         let Some(i) = index_of(step).filter(|&i| free(i)) else {
             continue;
         };
-        let r = risk.of(&objects[i], table_z);
+        let r = risk_of(i);
         if r > best.1 {
             best = (k, r);
         }

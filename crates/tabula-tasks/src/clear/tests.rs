@@ -417,13 +417,13 @@ fn the_plan_takes_what_is_held_up_first_where_it_can_go_now() {
         args: vec![format!("o{i}")],
     };
     let index_of = |s: &PlanStep| s.args[0][1..].parse::<usize>().ok();
-    let risk = super::AtRisk::default();
+    let risk_of = |i: usize| super::AtRisk::default().of(&objects[i], 0.72);
     // The planner's order took the lone box first: the box held up goes before it.
     let plan = [step("grasp", 2), step("grasp", 1), step("grasp", 0)];
-    assert_eq!(first_step(&plan, &objects, &g, 0.72, &risk, index_of), 1);
+    assert_eq!(first_step(&plan, &g, risk_of, index_of), 1);
     // Nothing at risk that can go now: the plan's own order.
     let plan = [step("grasp", 2), step("grasp", 0)];
-    assert_eq!(first_step(&plan, &objects, &g, 0.72, &risk, index_of), 0);
+    assert_eq!(first_step(&plan, &g, risk_of, index_of), 0);
     let plan = [step("push_dir1", 2), step("grasp", 2)];
-    assert_eq!(first_step(&plan, &objects, &g, 0.72, &risk, index_of), 0);
+    assert_eq!(first_step(&plan, &g, risk_of, index_of), 0);
 }
