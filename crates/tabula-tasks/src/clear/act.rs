@@ -153,9 +153,19 @@ impl<D: RobotDriver> Run<'_, D> {
                 self.report.pushes += 1;
                 let p = &step.geometry.pushes[i][k];
                 let track = &mut self.tracks[t];
-                track.pushes.push(p.direction);
-                track.expected = o.rect.center + p.direction * p.length;
-                track.pending = Some((p.direction, p.length, o.rect.center));
+                if p.split {
+                    // Beyond the pushes it may have: one end moves, the middle half as
+                    // far, and the end left behind was not jammed.
+                    track.splits += 1;
+                    // What its grasps failed on was the segment; what the next frame
+                    // sees there is tried afresh.
+                    track.grasp_attempts = 0;
+                    track.expected = o.rect.center + p.direction * (p.length / 2.0);
+                } else {
+                    track.pushes.push(p.direction);
+                    track.expected = o.rect.center + p.direction * p.length;
+                    track.pending = Some((p.direction, p.length, o.rect.center));
+                }
                 track.pushed_together |= !p.chain.is_empty();
                 shoved_along(&mut self.tracks, step.objects, i, p);
                 exec.push(step.objects, i, p, act.ik)

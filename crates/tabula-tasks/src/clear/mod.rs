@@ -25,6 +25,7 @@ mod problem;
 mod push;
 mod report;
 mod run;
+mod split;
 #[cfg(test)]
 mod tests;
 mod track;

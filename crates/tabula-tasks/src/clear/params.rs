@@ -101,6 +101,13 @@ pub struct ClearParams {
     pub at_risk: AtRisk,
     /// Pushes allowed per tracked object.
     pub max_pushes_per_object: usize,
+    /// Split pushes (one end of an object no grasp takes pushed sideways: it may be two
+    /// objects seen as one) allowed per tracked object, beyond `max_pushes_per_object`.
+    /// Not in the seed; 0 gives such objects up at once.
+    pub max_split_pushes: usize,
+    /// A split push moves the end past its own width and this much more (m), so two
+    /// objects it parts are seen apart.
+    pub split_gap: f64,
     /// A push that moved its object less than this share of its length was jammed: it
     /// is not tried that way again. Not in the seed.
     pub push_jam_share: f64,
@@ -157,6 +164,7 @@ impl ClearParams {
             ("sweep_tolerance", self.sweep_tolerance),
             ("push_jam_share", self.push_jam_share),
             ("nudge_depth", self.nudge_depth),
+            ("split_gap", self.split_gap),
             ("carried.margin", self.carried.margin),
             ("carried.reach", self.carried.reach),
             ("at_risk.held_up", self.at_risk.held_up),
@@ -254,6 +262,8 @@ impl Default for ClearParams {
             carried: CarriedCheck::default(),
             at_risk: AtRisk::default(),
             max_pushes_per_object: 3,
+            max_split_pushes: 2,
+            split_gap: 0.03,
             push_jam_share: 0.35,
             max_grasp_attempts: 2,
             max_no_plan_frames: 3,

@@ -18,6 +18,9 @@ pub(super) struct Push {
     pub(super) chain: Vec<usize>,
     /// For chain pushes: how many objects it makes graspable.
     pub(super) gain: usize,
+    /// A push of one end of the object only ([`super::split`]): what may be two
+    /// objects seen as one is parted.
+    pub(super) split: bool,
     /// Tool pose where the push starts, and the fingertip height.
     pub(super) start: Pose,
     pub(super) feasible: bool,
@@ -40,7 +43,13 @@ impl TableView<'_> {
     /// the object, their base at the object's top (or higher, for the palm to pass
     /// above the objects along the path, up to `palm_over`), their tips no lower than
     /// the clearance.
-    fn push_start(&self, o: &SeenObject, d: Vec2, along_major: bool, palm_over: f64) -> Pose {
+    pub(super) fn push_start(
+        &self,
+        o: &SeenObject,
+        d: Vec2,
+        along_major: bool,
+        palm_over: f64,
+    ) -> Pose {
         let (hand, params, up) = (self.hand, self.params, self.table.up);
         let d3 = Vec3::new(d.x, d.y, 0.0);
         let across = Vec3::new(-d.y, d.x, 0.0);
@@ -77,7 +86,7 @@ impl TableView<'_> {
 
     /// The top of the highest object along the path of a push of `b` along `d`, which
     /// the palm passes above where the fingers can still reach `b` below it.
-    fn highest_ahead(&self, b: usize, d: Vec2) -> f64 {
+    pub(super) fn highest_ahead(&self, b: usize, d: Vec2) -> f64 {
         let o = &self.objects[b];
         let ahead = o.rect.extent_along(d) + self.params.push_max_length.min(0.15);
         self.objects
@@ -94,7 +103,7 @@ impl TableView<'_> {
     /// Whether `x` pushed `length` along `d` keeps its footprint's centre half its size
     /// and 2 cm from the table's edge, and `push_edge_clearance` more from the edge
     /// ahead (where it rolls or slides on).
-    fn stays_on_table(&self, x: &SeenObject, d: Vec2, length: f64) -> bool {
+    pub(super) fn stays_on_table(&self, x: &SeenObject, d: Vec2, length: f64) -> bool {
         let outline = &self.table.outline;
         let end = x.rect.center + d * length;
         let half = x.rect.extent_along(d) / 2.0;
@@ -141,13 +150,14 @@ impl TableView<'_> {
             length,
             chain: Vec::new(),
             gain: 0,
+            split: false,
             start,
             feasible: self.stays_on_table(o, d, length),
         }
     }
 
     /// The closed hand coming down to push `p` and along it for `travel`.
-    fn hand_path(&self, p: &Push, travel: f64) -> Vec<Pose> {
+    pub(super) fn hand_path(&self, p: &Push, travel: f64) -> Vec<Pose> {
         let steps = (travel / self.params.push_resolution).ceil().max(1.0) as usize;
         let mut path = descent_poses(&p.start, self.table.up, self.params.pre_push_height);
         path.extend((1..=steps).map(|s| {
@@ -160,7 +170,7 @@ impl TableView<'_> {
     }
 
     /// The objects other than `b` the closed hand meets along `path`.
-    fn gripper_hits(&self, b: usize, path: &[Pose]) -> Vec<usize> {
+    pub(super) fn gripper_hits(&self, b: usize, path: &[Pose]) -> Vec<usize> {
         let pad = self.params.clearance;
         (0..self.objects.len())
             .filter(|&a| a != b)
@@ -172,7 +182,7 @@ impl TableView<'_> {
     }
 
     /// The offsets of an object along a push `length` along `d3`, a sweep step apart.
-    fn sweep_of(&self, d3: Vec3, length: f64) -> Vec<Vec3> {
+    pub(super) fn sweep_of(&self, d3: Vec3, length: f64) -> Vec<Vec3> {
         let steps = (length / self.params.push_resolution).ceil().max(1.0) as usize;
         (1..=steps)
             .map(|s| d3 * (length * s as f64 / steps as f64))
@@ -180,7 +190,7 @@ impl TableView<'_> {
     }
 
     /// Whether `x` swept along `sweep` runs into object `a`.
-    fn collides(&self, x: &SeenObject, sweep: &[Vec3], a: usize) -> bool {
+    pub(super) fn collides(&self, x: &SeenObject, sweep: &[Vec3], a: usize) -> bool {
         let tolerance = self.params.sweep_tolerance;
         sweep
             .iter()

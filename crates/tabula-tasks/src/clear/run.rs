@@ -313,8 +313,23 @@ impl<'a, D: RobotDriver> Run<'a, D> {
             let chain = view.predicates(true);
             decider.frame.predicates_ms += (thread_cpu() - c) * 1e3;
             chosen = decider.decide_chain(&chain);
-            // A nudge grasp is one of the seed's grasps: it keeps the seed's geometry.
-            if matches!(chosen, Decision::NothingRemovable) && self.params.nudge_depth > 0.0 {
+            // A chain push that frees no grasp is a guess; parting what may be two
+            // objects seen as one is a better one. A split push replaces one of the
+            // seed's pushes in the seed's geometry.
+            let fruitless = match chosen {
+                Decision::Act(i, ActionKind::Push(k), ..) => chain.pushes[i][k].gain == 0,
+                _ => true,
+            };
+            let split = if fruitless {
+                decider.decide_split(&view, &mut geometry)
+            } else {
+                Decision::NothingRemovable
+            };
+            if !matches!(split, Decision::NothingRemovable) {
+                chosen = split;
+            } else if matches!(chosen, Decision::NothingRemovable) && self.params.nudge_depth > 0.0
+            {
+                // A nudge grasp is one of the seed's grasps: it keeps the seed's geometry.
                 chosen = decider.decide_nudge(&geometry, &self.hand, table);
             } else {
                 geometry = chain;

@@ -427,3 +427,74 @@ fn the_plan_takes_what_is_held_up_first_where_it_can_go_now() {
     let plan = [step("push_dir1", 2), step("grasp", 2)];
     assert_eq!(first_step(&plan, &g, risk_of, index_of), 0);
 }
+
+#[test]
+fn a_strip_longer_than_the_hand_is_split_at_either_end_where_the_way_is_free() {
+    let (h, params) = (hand(), ClearParams::default());
+    // Two tiles on edge end to end seen as one 9.5 × 1.7 cm strip (blocks seed 154),
+    // and a box beside one end of it on the +y side.
+    let strip = seen_box(0, Vec2::new(0.6, 0.0), Vec2::new(0.095, 0.017), 0.048, 0.72);
+    let beside = seen_box(1, Vec2::new(0.625, 0.05), Vec2::new(0.04, 0.04), 0.05, 0.72);
+    let table = table();
+    let objects = vec![strip, beside];
+    let view = TableView {
+        objects: &objects,
+        table: &table,
+        hand: &h,
+        params: &params,
+    };
+    let splits = view.split_pushes(0);
+    // The -x end either way across the strip; at the +x end the box is in the way of
+    // one push and stands where the fingers would start the other.
+    let starts: Vec<Vec3> = splits.iter().map(|s| s.1.start.translation).collect();
+    assert_eq!(splits.len(), 2, "{starts:?}");
+    assert!(starts.iter().all(|s| s.x < 0.6), "{starts:?}");
+    for (_, p) in &splits {
+        assert!(
+            p.split && p.direction.x.abs() < 1e-6,
+            "across the strip: {:?}",
+            p.direction
+        );
+        // The fingers start at one end, not the middle, beside the strip.
+        let start = p.start.translation;
+        assert!((start.x - 0.6).abs() > 0.015, "at an end: {start:?}");
+        assert!(start.y * p.direction.y < 0.0, "behind the strip: {start:?}");
+        // Past the end's own width (its points span 1.5 cm) and the gap.
+        assert!(p.length >= 0.015 + params.split_gap - 1e-6, "{}", p.length);
+    }
+    // Nothing the open hand spans is split: a 6 cm box.
+    let short = vec![seen_box(
+        0,
+        Vec2::new(0.6, 0.0),
+        Vec2::new(0.06, 0.03),
+        0.05,
+        0.72,
+    )];
+    let view = TableView {
+        objects: &short,
+        ..view
+    };
+    assert!(view.split_pushes(0).is_empty());
+}
+
+#[test]
+fn a_segment_too_wide_both_ways_is_not_split() {
+    let (h, params) = (hand(), ClearParams::default());
+    // A bar beside an arch seen as one 13 × 10 cm blob (blocks seed 127): an end push
+    // would move both.
+    let blob = vec![seen_box(
+        0,
+        Vec2::new(0.6, 0.0),
+        Vec2::new(0.13, 0.1),
+        0.036,
+        0.72,
+    )];
+    let table = table();
+    let view = TableView {
+        objects: &blob,
+        table: &table,
+        hand: &h,
+        params: &params,
+    };
+    assert!(view.split_pushes(0).is_empty());
+}

@@ -14,6 +14,8 @@ pub(super) struct Track {
     pub(super) expected: Vec2,
     pub(super) seen: Vec2,
     pub(super) pushes: Vec<Vec2>,
+    /// Split pushes of it so far ([`super::split`]).
+    pub(super) splits: usize,
     /// Directions of pushes that could not be executed, or were jammed.
     pub(super) failed_pushes: Vec<Vec2>,
     /// The last push, until the next frame sees how far it went: direction, length and
@@ -100,6 +102,7 @@ pub(super) fn track(
                 expected: o.rect.center,
                 seen: o.rect.center,
                 pushes: Vec::new(),
+                splits: 0,
                 failed_pushes: Vec::new(),
                 pending: None,
                 grasp_attempts: 0,
