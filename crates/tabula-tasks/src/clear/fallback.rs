@@ -34,6 +34,15 @@ pub(super) fn penetration(
 }
 
 impl Decider<'_> {
+    /// Where the arm stands on the table (world xy of its chain's base).
+    pub(super) fn arm_xy(&self) -> Vec2 {
+        self.group
+            .world
+            .world_from_chain_base()
+            .map(|b| Vec2::new(b.translation.x, b.translation.y))
+            .unwrap_or(Vec2::ZERO)
+    }
+
     /// The chain-push fallback (packed objects, where the seed's actions are stuck): the
     /// domain cannot tell what a push that shoves others along achieves, so the pushes
     /// are ranked by a one-step look-ahead in geometry — how many objects each makes
@@ -55,12 +64,7 @@ impl Decider<'_> {
         // Of pushes equally worth it, the one that leaves the pushed object nearest the
         // arm: a push whose good is unknown (a cluster seen as one object) must not walk
         // it out of the arm's reach at the table's far edge.
-        let arm_xy = self
-            .group
-            .world
-            .world_from_chain_base()
-            .map(|b| Vec2::new(b.translation.x, b.translation.y))
-            .unwrap_or(Vec2::ZERO);
+        let arm_xy = self.arm_xy();
         let from_arm = |i: usize, k: usize| {
             let p = &g.pushes[i][k];
             (self.objects[i].rect.center + p.direction * p.length).distance(arm_xy)

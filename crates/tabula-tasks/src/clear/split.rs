@@ -13,7 +13,7 @@ use super::predicates::{Geometry, TableView};
 use super::push::Push;
 use super::{ActionKind, DIRECTIONS, SeenObject};
 use crate::scene::tabletop::seen_standing;
-use tabula_geom::{Vec2, Vec3};
+use tabula_geom::Vec3;
 
 /// Fewer seen points than this at one end say too little of where that end's face is.
 const MIN_END_POINTS: usize = 20;
@@ -101,12 +101,7 @@ impl Decider<'_> {
     /// first, the first with IK. The chosen push takes its direction's place in `g`.
     pub(super) fn decide_split(&mut self, view: &TableView<'_>, g: &mut Geometry) -> Decision {
         let params = self.params;
-        let arm_xy = self
-            .group
-            .world
-            .world_from_chain_base()
-            .map(|b| Vec2::new(b.translation.x, b.translation.y))
-            .unwrap_or(Vec2::ZERO);
+        let arm_xy = self.arm_xy();
         let mut candidates: Vec<(f64, usize, usize, Push)> = Vec::new();
         for (i, o) in self.objects.iter().enumerate() {
             let track = self.tracks.iter().find(|t| t.id == o.id);
