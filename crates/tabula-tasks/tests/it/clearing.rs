@@ -182,3 +182,20 @@ fn a_block_grid_a_box_grid_and_objects_at_the_grip_limits_are_cleared() {
         );
     }
 }
+
+/// A tile on edge against a standing triangular prism, tops 2.8 mm apart, seen as one
+/// 9 × 4 cm segment whose grasp across the middle closes on the seam (blocks seed 183):
+/// one end pushed sideways parts them, and both go to the bin.
+#[test]
+fn two_blocks_seen_as_one_are_parted_by_a_split_push() {
+    let (report, verdict) = run(&clearing_scene(ClearSuite::Blocks, 183), 183);
+    let report = report.unwrap();
+    let splits = report
+        .frames
+        .iter()
+        .filter(|f| f.plan.first().is_some_and(|p| p.contains("[split")))
+        .count();
+    assert!(splits >= 1, "{:?}", report.log);
+    assert_eq!((verdict.in_bin, verdict.objects), (4, 4), "{verdict:?}");
+    assert_eq!(verdict.off_table, 0);
+}
