@@ -71,5 +71,10 @@ fn why_left(i: usize, g: &Geometry, track: Option<&Track>, params: &ClearParams)
     } else {
         "and every push would take it off the table or is blocked"
     };
-    format!("{grasp}, {push}")
+    let split = if track.is_some_and(|t| t.splits > 0) {
+        "; one end was pushed aside and it stayed one object"
+    } else {
+        ""
+    };
+    format!("{grasp}, {push}{split}")
 }
