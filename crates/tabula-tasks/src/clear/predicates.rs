@@ -116,7 +116,13 @@ impl<'a> TableView<'a> {
         let mut block_push: [Vec<(usize, usize)>; 4] = Default::default();
         let mut pushes = Vec::with_capacity(self.objects.len());
         for b in 0..self.objects.len() {
-            let mut dirs: [Push; 4] = std::array::from_fn(|k| self.seed_push(&on, b, k));
+            // The grasps `b` is in the way of: a push of it must clear them too.
+            let frees: Vec<&GraspCandidate> = block_grasp
+                .iter()
+                .filter(|&&(a, _)| a == b)
+                .filter_map(|&(_, x)| grasps[x].as_ref())
+                .collect();
+            let mut dirs: [Push; 4] = std::array::from_fn(|k| self.seed_push(&on, (b, k), &frees));
             for (k, p) in dirs.iter_mut().enumerate() {
                 let blockers = if with_chain {
                     let (chained, blockers) = self.chain_push(&on, b, p, &mut graspable_now);

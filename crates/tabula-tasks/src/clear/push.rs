@@ -4,6 +4,7 @@
 
 use super::predicates::{TableView, descent_poses};
 use super::{ClearParams, DIRECTIONS, SeenObject, hits, hulls_collide, translated};
+use crate::skills::GraspCandidate;
 use crate::skills::hand::extent_along;
 use tabula_geom::parry::bounding_volume::{Aabb, BoundingVolume};
 use tabula_geom::polygon::{distance_to_boundary, exit_distance, inside_convex};
@@ -113,15 +114,24 @@ impl TableView<'_> {
     }
 
     /// The seed's push of object `b` in direction `k`: until its grasp is free (SPEC
-    /// §3.7), else k × its box (the seed), no longer than `push_max_length`.
-    pub(super) fn seed_push(&self, on: &[(usize, usize)], b: usize, k: usize) -> Push {
+    /// §3.7) and it is out of the way of `frees` — the grasps of the objects it blocks
+    /// now, whose `block_grasp` facts the domain's push deletes (a push only as long as
+    /// its own grasp needed left a tile's grasp blocked by the pushed block: blocks seed
+    /// 166) — else as long as its own grasp needs, else k × its box (the seed), no
+    /// longer than `push_max_length`.
+    pub(super) fn seed_push(
+        &self,
+        on: &[(usize, usize)],
+        (b, k): (usize, usize),
+        frees: &[&GraspCandidate],
+    ) -> Push {
         let (o, params) = (&self.objects[b], self.params);
         let d = o.direction(k);
         let d3 = Vec3::new(d.x, d.y, 0.0);
         let start = self.push_start(o, d, k < 2, self.highest_ahead(b, d));
         let others = |a: usize| a != b && !on.contains(&(a, b)) && !on.contains(&(b, a));
         let steps = (params.push_max_length / params.push_resolution).floor() as usize;
-        let mut length = None;
+        let (mut length, mut own_free) = (None, None);
         for s in 1..=steps {
             let by = d3 * (s as f64 * params.push_resolution);
             if (0..self.objects.len())
@@ -130,19 +140,24 @@ impl TableView<'_> {
             {
                 break;
             }
-            // Only its grasp is asked about: the hull need not move.
-            let moved = translated(o, by, false);
-            let skip = |a: usize| !others(a);
-            let free = self
-                .grasps_of(&moved)
-                .iter()
-                .any(|g| self.grasp_blockers(g, &skip).is_empty());
-            if free {
-                length = Some(s as f64 * params.push_resolution + params.push_margin);
+            let here = s as f64 * params.push_resolution + params.push_margin;
+            if own_free.is_none() {
+                // Only its grasp is asked about: the hull need not move.
+                let moved = translated(o, by, false);
+                let skip = |a: usize| !others(a);
+                let free = self
+                    .grasps_of(&moved)
+                    .iter()
+                    .any(|g| self.grasp_blockers(g, &skip).is_empty());
+                own_free = free.then_some(here);
+            }
+            if own_free.is_some() && self.out_of_the_way(o, by, frees) {
+                length = Some(here);
                 break;
             }
         }
         let length = length
+            .or(own_free)
             .unwrap_or(params.push_factor * o.rect.extent_along(d))
             .min(params.push_max_length);
         Push {
@@ -154,6 +169,21 @@ impl TableView<'_> {
             start,
             feasible: self.stays_on_table(o, d, length),
         }
+    }
+
+    /// Whether `o` moved by `by` is out of the way of every grasp of `grasps`: the open
+    /// hand coming down to each (moved back by `by` instead) meets its hull nowhere.
+    fn out_of_the_way(&self, o: &SeenObject, by: Vec3, grasps: &[&GraspCandidate]) -> bool {
+        let (up, params) = (self.table.up, self.params);
+        grasps.iter().all(|g| {
+            let shapes = self.hand.open_for(g.width).1;
+            descent_poses(&g.poses[0], up, params.pregrasp)
+                .iter()
+                .all(|p| {
+                    let back = Pose::from_parts(p.translation - by, p.rotation);
+                    !hits(shapes, &back, o, params.clearance)
+                })
+        })
     }
 
     /// The closed hand coming down to push `p` and along it for `travel`.

@@ -181,6 +181,36 @@ fn touching_boxes_block_the_grasp_across_them_and_the_push_into_each_other() {
 }
 
 #[test]
+fn a_push_of_a_blocker_goes_until_the_grasp_it_blocked_is_free() {
+    // `a` is held only across x (7.5 cm along y); `b`, as tall, stands 2 mm beside it
+    // on +x, in the way of the finger on that side. The domain's push of `b` deletes
+    // `block_grasp b a`: a push along y must move `b` past that finger, not only as far
+    // as `b`'s own grasp needs (its first step).
+    let (h, params) = (hand(), ClearParams::default());
+    let a = seen_box(0, Vec2::new(0.6, 0.0), Vec2::new(0.04, 0.075), 0.08, 0.72);
+    let b = seen_box(1, Vec2::new(0.647, 0.0), Vec2::new(0.05, 0.05), 0.08, 0.72);
+    let objects = vec![a, b];
+    let g = predicates(&objects, &h, &params, false);
+    assert!(g.block_grasp.contains(&(1, 0)), "{:?}", g.block_grasp);
+    let along = (0..4).find(|&k| g.pushes[1][k].direction.y > 0.9).unwrap();
+    let p = &g.pushes[1][along];
+    let by = p.direction3() * (p.length - params.push_margin);
+    let moved = vec![objects[0].clone(), translated(&objects[1], by, true)];
+    let after = predicates(&moved, &h, &params, false);
+    assert!(
+        !after.block_grasp.contains(&(1, 0)),
+        "{} m: {:?}",
+        p.length,
+        after.block_grasp
+    );
+    // As far as that takes and no farther: one step less still blocks it.
+    let short = p.direction3() * (p.length - params.push_margin - params.push_resolution);
+    let moved = vec![objects[0].clone(), translated(&objects[1], short, true)];
+    let before = predicates(&moved, &h, &params, false);
+    assert!(before.block_grasp.contains(&(1, 0)), "{} m", p.length);
+}
+
+#[test]
 fn a_blob_too_wide_is_grasped_by_its_narrow_part() {
     // Two boxes segmentation could not tell apart: 4 × 7.5 cm beside 5 × 5 cm.
     let a = seen_box(0, Vec2::new(0.60, 0.0), Vec2::new(0.04, 0.075), 0.09, 0.72);
