@@ -101,13 +101,14 @@ pub struct ClearParams {
     pub at_risk: AtRisk,
     /// Pushes allowed per tracked object.
     pub max_pushes_per_object: usize,
-    /// Split pushes (one end of an object no grasp takes pushed sideways: it may be two
-    /// objects seen as one) allowed per tracked object, beyond `max_pushes_per_object`.
+    /// Split pushes (one half of an object no grasp takes pushed away from the other:
+    /// it may be two objects seen as one) allowed per tracked object, beyond
+    /// `max_pushes_per_object`.
     /// One: where the first parts nothing the segment is one object, and a second only
     /// turns it again (limits seed 118: 11 actions with two, 8 with one). Not in the
     /// seed; 0 gives such objects up at once.
     pub max_split_pushes: usize,
-    /// A split push moves the end past its own width and this much more (m), so two
+    /// A split push moves the half past its own size and this much more (m), so two
     /// objects it parts are seen apart.
     pub split_gap: f64,
     /// A push that moved its object less than this share of its length was jammed: it

@@ -1,42 +1,49 @@
 //! Split pushes: the try left for an object no grasp takes — seen longer than the hand
 //! opens, with no grasp across it that fits or that held when tried. Such a segment is
-//! often two objects touching end to end with a seam the overhead camera cannot resolve
-//! (two tiles on edge end to end, a tile against a standing prism, tops a few
-//! millimetres apart: blocks seeds 154, 183, 199). Pushing one end sideways with the
-//! closed fingers parts them, or turns a single object, and the next frame sees which
-//! it was: interactive perception's singulation push. Each end, each way, is checked
-//! as the seed's pushes are: the end's own points swept against the other objects, the
-//! hand's path, the table's edge.
+//! often two objects touching with a seam the overhead camera cannot resolve (two tiles
+//! on edge end to end, a tile against a standing prism, a bar beside an arch, tops a
+//! few millimetres apart: blocks seeds 154, 183, 127). Pushing one half of it with the
+//! closed fingers — an end sideways, or a side along the seam — parts them, or turns a
+//! single object, and the next frame sees which it was: interactive perception's
+//! singulation push. Each half, each way, is checked as the seed's pushes are: the
+//! half's own points swept against the other objects, the hand's path, the table's edge.
 
 use super::decide::{Decider, Decision};
 use super::predicates::{Geometry, TableView};
 use super::push::Push;
 use super::{ActionKind, DIRECTIONS, SeenObject};
 use crate::scene::tabletop::seen_standing;
-use tabula_geom::Vec3;
+use tabula_geom::{Vec2, Vec3};
 
-/// Fewer seen points than this at one end say too little of where that end's face is.
+/// Fewer seen points than this in one half say too little of where its faces are.
 const MIN_END_POINTS: usize = 20;
 
 impl TableView<'_> {
-    /// Whether `o` is shaped like objects end to end: longer than the open hand, no
-    /// wider across than it. A segment too wide both ways is objects side by side as
-    /// well (a bar beside an arch, blocks seed 127), and pushing one end of it moves
-    /// both.
-    fn too_long(&self, o: &SeenObject) -> bool {
+    /// How `o` would be parted, when it is too long for the open hand: the axis its
+    /// halves lie along and the push directions (indices) that move one half. A
+    /// segment longer than the hand but no wider is objects end to end: one end goes
+    /// sideways. One wider than the hand both ways, when each object fits the hand, is
+    /// objects side by side across its short axis (a bar beside an arch, blocks seed
+    /// 127), which an end push would move together: one side slides along the seam.
+    fn split_axis(&self, o: &SeenObject) -> Option<(Vec2, [usize; 2])> {
         let (major, minor) = o.rect.principal_axes();
-        o.rect.extent_along(major) > self.hand.open_width
-            && o.rect.extent_along(minor) <= self.hand.open_width
+        let open = self.hand.open_width;
+        if o.rect.extent_along(major) <= open {
+            None
+        } else if o.rect.extent_along(minor) <= open {
+            Some((major, [2, 3]))
+        } else {
+            Some((minor, [0, 1]))
+        }
     }
 
-    /// The end of `o` on `side` (±1) of its middle along its long axis, as an object
-    /// of its own: its seen points standing where `o` stands.
-    fn end_of(o: &SeenObject, side: f64) -> Option<SeenObject> {
-        let (major, _) = o.rect.principal_axes();
+    /// The half of `o` on `side` (±1) of its middle along `axis`, as an object of its
+    /// own: its seen points standing where `o` stands.
+    fn half_of(o: &SeenObject, axis: Vec2, side: f64) -> Option<SeenObject> {
         let points: Vec<Vec3> = o
             .points
             .iter()
-            .filter(|q| (q.truncate() - o.rect.center).dot(major) * side > 0.0)
+            .filter(|q| (q.truncate() - o.rect.center).dot(axis) * side > 0.0)
             .copied()
             .collect();
         if points.len() < MIN_END_POINTS {
@@ -45,22 +52,22 @@ impl TableView<'_> {
         seen_standing(points, o.bottom)
     }
 
-    /// The feasible split pushes of object `b` as (direction index, push): either end
-    /// pushed either way across the long axis by its own width and `split_gap`.
+    /// The feasible split pushes of object `b` as (direction index, push): either half
+    /// (see [`Self::split_axis`]) pushed either way past its own size and `split_gap`.
     pub(super) fn split_pushes(&self, b: usize) -> Vec<(usize, Push)> {
         let (o, params) = (&self.objects[b], self.params);
-        if !self.too_long(o) {
+        let Some((axis, dirs)) = self.split_axis(o) else {
             return Vec::new();
-        }
+        };
         let mut out = Vec::new();
         for side in [1.0, -1.0] {
-            let Some(end) = Self::end_of(o, side) else {
+            let Some(half) = Self::half_of(o, axis, side) else {
                 continue;
             };
-            for k in [2, 3] {
+            for k in dirs {
                 let d = o.direction(k);
                 let length =
-                    (end.rect.extent_along(d) + params.split_gap).min(params.push_max_length);
+                    (half.rect.extent_along(d) + params.split_gap).min(params.push_max_length);
                 let p = Push {
                     direction: d,
                     length,
@@ -68,11 +75,11 @@ impl TableView<'_> {
                     gain: 0,
                     split: true,
                     // The closed fingers one behind the other: a narrow pusher that
-                    // meets this end only.
-                    start: self.push_start(&end, d, true, self.highest_ahead(b, d)),
+                    // meets this half only.
+                    start: self.push_start(&half, d, true, self.highest_ahead(b, d)),
                     feasible: true,
                 };
-                if self.split_is_free(b, &end, &p) {
+                if self.split_is_free(b, &half, &p) {
                     out.push((k, p));
                 }
             }
@@ -80,14 +87,14 @@ impl TableView<'_> {
         out
     }
 
-    /// Whether the end `end` of object `b` pushed along `p` stays on the table and
+    /// Whether the half `half` of object `b` pushed along `p` stays on the table and
     /// runs into nothing, and the hand meets nothing on its way.
-    fn split_is_free(&self, b: usize, end: &SeenObject, p: &Push) -> bool {
+    fn split_is_free(&self, b: usize, half: &SeenObject, p: &Push) -> bool {
         let sweep = self.sweep_of(p.direction3(), p.length);
-        self.stays_on_table(end, p.direction, p.length)
+        self.stays_on_table(half, p.direction, p.length)
             && (0..self.objects.len())
                 .filter(|&a| a != b)
-                .all(|a| !self.collides(end, &sweep, a))
+                .all(|a| !self.collides(half, &sweep, a))
             && self
                 .gripper_hits(b, &self.hand_path(p, p.travel(self.params)))
                 .is_empty()

@@ -508,14 +508,15 @@ fn a_strip_longer_than_the_hand_is_split_at_either_end_where_the_way_is_free() {
 }
 
 #[test]
-fn a_segment_too_wide_both_ways_is_not_split() {
+fn a_segment_too_wide_both_ways_is_split_along_its_length() {
     let (h, params) = (hand(), ClearParams::default());
-    // A bar beside an arch seen as one 13 × 10 cm blob (blocks seed 127): an end push
-    // would move both.
+    // A bar beside an arch seen as one 10 × 13 cm blob (blocks seed 127): each holds
+    // across its own 5 cm, so they lie side by side across the blob, and an end push
+    // would move both. One side slides along the seam instead, past its own length.
     let blob = vec![seen_box(
         0,
         Vec2::new(0.6, 0.0),
-        Vec2::new(0.13, 0.1),
+        Vec2::new(0.1, 0.13),
         0.036,
         0.72,
     )];
@@ -526,5 +527,16 @@ fn a_segment_too_wide_both_ways_is_not_split() {
         hand: &h,
         params: &params,
     };
-    assert!(view.split_pushes(0).is_empty());
+    let splits = view.split_pushes(0);
+    assert_eq!(splits.len(), 4);
+    for (_, p) in &splits {
+        assert!(
+            p.direction.y.abs() > 0.999,
+            "along the seam: {:?}",
+            p.direction
+        );
+        let off = p.start.translation.x - 0.6;
+        assert!(off.abs() > 0.015, "one side: {:?}", p.start);
+        assert!(p.length >= 0.125 + params.split_gap - 1e-6, "{}", p.length);
+    }
 }
