@@ -154,8 +154,8 @@ impl<D: RobotDriver> Run<'_, D> {
                 let p = &step.geometry.pushes[i][k];
                 let track = &mut self.tracks[t];
                 if p.split {
-                    // Beyond the pushes it may have: one end moves, the middle half as
-                    // far, and the end left behind was not jammed.
+                    // Beyond the pushes it may have: one half moves, the middle half as
+                    // far, and the half left behind was not jammed.
                     track.splits += 1;
                     // What its grasps failed on was the segment; what the next frame
                     // sees there is tried afresh.

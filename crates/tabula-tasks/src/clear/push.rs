@@ -19,7 +19,7 @@ pub(super) struct Push {
     pub(super) chain: Vec<usize>,
     /// For chain pushes: how many objects it makes graspable.
     pub(super) gain: usize,
-    /// A push of one end of the object only ([`super::split`]): what may be two
+    /// A push of one half of the object only ([`super::split`]): what may be two
     /// objects seen as one is parted.
     pub(super) split: bool,
     /// Tool pose where the push starts, and the fingertip height.
