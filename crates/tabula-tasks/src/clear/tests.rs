@@ -75,6 +75,22 @@ fn table() -> Table {
     }
 }
 
+/// What `ask` finds in `objects` on [`table`].
+fn on_table<R>(
+    objects: &[SeenObject],
+    hand: &Hand,
+    params: &ClearParams,
+    ask: impl FnOnce(TableView<'_>) -> R,
+) -> R {
+    let table = table();
+    ask(TableView {
+        objects,
+        table: &table,
+        hand,
+        params,
+    })
+}
+
 /// The predicates of `objects` on [`table`].
 fn predicates(
     objects: &[SeenObject],
@@ -82,14 +98,7 @@ fn predicates(
     params: &ClearParams,
     chain: bool,
 ) -> predicates::Geometry {
-    let table = table();
-    TableView {
-        objects,
-        table: &table,
-        hand,
-        params,
-    }
-    .predicates(chain)
+    on_table(objects, hand, params, |v| v.predicates(chain))
 }
 
 fn grasps_of(
@@ -458,6 +467,15 @@ fn the_plan_takes_what_is_held_up_first_where_it_can_go_now() {
     assert_eq!(first_step(&plan, &g, risk_of, index_of), 0);
 }
 
+/// The split pushes of the first of `objects` on [`table`].
+fn split_pushes(
+    objects: &[SeenObject],
+    hand: &Hand,
+    params: &ClearParams,
+) -> Vec<(usize, push::Push)> {
+    on_table(objects, hand, params, |v| v.split_pushes(0))
+}
+
 #[test]
 fn a_strip_longer_than_the_hand_is_split_at_either_end_where_the_way_is_free() {
     let (h, params) = (hand(), ClearParams::default());
@@ -465,15 +483,7 @@ fn a_strip_longer_than_the_hand_is_split_at_either_end_where_the_way_is_free() {
     // and a box beside one end of it on the +y side.
     let strip = seen_box(0, Vec2::new(0.6, 0.0), Vec2::new(0.095, 0.017), 0.048, 0.72);
     let beside = seen_box(1, Vec2::new(0.625, 0.05), Vec2::new(0.04, 0.04), 0.05, 0.72);
-    let table = table();
-    let objects = vec![strip, beside];
-    let view = TableView {
-        objects: &objects,
-        table: &table,
-        hand: &h,
-        params: &params,
-    };
-    let splits = view.split_pushes(0);
+    let splits = split_pushes(&[strip, beside], &h, &params);
     // The -x end either way across the strip; at the +x end the box is in the way of
     // one push and stands where the fingers would start the other.
     let starts: Vec<Vec3> = splits.iter().map(|s| s.1.start.translation).collect();
@@ -500,11 +510,7 @@ fn a_strip_longer_than_the_hand_is_split_at_either_end_where_the_way_is_free() {
         0.05,
         0.72,
     )];
-    let view = TableView {
-        objects: &short,
-        ..view
-    };
-    assert!(view.split_pushes(0).is_empty());
+    assert!(split_pushes(&short, &h, &params).is_empty());
 }
 
 #[test]
@@ -520,14 +526,7 @@ fn a_segment_too_wide_both_ways_is_split_along_its_length() {
         0.036,
         0.72,
     )];
-    let table = table();
-    let view = TableView {
-        objects: &blob,
-        table: &table,
-        hand: &h,
-        params: &params,
-    };
-    let splits = view.split_pushes(0);
+    let splits = split_pushes(&blob, &h, &params);
     assert_eq!(splits.len(), 4);
     for (_, p) in &splits {
         assert!(
