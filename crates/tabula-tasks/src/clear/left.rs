@@ -72,7 +72,7 @@ fn why_left(i: usize, g: &Geometry, track: Option<&Track>, params: &ClearParams)
         "and every push would take it off the table or is blocked"
     };
     let split = if track.is_some_and(|t| t.splits > 0) {
-        "; one end was pushed aside and it stayed one object"
+        "; one half was pushed aside and it stayed one object"
     } else {
         ""
     };

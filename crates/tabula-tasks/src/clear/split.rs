@@ -16,7 +16,7 @@ use crate::scene::tabletop::seen_standing;
 use tabula_geom::{Vec2, Vec3};
 
 /// Fewer seen points than this in one half say too little of where its faces are.
-const MIN_END_POINTS: usize = 20;
+const MIN_HALF_POINTS: usize = 20;
 
 impl TableView<'_> {
     /// How `o` would be parted, when it is too long for the open hand: the axis its
@@ -46,7 +46,7 @@ impl TableView<'_> {
             .filter(|q| (q.truncate() - o.rect.center).dot(axis) * side > 0.0)
             .copied()
             .collect();
-        if points.len() < MIN_END_POINTS {
+        if points.len() < MIN_HALF_POINTS {
             return None;
         }
         seen_standing(points, o.bottom)
@@ -104,7 +104,7 @@ impl TableView<'_> {
 impl Decider<'_> {
     /// When the seed's actions cannot go on: a split push of an object no grasp takes
     /// (none fits, or it failed every time) that is longer than the open hand, at most
-    /// `max_split_pushes` per tracked object — the end that stays nearest the arm
+    /// `max_split_pushes` per tracked object — the push that ends nearest the arm
     /// first, the first with IK. The chosen push takes its direction's place in `g`.
     pub(super) fn decide_split(&mut self, view: &TableView<'_>, g: &mut Geometry) -> Decision {
         let params = self.params;
@@ -129,7 +129,7 @@ impl Decider<'_> {
         let seed = self.group.arm_values(self.state);
         for (_, i, k, p) in candidates {
             self.frame.plan = vec![format!(
-                "(push_{} o{}) [split: one end]",
+                "(push_{} o{}) [split: one half]",
                 DIRECTIONS[k], self.objects[i].id
             )];
             let seed_push = std::mem::replace(&mut g.pushes[i][k], p);
