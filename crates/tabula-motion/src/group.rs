@@ -6,8 +6,8 @@
 
 use crate::goals::follow_line;
 use crate::rrt::{
-    PlanError, PlannerParams, fitted_world, rrt_connect, segment_certified, shortcut,
-    time_parameterize,
+    PlanError, PlannerParams, Trajectory, TrajectoryTooLong, fitted_world, rrt_connect,
+    segment_certified, shortcut, time_parameterize, time_parameterize_along,
 };
 use crate::world::{CollisionWorld, WorldError, WorldParams};
 use rand::SeedableRng;
@@ -331,6 +331,22 @@ impl MoveGroup {
         }
     }
 
+    /// The straight line of [`Self::cartesian`] (no tolerance), timed as one motion
+    /// rather than resting at every 1 cm waypoint: a hand carrying something level
+    /// across a metre in seconds, not tens of seconds.
+    pub fn cartesian_continuous(
+        &self,
+        start: &[f64],
+        world_from_goal: &Pose,
+    ) -> Result<Plan, MoveError> {
+        let t0 = thread_cpu();
+        let path = self.straight_line(start, world_from_goal)?;
+        let amax = vec![self.params.max_acceleration; self.vmax.len()];
+        let t = time_parameterize_along(&path, &self.vmax, &amax, self.params.sample_dt)
+            .map_err(|e| self.too_long(e))?;
+        Ok(self.plan_of(start, path, t, thread_cpu() - t0))
+    }
+
     /// A joint-space segment from `start` to an IK solution of the goal along which the
     /// tip stays within the Cartesian tolerances of the straight line.
     fn near_line(&self, start: &[f64], world_from_goal: &Pose) -> Option<Vec<Vec<f64>>> {
@@ -410,15 +426,29 @@ impl MoveGroup {
         planning_time: f64,
     ) -> Result<Plan, MoveError> {
         let amax = vec![self.params.max_acceleration; self.vmax.len()];
-        let t =
-            time_parameterize(&path, &self.vmax, &amax, self.params.sample_dt).map_err(|e| {
-                let joint = self.joint_names().get(e.joint).cloned().unwrap_or_default();
-                MoveError::World(e.to_string().replace(
-                    &format!("joint {}'s", e.joint),
-                    &format!("joint `{joint}`'s"),
-                ))
-            })?;
-        Ok(Plan {
+        let t = time_parameterize(&path, &self.vmax, &amax, self.params.sample_dt)
+            .map_err(|e| self.too_long(e))?;
+        Ok(self.plan_of(start, path, t, planning_time))
+    }
+
+    /// A timing's refusal with the joint named.
+    fn too_long(&self, e: TrajectoryTooLong) -> MoveError {
+        let joint = self.joint_names().get(e.joint).cloned().unwrap_or_default();
+        MoveError::World(e.to_string().replace(
+            &format!("joint {}'s", e.joint),
+            &format!("joint `{joint}`'s"),
+        ))
+    }
+
+    /// The plan of a timed path.
+    fn plan_of(
+        &self,
+        start: &[f64],
+        path: Vec<Vec<f64>>,
+        t: Trajectory,
+        planning_time: f64,
+    ) -> Plan {
+        Plan {
             start: start.to_vec(),
             trajectory: JointTrajectory {
                 joint_names: self.joint_names().to_vec(),
@@ -428,7 +458,7 @@ impl MoveGroup {
             velocities: t.velocities,
             path,
             planning_time,
-        })
+        }
     }
 
     /// Adds a world object.

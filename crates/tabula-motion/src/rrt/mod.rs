@@ -8,7 +8,10 @@ mod timing;
 
 pub use edge::{segment_certified, segment_valid, segment_valid_advancing, spacing_certifies};
 pub use shortcut::shortcut;
-pub use timing::{MAX_TRAJECTORY_SAMPLES, Trajectory, TrajectoryTooLong, time_parameterize};
+pub use timing::{
+    MAX_TRAJECTORY_SAMPLES, Trajectory, TrajectoryTooLong, time_parameterize,
+    time_parameterize_along,
+};
 
 use crate::world::CollisionWorld;
 use std::time::{Duration, Instant};

@@ -13,6 +13,9 @@ mod rolling;
 #[cfg(test)]
 mod rolling_tests;
 mod saved;
+mod waking;
+#[cfg(test)]
+mod waking_tests;
 
 use crate::scene::{FurnitureSpec, ObjectSpec, PoseSpec, Scene, ShapeSpec};
 use rapier3d_f64::prelude::*;
@@ -745,7 +748,9 @@ impl SimWorld {
     pub fn step(&mut self) {
         if !self.kinematic_only {
             self.resist_rolling();
+            let slept = self.sleeping_bodies();
             self.physics.step();
+            self.undo_wake_fall(&slept);
         }
         self.steps += 1;
     }

@@ -1,7 +1,7 @@
 //! Deciding the next action of a frame: plan with the seed's domain, check IK for the
 //! first action only, backtrack by `ik_unfeasible_*` facts (SPEC §3.5).
 
-use super::first::first_step;
+use super::first::{Urgency, first_step};
 use super::predicates::Geometry;
 use super::problem::{action_of, infeasible_atom, planner, problem};
 use super::push::Push;
@@ -124,12 +124,16 @@ impl Decider<'_> {
                 return Decision::NothingRemovable;
             }
             let mut steps = plan.steps;
-            let risk_of = |i: usize| self.params.at_risk.of(&self.objects[i], self.table_z);
-            let k = first_step(&steps, g, risk_of, |s| {
-                action_of(s, self.objects)
-                    .map(|(i, _)| i)
-                    .filter(|&i| !no_grasp[i])
-            });
+            let k = first_step(
+                &steps,
+                g,
+                |i| self.urgency(i),
+                |s| {
+                    action_of(s, self.objects)
+                        .map(|(i, _)| i)
+                        .filter(|&i| !no_grasp[i])
+                },
+            );
             steps[..=k].rotate_right(1);
             self.frame.plan = steps.iter().map(|s| s.to_string()).collect();
             let first = &steps[0];
@@ -180,6 +184,19 @@ impl Decider<'_> {
                 self.params.plan_timeout_s.max(1e-3),
             )),
             max_expanded: Some(max_expanded),
+        }
+    }
+
+    /// How urgent lifting object `i` now is (see [`first_step`]).
+    fn urgency(&self, i: usize) -> Urgency {
+        let (risk, below) = (&self.params.at_risk, &self.objects[i]);
+        Urgency {
+            props_up: self
+                .objects
+                .iter()
+                .enumerate()
+                .any(|(j, above)| j != i && risk.props_up(below, above, self.table_z)),
+            risk: risk.of(below, self.table_z),
         }
     }
 

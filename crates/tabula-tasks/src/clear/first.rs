@@ -10,6 +10,7 @@
 
 use super::SeenObject;
 use super::predicates::Geometry;
+use crate::scene::hulls_touch;
 use tabula_pddl::PlanStep;
 
 /// When an object counts as at risk of falling (not in the seed: set from pile seeds 2,
@@ -23,6 +24,14 @@ pub struct AtRisk {
     pub lean_rise: f64,
     /// … and by this share of its length leans.
     pub lean_slope: f64,
+    /// An object whose top stands this much higher above the table than its
+    /// footprint's narrow side is long may lie on others (m): a can lying across two
+    /// neighbours (a standing can or box is flagged too, which only delays lifting
+    /// its neighbours).
+    pub perched: f64,
+    /// A neighbour at risk or perched, within this of an object's hull (m) and with its
+    /// top higher than the object's by `lean_rise`, may rest on it.
+    pub touch: f64,
 }
 
 impl Default for AtRisk {
@@ -31,6 +40,8 @@ impl Default for AtRisk {
             held_up: 0.01,
             lean_rise: 0.015,
             lean_slope: 0.18,
+            perched: 0.03,
+            touch: 0.01,
         }
     }
 }
@@ -50,6 +61,18 @@ impl AtRisk {
         } else {
             0.0
         }
+    }
+}
+
+impl AtRisk {
+    /// Whether lifting `below` may take away what holds `above` up: `above` is at risk
+    /// or perched, touches `below` and stands higher. Pile seeds 26, 35, 41, 47 and 158
+    /// lost such a neighbour over the table's edge when the object under it was lifted.
+    pub(super) fn props_up(&self, below: &SeenObject, above: &SeenObject, table_z: f64) -> bool {
+        let narrow = above.rect.size.x.min(above.rect.size.y);
+        above.top > below.top + self.lean_rise
+            && (self.of(above, table_z) > 0.0 || above.top - table_z - narrow > self.perched)
+            && hulls_touch(below, above, self.touch)
     }
 }
 
@@ -82,30 +105,57 @@ fn end_rise(o: &SeenObject) -> f64 {
     }
 }
 
-/// The index into `steps` of the step to take first: the grasp that can go now of the
-/// object most at risk (`risk_of` an object's index, as [`AtRisk::of`]), else the
-/// plan's own first step.
+/// How urgent lifting an object now is: whether lifting it takes away the support
+/// of a neighbour at risk (see [`AtRisk::props_up`]), and its own risk.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) struct Urgency {
+    pub props_up: bool,
+    pub risk: f64,
+}
+
+/// The index into `steps` of the step to take first: of the grasps that can go now,
+/// one that props up no neighbour at risk before one that does, then the object most
+/// at risk (`urgency_of` an object's index); else the plan's own first step.
 pub(super) fn first_step(
     steps: &[PlanStep],
     g: &Geometry,
-    risk_of: impl Fn(usize) -> f64,
+    urgency_of: impl Fn(usize) -> Urgency,
     index_of: impl Fn(&PlanStep) -> Option<usize>,
 ) -> usize {
     let free = |i: usize| {
         !g.on.iter().any(|&(_, under)| under == i)
             && !g.block_grasp.iter().any(|&(_, blocked)| blocked == i)
     };
-    let mut best = (0, 0.0);
-    for (k, step) in steps.iter().enumerate() {
-        if step.action != "grasp" {
-            continue;
-        }
-        let Some(i) = index_of(step).filter(|&i| free(i)) else {
-            continue;
-        };
-        let r = risk_of(i);
-        if r > best.1 {
-            best = (k, r);
+    let grasp_of = |step: &PlanStep| {
+        (step.action == "grasp")
+            .then(|| index_of(step))
+            .flatten()
+            .filter(|&i| free(i))
+    };
+    // The plan's first step stands unless a grasp can go now that is safer to lift
+    // (props nothing up where it does) or as safe and more at risk itself. A push
+    // moves what it pushes: it is as unsafe as lifting it, and frees nothing at risk.
+    let calm = Urgency {
+        props_up: false,
+        risk: 0.0,
+    };
+    let own = steps.first().map_or(calm, |step| match grasp_of(step) {
+        Some(i) => urgency_of(i),
+        None if step.action.starts_with("push") => Urgency {
+            props_up: index_of(step).is_some_and(|i| urgency_of(i).props_up),
+            risk: 0.0,
+        },
+        None => calm,
+    });
+    let better = |u: &Urgency, than: &Urgency| {
+        (!u.props_up && than.props_up) || (u.props_up == than.props_up && u.risk > than.risk)
+    };
+    let mut best = (0, own);
+    for (k, step) in steps.iter().enumerate().skip(1) {
+        if let Some(u) = grasp_of(step).map(&urgency_of)
+            && better(&u, &best.1)
+        {
+            best = (k, u);
         }
     }
     best.0

@@ -173,6 +173,8 @@ impl ClearParams {
             ("at_risk.held_up", self.at_risk.held_up),
             ("at_risk.lean_rise", self.at_risk.lean_rise),
             ("at_risk.lean_slope", self.at_risk.lean_slope),
+            ("at_risk.perched", self.at_risk.perched),
+            ("at_risk.touch", self.at_risk.touch),
         ];
         for (name, v) in positive {
             if !(v.is_finite() && v > 0.0 && v <= 100.0) {

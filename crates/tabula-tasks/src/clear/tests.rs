@@ -405,6 +405,7 @@ fn params_load_from_toml_with_the_seed_defaults_elsewhere() {
         "decimate = 0",
         "chain_push_factors = [-1.0]",
         "[at_risk]\nlean_slope = -0.1",
+        "[at_risk]\nperched = nan",
     ] {
         let q: ClearParams = toml::from_str(bad).unwrap();
         assert_eq!(q.validate().unwrap_err().kind(), "params", "{bad}");
@@ -456,15 +457,68 @@ fn the_plan_takes_what_is_held_up_first_where_it_can_go_now() {
         args: vec![format!("o{i}")],
     };
     let index_of = |s: &PlanStep| s.args[0][1..].parse::<usize>().ok();
-    let risk_of = |i: usize| super::AtRisk::default().of(&objects[i], 0.72);
+    let urgency_of = |i: usize| urgency(&objects, i);
     // The planner's order took the lone box first: the box held up goes before it.
     let plan = [step("grasp", 2), step("grasp", 1), step("grasp", 0)];
-    assert_eq!(first_step(&plan, &g, risk_of, index_of), 1);
+    assert_eq!(first_step(&plan, &g, urgency_of, index_of), 1);
     // Nothing at risk that can go now: the plan's own order.
     let plan = [step("grasp", 2), step("grasp", 0)];
-    assert_eq!(first_step(&plan, &g, risk_of, index_of), 0);
+    assert_eq!(first_step(&plan, &g, urgency_of, index_of), 0);
     let plan = [step("push_dir1", 2), step("grasp", 2)];
-    assert_eq!(first_step(&plan, &g, risk_of, index_of), 0);
+    assert_eq!(first_step(&plan, &g, urgency_of, index_of), 0);
+}
+
+/// How urgent lifting `objects[i]` is on the test table (as the decision has it).
+fn urgency(objects: &[SeenObject], i: usize) -> super::first::Urgency {
+    let at_risk = super::AtRisk::default();
+    super::first::Urgency {
+        props_up: (objects.iter().enumerate())
+            .any(|(j, a)| j != i && at_risk.props_up(&objects[i], a, 0.72)),
+        risk: at_risk.of(&objects[i], 0.72),
+    }
+}
+
+#[test]
+fn what_a_leaning_can_rests_on_is_lifted_after_what_props_nothing_up() {
+    use super::first::first_step;
+    use tabula_pddl::PlanStep;
+    // A 4 cm box with a can leaning on it from the table (its end on the box's
+    // edge), and a lone box away from both.
+    let objects = vec![
+        seen_box(0, Vec2::new(0.65, 0.3), Vec2::new(0.06, 0.05), 0.04, 0.72),
+        seen_lying_can(1, (0.5, 0.625), (0.74, 0.78)),
+        seen_box(2, Vec2::new(0.3, -0.2), Vec2::new(0.05, 0.05), 0.05, 0.72),
+    ];
+    let props = |i: usize| urgency(&objects, i).props_up;
+    assert_eq!((props(0), props(1), props(2)), (true, false, false));
+    let mut g = predicates(&objects, &hand(), &ClearParams::default(), false);
+    // (Whatever the hand's clearance says, all three can go now here.)
+    g.block_grasp.clear();
+    let step = |i: usize| PlanStep {
+        action: "grasp".into(),
+        args: vec![format!("o{i}")],
+    };
+    let index_of = |s: &PlanStep| s.args[0][1..].parse::<usize>().ok();
+    let urgency_of = |i: usize| urgency(&objects, i);
+    // The can first (it is at risk), the box under it last.
+    let plan = [step(0), step(2), step(1)];
+    assert_eq!(first_step(&plan, &g, urgency_of, index_of), 2);
+    let plan = [step(0), step(2)];
+    assert_eq!(first_step(&plan, &g, urgency_of, index_of), 1);
+    // Only the box can go: it goes.
+    assert_eq!(first_step(&[step(0)], &g, urgency_of, index_of), 0);
+    // Pushing the box would drop the can as well as lifting it.
+    let push = PlanStep {
+        action: "push_dir1".into(),
+        args: vec!["o0".into()],
+    };
+    assert_eq!(first_step(&[push, step(2)], &g, urgency_of, index_of), 1);
+    // Nothing leans on a box of the same height beside it.
+    let level = [
+        objects[0].clone(),
+        seen_box(3, Vec2::new(0.71, 0.3), Vec2::new(0.06, 0.05), 0.04, 0.72),
+    ];
+    assert!(!urgency(&level, 0).props_up && !urgency(&level, 1).props_up);
 }
 
 /// The split pushes of the first of `objects` on [`table`].

@@ -222,3 +222,19 @@ fn blocks_seen_as_one_are_parted_by_a_split_push() {
         assert_eq!(verdict.off_table, 0, "blocks {seed}");
     }
 }
+
+#[test]
+fn what_rides_on_a_lifted_object_is_carried_level_into_the_bin() {
+    // Piles 3 and 49: an object resting on the one grasped, seen merged with it, comes
+    // up with it. Carried with the hand tilted (55° on the median carry before) it slid
+    // off and was flung over the table's edge; carried level, both land in the bin.
+    for seed in [3u64, 49] {
+        let (report, verdict) = run(&clearing_scene(ClearSuite::Pile, seed), seed);
+        report.unwrap();
+        assert_eq!(
+            (verdict.in_bin, verdict.off_table),
+            (verdict.objects, 0),
+            "pile {seed}: {verdict:?}"
+        );
+    }
+}
