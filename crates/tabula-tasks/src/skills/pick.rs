@@ -369,8 +369,8 @@ impl<D: RobotDriver> Manipulator<'_, D> {
     /// Carries the held object with the fingertips `over` (world), the hand turned as
     /// it holds the object or any of four ways. Level first: straight across at the
     /// higher of the two heights, then down, the hand pointing down all the way. A
-    /// free path tilts it 55° on the median carry of the pile suite (over 90° on one in
-    /// five): what rests on the held object slides off and is flung off the table (pile
+    /// free path tilted it 56° on the median carry of six piles (over 90° on one in
+    /// ten): what rests on the held object slid off and was flung off the table (pile
     /// seeds 3, 49, 155). Where no level line is free, such a path.
     pub fn carry_over(&mut self, over: Vec3, phase: &str) -> Result<(), SkillError> {
         let (hand, up) = (self.hand, self.up);

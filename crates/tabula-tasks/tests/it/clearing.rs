@@ -226,7 +226,7 @@ fn blocks_seen_as_one_are_parted_by_a_split_push() {
 #[test]
 fn what_rides_on_a_lifted_object_is_carried_level_into_the_bin() {
     // Piles 3 and 49: an object resting on the one grasped, seen merged with it, comes
-    // up with it. Carried with the hand tilted (55° on the median carry before) it slid
+    // up with it. Carried with the hand tilted (56° on the median carry before) it slid
     // off and was flung over the table's edge; carried level, both land in the bin.
     for seed in [3u64, 49] {
         let (report, verdict) = run(&clearing_scene(ClearSuite::Pile, seed), seed);
