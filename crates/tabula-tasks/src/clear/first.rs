@@ -6,7 +6,8 @@
 //! whatever next disturbs their island — fingers going down beside it, a neighbour
 //! lifted away, a pile waking up — drops them, and a dropped can rolls (pile seeds 2,
 //! 26 and 48 lost cans over the table's edge that way while their neighbours were
-//! taken). People unstacking a pile take from the top for the same reason.
+//! taken). People unstacking a pile take from the top for the same reason, and leave
+//! what a leaning or perched neighbour rests on for later.
 
 use super::SeenObject;
 use super::predicates::Geometry;
@@ -62,9 +63,7 @@ impl AtRisk {
             0.0
         }
     }
-}
 
-impl AtRisk {
     /// Whether lifting `below` may take away what holds `above` up: `above` is at risk
     /// or perched, touches `below` and stands higher. Pile seeds 26, 35, 41, 47 and 158
     /// lost such a neighbour over the table's edge when the object under it was lifted.
