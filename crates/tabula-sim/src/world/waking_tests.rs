@@ -3,40 +3,25 @@
 use super::{PhysicsParams, SimWorld};
 use crate::Scene;
 
-/// Three 5 cm cubes stacked on a table, and a row of three beside them touching the
-/// stack's bottom cube: one island once asleep.
-const STACK: &str = r#"
-[[furniture]]
-name = "table"
-kind = "table"
-pose = { xyz = [0.0, 0.0, 0.0] }
-size = [1.0, 1.0, 0.7]
-
-[[object]]
-name = "s0"
-shape = { box = [0.05, 0.05, 0.05] }
-pose = { xyz = [0.0, 0.0, 0.725] }
-
-[[object]]
-name = "s1"
-shape = { box = [0.05, 0.05, 0.05] }
-pose = { xyz = [0.0, 0.0, 0.775] }
-
-[[object]]
-name = "s2"
-shape = { box = [0.05, 0.05, 0.05] }
-pose = { xyz = [0.0, 0.0, 0.825] }
-
-[[object]]
-name = "r1"
-shape = { box = [0.05, 0.05, 0.05] }
-pose = { xyz = [0.05, 0.0, 0.725] }
-
-[[object]]
-name = "r2"
-shape = { box = [0.05, 0.05, 0.05] }
-pose = { xyz = [0.1, 0.0, 0.725] }
-"#;
+/// A table with three 5 cm cubes stacked on it and a row of two beside the stack's
+/// bottom cube, touching it: one island once asleep.
+fn stack() -> String {
+    let cube = |name: &str, x: f64, z: f64| {
+        format!(
+            "\n[[object]]\nname = \"{name}\"\nshape = {{ box = [0.05, 0.05, 0.05] }}\npose = {{ xyz = [{x}, 0.0, {z}] }}\n"
+        )
+    };
+    let table = "[[furniture]]\nname = \"table\"\nkind = \"table\"\npose = { xyz = [0.0, 0.0, 0.0] }\nsize = [1.0, 1.0, 0.7]\n";
+    [
+        ("s0", 0.0, 0.725),
+        ("s1", 0.0, 0.775),
+        ("s2", 0.0, 0.825),
+        ("r1", 0.05, 0.725),
+        ("r2", 0.1, 0.725),
+    ]
+    .iter()
+    .fold(table.to_string(), |text, &(n, x, z)| text + &cube(n, x, z))
+}
 
 /// A cube let go 1 cm above the top of the stack.
 const DROPPED: &str = r#"
@@ -48,7 +33,7 @@ pose = { xyz = [0.0, 0.0, 0.875] }
 
 #[test]
 fn a_touch_wakes_a_sleeping_pile_without_dropping_it() {
-    let scene = Scene::parse(STACK, "stack.toml").unwrap();
+    let scene = Scene::parse(&stack(), "stack.toml").unwrap();
     let mut w = SimWorld::from_scene(&scene, PhysicsParams::default()).unwrap();
     assert!(w.settle().all_asleep, "the stack never fell asleep");
     let names = ["s0", "s1", "r1", "r2"];
