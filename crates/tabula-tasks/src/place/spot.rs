@@ -10,11 +10,16 @@ use super::outline::{Outline, footprint_of, nearest_edge, path_blocked};
 use super::run::{FreeSpot, Run, Spot, Target};
 use super::sequence::Sequence;
 use super::{PlaceError, PlaceTopView, pose_array};
+use crate::skills::base::{BACK_OFF, drive_back, heading};
 use tabula_geom::polygon::convex_hull_2d;
 use tabula_geom::{Pose, Vec2, Vec3};
 use tabula_perception::freespace::FreeSpaceMap;
 use tabula_perception::surfaces::Surface;
-use tabula_robot::driver::RobotDriver;
+use tabula_robot::driver::{DriverError, RobotDriver};
+
+/// Approaches to a surface tried before placing on it fails: each after a stop looks
+/// at what stopped the base.
+const APPROACH_TRIES: usize = 3;
 
 impl Run<'_> {
     /// Free spots for each usable pose (the footprint of the object resting so) on the
@@ -63,7 +68,11 @@ impl Run<'_> {
 
     /// Drives the base to the surface (Alg. 10): turn while still clear of it, then
     /// straight in (a base turning at the edge would sweep its corners into it), and
-    /// look at the surface from there — what is near it now counts.
+    /// look at the surface from there — what is near it now counts. The way is checked
+    /// against what the camera has seen; furniture it has not seen (behind the robot, out
+    /// of the search's view) can still stop the base (the driver's guard). Then the robot
+    /// looks at what stopped it, backs to where it started and tries again with that in
+    /// its scene, [`APPROACH_TRIES`] times in all.
     fn approach(
         &mut self,
         driver: &mut impl RobotDriver,
@@ -71,6 +80,31 @@ impl Run<'_> {
         spots: &[FreeSpot],
         scene: &mut Vec<Vec3>,
     ) -> Result<(), PlaceError> {
+        let start = world_from_base(self.robot, driver)?;
+        let mut stopped_by = String::new();
+        for _ in 0..APPROACH_TRIES {
+            let goal = self.approach_goal(driver, t, spots, scene)?;
+            let ahead = self.phase("approach", |r| r.drive_in(driver, goal))?;
+            let Some(ahead) = ahead else {
+                return self.look_and_add(driver, t.arm, t.hull, t.surface.centroid, scene);
+            };
+            stopped_by = format!("stopped on the way to ({:.2}, {:.2})", goal[0], goal[1]);
+            self.mark(&format!("{stopped_by}: looking at what stopped it"));
+            self.look_and_add(driver, t.arm, t.hull, ahead, scene)?;
+            drive_back(driver, self.robot, &start, BACK_OFF)
+                .map_err(|e| PlaceError::ApproachBlocked(e.to_string()))?;
+        }
+        Err(PlaceError::ApproachBlocked(stopped_by))
+    }
+
+    /// Where the base stands to place on one of `spots` (see [`Run::base_goal`]).
+    fn approach_goal(
+        &mut self,
+        driver: &mut impl RobotDriver,
+        t: Target<'_>,
+        spots: &[FreeSpot],
+        scene: &[Vec3],
+    ) -> Result<[f64; 3], PlaceError> {
         let base = world_from_base(self.robot, driver)?;
         let state = driver.joint_state()?;
         let root = driver.world_from_root()?;
@@ -83,25 +117,49 @@ impl Run<'_> {
         ));
         let goal = self.decide(|r| r.base_goal(base, front, t.arm, t.surface, spots, scene))?;
         self.report.base_goal = Some(goal);
-        self.phase("approach", |r| {
-            let (c, s) = (goal[2].cos(), goal[2].sin());
-            let back = r.params.approach_run;
-            driver.drive_to(goal[0] - c * back, goal[1] - s * back, goal[2])?;
-            driver.drive_to(goal[0], goal[1], goal[2])?;
-            let base = world_from_base(r.robot, driver)?;
-            let off = base
-                .translation
-                .truncate()
-                .distance(Vec2::new(goal[0], goal[1]));
-            if off > 0.05 {
-                return Err(PlaceError::ApproachBlocked(format!(
-                    "stopped {:.2} m short of ({:.2}, {:.2})",
-                    off, goal[0], goal[1]
-                )));
+        Ok(goal)
+    }
+
+    /// Drives to the run-up before `goal` and in to it. `Some(point)` when the driver's
+    /// guard stopped the base on the way: a point 0.6 m ahead of where it stopped,
+    /// towards where it was going, at a table's height — what stopped it.
+    fn drive_in(
+        &mut self,
+        driver: &mut impl RobotDriver,
+        goal: [f64; 3],
+    ) -> Result<Option<Vec3>, PlaceError> {
+        let (c, s) = (goal[2].cos(), goal[2].sin());
+        let back = self.params.approach_run;
+        for to in [[goal[0] - c * back, goal[1] - s * back], [goal[0], goal[1]]] {
+            match driver.drive_to(to[0], to[1], goal[2]) {
+                Ok(()) => {}
+                Err(DriverError::Blocked { .. }) => {
+                    let at = world_from_base(self.robot, driver)?;
+                    let way = Vec2::from(to) - at.translation.truncate();
+                    let dir = if way.length() > 0.05 {
+                        way.normalize()
+                    } else {
+                        let h = heading(&at);
+                        Vec2::new(h.cos(), h.sin())
+                    };
+                    let p = at.translation.truncate() + dir * 0.6;
+                    return Ok(Some(Vec3::new(p.x, p.y, 0.7)));
+                }
+                Err(e) => return Err(e.into()),
             }
-            r.look_and_add(driver, t.arm, t.hull, t.surface.centroid, scene)?;
-            Ok(())
-        })
+        }
+        let base = world_from_base(self.robot, driver)?;
+        let off = base
+            .translation
+            .truncate()
+            .distance(Vec2::new(goal[0], goal[1]));
+        if off > 0.05 {
+            return Err(PlaceError::ApproachBlocked(format!(
+                "stopped {:.2} m short of ({:.2}, {:.2})",
+                off, goal[0], goal[1]
+            )));
+        }
+        Ok(None)
     }
 
     /// Plans a placement on one of `spots` within reach of the shoulder at `sh`.

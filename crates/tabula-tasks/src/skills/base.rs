@@ -89,6 +89,9 @@ pub fn forward_extent(
     front
 }
 
+/// How far a base backs away from what it faces before driving back (m).
+pub const BACK_OFF: f64 = 0.4;
+
 /// Drives a mobile base back to `to` (world): when it is elsewhere it first backs
 /// `back_off` away from whatever it faces, turns on the spot towards `to`, drives
 /// straight, and turns to `to`'s heading — a base that turns while it drives sweeps its

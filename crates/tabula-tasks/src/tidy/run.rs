@@ -4,7 +4,7 @@
 use super::{Failure, TidyError, TidyParams, TidyReport, TidyRequest};
 use crate::place::{PlaceRequest, place};
 use crate::scene::{Attempts, Observer, SeenObject, Table, on_pairs};
-use crate::skills::base::{drive_back, step_up_to, world_from_base};
+use crate::skills::base::{BACK_OFF, drive_back, step_up_to, world_from_base};
 use crate::skills::hand::HandArm;
 use crate::skills::motion::arms_to;
 use crate::skills::pick::{PickMotion, Take};
@@ -17,8 +17,6 @@ use tabula_motion::group::thread_cpu;
 use tabula_robot::driver::{JointState, RobotDriver};
 use tabula_robot::robots::NamedRobot;
 
-/// How far the base backs away before driving back to its start (m).
-const BACK_OFF: f64 = 0.4;
 /// How near the base's front steps up to the table's edge (m).
 const STEP_GAP: f64 = 0.04;
 
