@@ -84,11 +84,14 @@ impl Run<'_> {
         let mut stopped_by = String::new();
         for _ in 0..APPROACH_TRIES {
             let goal = self.approach_goal(driver, t, spots, scene)?;
-            let ahead = self.phase("approach", |r| r.drive_in(driver, goal))?;
-            let Some(ahead) = ahead else {
+            let stop = self.phase("approach", |r| r.drive_in(driver, goal))?;
+            let Some((ahead, by)) = stop else {
                 return self.look_and_add(driver, t.arm, t.hull, t.surface.centroid, scene);
             };
-            stopped_by = format!("stopped on the way to ({:.2}, {:.2})", goal[0], goal[1]);
+            stopped_by = format!(
+                "blocked by `{by}` on the way to ({:.2}, {:.2})",
+                goal[0], goal[1]
+            );
             self.mark(&format!("{stopped_by}: looking at what stopped it"));
             self.look_and_add(driver, t.arm, t.hull, ahead, scene)?;
             drive_back(driver, self.robot, &start, BACK_OFF)
@@ -120,20 +123,21 @@ impl Run<'_> {
         Ok(goal)
     }
 
-    /// Drives to the run-up before `goal` and in to it. `Some(point)` when the driver's
-    /// guard stopped the base on the way: a point 0.6 m ahead of where it stopped,
-    /// towards where it was going, at a table's height — what stopped it.
+    /// Drives to the run-up before `goal` and in to it. `Some((point, what))` when the
+    /// driver's guard stopped the base on the way (`what` stopped it): a point 0.6 m
+    /// ahead of where it stopped, towards where it was going, at a typical table's
+    /// height (0.7 m) — where to look for it.
     fn drive_in(
         &mut self,
         driver: &mut impl RobotDriver,
         goal: [f64; 3],
-    ) -> Result<Option<Vec3>, PlaceError> {
+    ) -> Result<Option<(Vec3, String)>, PlaceError> {
         let (c, s) = (goal[2].cos(), goal[2].sin());
         let back = self.params.approach_run;
         for to in [[goal[0] - c * back, goal[1] - s * back], [goal[0], goal[1]]] {
             match driver.drive_to(to[0], to[1], goal[2]) {
                 Ok(()) => {}
-                Err(DriverError::Blocked { .. }) => {
+                Err(DriverError::Blocked { by, .. }) => {
                     let at = world_from_base(self.robot, driver)?;
                     let way = Vec2::from(to) - at.translation.truncate();
                     let dir = if way.length() > 0.05 {
@@ -143,7 +147,7 @@ impl Run<'_> {
                         Vec2::new(h.cos(), h.sin())
                     };
                     let p = at.translation.truncate() + dir * 0.6;
-                    return Ok(Some(Vec3::new(p.x, p.y, 0.7)));
+                    return Ok(Some((Vec3::new(p.x, p.y, 0.7), by)));
                 }
                 Err(e) => return Err(e.into()),
             }
