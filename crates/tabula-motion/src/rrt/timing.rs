@@ -162,8 +162,11 @@ pub fn time_parameterize_along(
     let dims = path.first().map_or(0, Vec::len);
     let mut u = vec![0.0];
     for w in path.windows(2) {
-        let du = (0..dims)
-            .map(|k| (w[1][k] - w[0][k]).abs() / v(k))
+        let du = w[0]
+            .iter()
+            .zip(&w[1])
+            .enumerate()
+            .map(|(k, (a, b))| (b - a).abs() / v(k))
             .fold(0.0, f64::max);
         u.push(u.last().copied().unwrap_or(0.0) + du);
     }
